@@ -1,0 +1,119 @@
+"""Time-history tables (energy like glstat, part sums like matsum, points like nodout).
+
+One :class:`HistoryWriter` per table: fixed column names, one row of floats per :meth:`append`.
+
+- CSV: ``<directory>/<name>.csv``, a header line of comma-separated column names, then one row per
+  line with numbers as ``%.10e``. Read back with ``numpy.loadtxt(path, delimiter=",", skiprows=1)``.
+- HDF5 mirror (optional): ``/histories/<name>`` in the given h5py file or group, a ``(rows, columns)``
+  float64 dataset resizable along rows, with the column names in its ``columns`` attribute.
+
+Rows are buffered and written out every ``flush_rows`` rows or ``flush_interval_s`` seconds of wall
+time, whichever comes first, and on :meth:`flush` / :meth:`close`.
+"""
+from __future__ import annotations
+
+import time
+from pathlib import Path
+from typing import Sequence
+
+import h5py
+import numpy as np
+
+__all__ = ["HistoryWriter"]
+
+
+class HistoryWriter:
+    """Append-only table written to ``<directory>/<name>.csv`` and optionally to ``h5[/histories/<name>]``."""
+
+    def __init__(
+        self,
+        directory: Path | str,
+        name: str,
+        columns: Sequence[str],
+        h5: h5py.Group | None = None,
+        flush_rows: int = 100,
+        flush_interval_s: float = 5.0,
+    ):
+        self.columns = [str(c) for c in columns]
+        if not self.columns:
+            raise ValueError("a history needs at least one column")
+        for c in self.columns:
+            if not c or "," in c or "\n" in c:
+                raise ValueError(f"bad column name {c!r}")
+        if not name or "/" in name:
+            raise ValueError(f"bad history name {name!r}")
+        self.name = name
+        directory = Path(directory)
+        directory.mkdir(parents=True, exist_ok=True)
+        self.path = directory / f"{name}.csv"
+        self.flush_rows = int(flush_rows)
+        self.flush_interval_s = float(flush_interval_s)
+        self._csv = open(self.path, "w", encoding="ascii", newline="\n")
+        self._csv.write(",".join(self.columns) + "\n")
+        self._dataset = None
+        if h5 is not None:
+            group = h5.require_group("histories")
+            if name in group:
+                del group[name]
+            self._dataset = group.create_dataset(
+                name,
+                shape=(0, len(self.columns)),
+                maxshape=(None, len(self.columns)),
+                dtype="f8",
+                chunks=(256, len(self.columns)),
+            )
+            self._dataset.attrs["columns"] = self.columns
+        self._pending: list[np.ndarray] = []
+        self._n_rows = 0
+        self._last_flush = time.monotonic()
+        self._closed = False
+
+    @property
+    def n_rows(self) -> int:
+        """Rows appended so far (flushed or not)."""
+        return self._n_rows + len(self._pending)
+
+    def append(self, row: Sequence[float]) -> None:
+        """Add one row; its length must equal the number of columns."""
+        if self._closed:
+            raise RuntimeError(f"history {self.name!r} is closed")
+        values = np.asarray(row, dtype=np.float64).reshape(-1)
+        if values.size != len(self.columns):
+            raise ValueError(f"history {self.name!r}: {values.size} values for {len(self.columns)} columns")
+        self._pending.append(values)
+        if len(self._pending) >= self.flush_rows or time.monotonic() - self._last_flush >= self.flush_interval_s:
+            self.flush()
+
+    def flush(self) -> None:
+        """Write buffered rows to the CSV and the HDF5 mirror and flush both files."""
+        if self._closed:
+            return
+        if self._pending:
+            block = np.vstack(self._pending)
+            self._csv.write("".join(",".join(f"{v:.10e}" for v in r) + "\n" for r in block))
+            if self._dataset is not None:
+                start = self._dataset.shape[0]
+                self._dataset.resize((start + block.shape[0], block.shape[1]))
+                self._dataset[start:] = block
+            self._n_rows += block.shape[0]
+            self._pending.clear()
+        self._csv.flush()
+        if self._dataset is not None:
+            self._dataset.file.flush()
+        self._last_flush = time.monotonic()
+
+    def close(self) -> None:
+        """Flush and close the CSV; the HDF5 file belongs to the caller and stays open. Idempotent."""
+        if self._closed:
+            return
+        try:
+            self.flush()
+        finally:
+            self._closed = True
+            self._csv.close()
+
+    def __enter__(self) -> HistoryWriter:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
