@@ -1,0 +1,117 @@
+"""The deck: one pydantic model per keyword family, and cross-reference checks over the whole.
+
+Cross-reference errors are raised as ``ValueError("@dotted.path: message")`` so that
+``deck.validate`` can point at the offending key's line and column.
+"""
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from .base import DeckModel, check_vector_lengths
+from .materials import EquationOfState, Material
+from .model import (
+    Boundary,
+    Control,
+    Curve,
+    Gravity,
+    Initial,
+    Load,
+    NodalForce,
+    Output,
+    Part,
+    PressureLoad,
+    Section,
+    SegmentSet,
+    SetDef,
+    Units,
+)
+
+__all__ = ["Deck"]
+
+
+class Deck(DeckModel):
+    """A whole input deck."""
+
+    title: str = Field("", description="Free text shown in the output and logs.")
+    units: Units = Field(default_factory=Units, description="Consistent unit system. Default m-kg-s.")
+    dimension: Literal[2, 3] = Field(description="2 = plane strain in x-y, 3 = solid.")
+    control: Control = Field(description="End time and time-step control.")
+    curves: dict[str, Curve] = Field(default_factory=dict, description="Named time curves.")
+    equations_of_state: dict[str, EquationOfState] = Field(
+        default_factory=dict, description="Named equations of state."
+    )
+    materials: dict[str, Material] = Field(min_length=1, description="Named materials.")
+    sections: dict[str, Section] = Field(min_length=1, description="Named sections.")
+    parts: dict[str, Part] = Field(min_length=1, description="Named parts.")
+    sets: dict[str, SetDef] = Field(default_factory=dict, description="Named node and segment sets.")
+    boundaries: list[Boundary] = Field(default_factory=list, description="Kinematic boundary conditions.")
+    initial: list[Initial] = Field(default_factory=list, description="Initial conditions.")
+    loads: list[Load] = Field(default_factory=list, description="Loads.")
+    output: Output = Field(default_factory=Output, description="Output requests.")
+
+    @model_validator(mode="after")
+    def _cross_references(self) -> "Deck":
+        check_vector_lengths(self, self.dimension)
+        _check_references(self)
+        return self
+
+
+def _ref(name: str | None, known: dict, path: str, what: str) -> None:
+    if name is not None and name not in known:
+        names = ", ".join(sorted(known)) or "none defined"
+        raise ValueError(f"@{path}: unknown {what} '{name}' (known: {names})")
+
+
+def _check_references(deck: Deck) -> None:
+    for mname, mat in deck.materials.items():
+        _ref(getattr(mat, "eos", None), deck.equations_of_state, f"materials.{mname}.eos", "equation of state")
+
+    for pname, part in deck.parts.items():
+        _ref(part.material, deck.materials, f"parts.{pname}.material", "material")
+        _ref(part.section, deck.sections, f"parts.{pname}.section", "section")
+        kind = part.geometry.kind
+        if kind == "ring" and deck.dimension != 2:
+            raise ValueError(f"@parts.{pname}.geometry.ring: ring meshes are 2D (use cylinder in 3D)")
+        if kind == "cylinder" and deck.dimension != 3:
+            raise ValueError(f"@parts.{pname}.geometry.cylinder: cylinder meshes are 3D (use ring in 2D)")
+
+    for sname, s in deck.sets.items():
+        _ref(s.part, deck.parts, f"sets.{sname}.part", "part")
+        if s.sphere is not None and s.radius is None:
+            raise ValueError(f"@sets.{sname}.sphere: a sphere selection needs 'radius'")
+        if s.side in ("back", "front") and deck.dimension == 2:
+            raise ValueError(f"@sets.{sname}.side: side '{s.side}' exists only in 3D")
+
+    def check_target(item, path: str) -> None:
+        _ref(getattr(item, "part", None), deck.parts, f"{path}.part", "part")
+        _ref(getattr(item, "set", None), deck.sets, f"{path}.set", "set")
+        _ref(getattr(item, "curve", None), deck.curves, f"{path}.curve", "curve")
+
+    for i, bc in enumerate(deck.boundaries):
+        check_target(bc, f"boundaries.{i}")
+        directions = getattr(bc, "directions", None) or [getattr(bc, "normal", "x")]
+        if deck.dimension == 2 and "z" in directions:
+            key = "directions" if hasattr(bc, "directions") else "normal"
+            raise ValueError(f"@boundaries.{i}.{key}: direction 'z' does not exist in 2D")
+
+    for i, ic in enumerate(deck.initial):
+        check_target(ic, f"initial.{i}")
+
+    for i, load in enumerate(deck.loads):
+        check_target(load, f"loads.{i}")
+        if isinstance(load, Gravity):
+            for name in load.parts or []:
+                _ref(name, deck.parts, f"loads.{i}.parts", "part")
+        if isinstance(load, PressureLoad) and not isinstance(deck.sets[load.set], SegmentSet):
+            raise ValueError(f"@loads.{i}.set: pressure needs a segment set, '{load.set}' is a node set")
+        if isinstance(load, NodalForce) and isinstance(deck.sets[load.set], SegmentSet):
+            raise ValueError(f"@loads.{i}.set: nodal_force needs a node set, '{load.set}' is a segment set")
+
+    names = set()
+    for i, h in enumerate(deck.output.histories):
+        check_target(h, f"output.histories.{i}")
+        if h.name in names:
+            raise ValueError(f"@output.histories.{i}.name: duplicate history name '{h.name}'")
+        names.add(h.name)

@@ -1,0 +1,388 @@
+"""Lagrangian solid elements: quad4 (plane strain) and hex8, one-point integration.
+
+Per element and step (central difference, paper eqs. 2.5-2.8):
+
+1. rate of deformation d and spin w from the mid-step configuration x^{n+1/2} = x^{n+1} - dt/2 v^{n+1/2}
+   with the uniform (mean) gradient b_I = (1/V) dV/dx_I (Flanagan & Belytschko 1981), which makes
+   a linear velocity field give its exact gradient and a constant stress self-equilibrated
+   (patch test) on any element shape;
+2. stress rotated by the Hughes-Winget (Cayley) increment R = (I - dt/2 W)^-1 (I + dt/2 W), the
+   objective integration of the Jaumann rate, then the material update with deps = d dt;
+3. bulk (shock) viscosity q = rho l (Q1^2 l tr(d)^2 - Q2 c tr(d)) in compression (von Neumann &
+   Richtmyer 1950; LS-DYNA's form);
+4. internal force f_I = -V (sigma - q I) b_I at x^{n+1} (paper eq. 2.8 with one-point quadrature);
+5. Flanagan-Belytschko hourglass forces on the hourglass shape vectors
+   gamma_aI = Gamma_aI - (Gamma_a . x_k) b_kI, viscous (f = -a_h q gamma, a_h = QM rho c V^{(d-1)/d} / 4)
+   or stiffness (Q += k q dt, f = -Q gamma, k = QM G V |b|^2 / 2);
+6. stable step l / (Q + sqrt(Q^2 + c^2)), Q = Q2 c + Q1 l |tr d| in compression, l = V / largest
+   face (area in 3D, edge in 2D).
+
+Element results are written per element (forces per element node); `gather_nodal_forces` sums them
+at nodes through the node->element map, so results do not depend on the thread count.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from ..materials.kernels import sound_speed, update_stress
+
+HG_VISCOUS = 0
+HG_STIFFNESS = 1
+
+# Section table columns.
+SEC_HG_TYPE, SEC_HG_COEF, SEC_Q1, SEC_Q2 = 0, 1, 2, 3
+NSEC = 4
+
+# Element status written into dt_elem when the element is invalid.
+INVERTED = -1.0
+
+# dV/dx_I = (1/12) sum over rows (I, j, k, s) of s (y_j z_k - y_k z_j), and cyclically for y, z:
+# the exact derivative of the trilinear hex8 volume (VTK node order), derived symbolically.
+_HEX_DV = np.array([
+    (0, 1, 2, -1), (0, 1, 3, -1), (0, 1, 4, 1), (0, 1, 5, 1), (0, 2, 3, -1), (0, 3, 4, -1),
+    (0, 3, 7, -1), (0, 4, 5, -1), (0, 4, 7, 1),
+    (1, 0, 2, 1), (1, 0, 3, 1), (1, 0, 4, -1), (1, 0, 5, -1), (1, 2, 3, -1), (1, 2, 5, 1),
+    (1, 2, 6, 1), (1, 4, 5, -1), (1, 5, 6, -1),
+    (2, 0, 1, -1), (2, 0, 3, 1), (2, 1, 3, 1), (2, 1, 5, -1), (2, 1, 6, -1), (2, 3, 6, 1),
+    (2, 3, 7, 1), (2, 5, 6, -1), (2, 6, 7, -1),
+    (3, 0, 1, -1), (3, 0, 2, -1), (3, 0, 4, 1), (3, 0, 7, 1), (3, 1, 2, -1), (3, 2, 6, -1),
+    (3, 2, 7, -1), (3, 4, 7, 1), (3, 6, 7, -1),
+    (4, 0, 1, 1), (4, 0, 3, -1), (4, 0, 5, 1), (4, 0, 7, -1), (4, 1, 5, 1), (4, 3, 7, -1),
+    (4, 5, 6, 1), (4, 5, 7, 1), (4, 6, 7, 1),
+    (5, 0, 1, 1), (5, 0, 4, -1), (5, 1, 2, 1), (5, 1, 4, -1), (5, 1, 6, 1), (5, 2, 6, 1),
+    (5, 4, 6, -1), (5, 4, 7, -1), (5, 6, 7, 1),
+    (6, 1, 2, 1), (6, 1, 5, -1), (6, 2, 3, 1), (6, 2, 5, -1), (6, 2, 7, 1), (6, 3, 7, 1),
+    (6, 4, 5, 1), (6, 4, 7, -1), (6, 5, 7, -1),
+    (7, 0, 3, -1), (7, 0, 4, 1), (7, 2, 3, 1), (7, 2, 6, -1), (7, 3, 4, 1), (7, 3, 6, -1),
+    (7, 4, 5, 1), (7, 4, 6, 1), (7, 5, 6, 1),
+], dtype=np.int64)
+
+# Hourglass base vectors: quad4 xi*eta; hex8 xi*eta, eta*zeta, zeta*xi, xi*eta*zeta.
+_QUAD_GAMMA = np.array([1.0, -1.0, 1.0, -1.0])
+_HEX_GAMMA = np.array([
+    [1.0, -1.0, 1.0, -1.0, 1.0, -1.0, 1.0, -1.0],
+    [1.0, 1.0, -1.0, -1.0, -1.0, -1.0, 1.0, 1.0],
+    [1.0, -1.0, -1.0, 1.0, -1.0, 1.0, 1.0, -1.0],
+    [-1.0, 1.0, -1.0, 1.0, 1.0, -1.0, 1.0, -1.0],
+])
+# Faces of a hex8 (for the characteristic length).
+_HEX_FACES = np.array([
+    [0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]
+], dtype=np.int64)
+
+
+@njit(cache=True)
+def quad4_gradient(x, b):
+    """Mean gradient b (2, 4) of a quad4 with corners x (4, 2); returns the area.
+
+    A = ((x2 - x0)(y3 - y1) + (x1 - x3)(y2 - y0)) / 2, b_xI = (y_{I+1} - y_{I-1}) / 2A,
+    b_yI = (x_{I-1} - x_{I+1}) / 2A (the centre-point gradient, exact for the mean in 2D).
+    """
+    area = 0.5 * ((x[2, 0] - x[0, 0]) * (x[3, 1] - x[1, 1]) + (x[1, 0] - x[3, 0]) * (x[2, 1] - x[0, 1]))
+    inv = 0.5 / area
+    for i in range(4):
+        nxt = (i + 1) % 4
+        prv = (i + 3) % 4
+        b[0, i] = (x[nxt, 1] - x[prv, 1]) * inv
+        b[1, i] = (x[prv, 0] - x[nxt, 0]) * inv
+    return area
+
+
+@njit(cache=True)
+def hex8_gradient(x, b):
+    """Mean gradient b (3, 8) = (1/V) dV/dx_I of a hex8 with corners x (8, 3); returns V."""
+    for k in range(3):
+        for i in range(8):
+            b[k, i] = 0.0
+    for r in range(_HEX_DV.shape[0]):
+        i = _HEX_DV[r, 0]
+        j = _HEX_DV[r, 1]
+        k = _HEX_DV[r, 2]
+        s = _HEX_DV[r, 3] / 12.0
+        b[0, i] += s * (x[j, 1] * x[k, 2] - x[k, 1] * x[j, 2])
+        b[1, i] += s * (x[j, 2] * x[k, 0] - x[k, 2] * x[j, 0])
+        b[2, i] += s * (x[j, 0] * x[k, 1] - x[k, 0] * x[j, 1])
+    volume = 0.0
+    for i in range(8):
+        volume += x[i, 0] * b[0, i]
+    inv = 1.0 / volume
+    for k in range(3):
+        for i in range(8):
+            b[k, i] *= inv
+    return volume
+
+
+@njit(cache=True)
+def quad4_char_length(x, area):
+    """Area over the longest edge."""
+    longest = 0.0
+    for i in range(4):
+        j = (i + 1) % 4
+        e = np.sqrt((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2)
+        longest = max(longest, e)
+    return area / longest
+
+
+@njit(cache=True)
+def hex8_char_length(x, volume):
+    """Volume over the largest face area (face area from its diagonals' cross product)."""
+    largest = 0.0
+    for f in range(6):
+        a, b_, c, d = _HEX_FACES[f, 0], _HEX_FACES[f, 1], _HEX_FACES[f, 2], _HEX_FACES[f, 3]
+        p0 = x[c, 0] - x[a, 0]
+        p1 = x[c, 1] - x[a, 1]
+        p2 = x[c, 2] - x[a, 2]
+        q0 = x[d, 0] - x[b_, 0]
+        q1 = x[d, 1] - x[b_, 1]
+        q2 = x[d, 2] - x[b_, 2]
+        cx = p1 * q2 - p2 * q1
+        cy = p2 * q0 - p0 * q2
+        cz = p0 * q1 - p1 * q0
+        largest = max(largest, 0.5 * np.sqrt(cx * cx + cy * cy + cz * cz))
+    return volume / largest
+
+
+@njit(cache=True)
+def rotate_stress(s, w_xy, w_yz, w_zx, dt):
+    """s <- R s R^T with R the Cayley transform of S = dt/2 W (Hughes & Winget 1980).
+
+    W is the spin, W_ij = (L_ij - L_ji)/2, given by its components w_xy, w_yz, w_zx;
+    R = I + 2/(1 + |a|^2) (S + S^2), a the axial vector of S.
+    """
+    h = 0.5 * dt
+    # S as a full 3x3 (row-major): S_xy = h w_xy, S_yz = h w_yz, S_zx = h w_zx, skew.
+    s01 = h * w_xy
+    s12 = h * w_yz
+    s20 = h * w_zx
+    if s01 == 0.0 and s12 == 0.0 and s20 == 0.0:
+        return
+    a2 = s01 * s01 + s12 * s12 + s20 * s20
+    f = 2.0 / (1.0 + a2)
+    S = ((0.0, s01, -s20), (-s01, 0.0, s12), (s20, -s12, 0.0))
+    R = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            sq = S[i][0] * S[0][j] + S[i][1] * S[1][j] + S[i][2] * S[2][j]
+            R[i, j] = (1.0 if i == j else 0.0) + f * (S[i][j] + sq)
+    T = ((s[0], s[3], s[5]), (s[3], s[1], s[4]), (s[5], s[4], s[2]))
+    RT = np.empty((3, 3))
+    for i in range(3):
+        for j in range(3):
+            RT[i, j] = R[i, 0] * T[0][j] + R[i, 1] * T[1][j] + R[i, 2] * T[2][j]
+    out = np.empty(6)
+    idx = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0))
+    for c in range(6):
+        i, j = idx[c]
+        out[c] = RT[i, 0] * R[j, 0] + RT[i, 1] * R[j, 1] + RT[i, 2] * R[j, 2]
+    for c in range(6):
+        s[c] = out[c]
+
+
+@njit(cache=True)
+def _bulk_viscosity(rho, length, c, trace_d, q1, q2):
+    """q = rho l (Q1^2 l tr(d)^2 - Q2 c tr(d)) for tr(d) < 0, else 0."""
+    if trace_d >= 0.0:
+        return 0.0
+    return rho * length * (q1 * q1 * length * trace_d * trace_d - q2 * c * trace_d)
+
+
+@njit(cache=True)
+def _stable_dt(length, c, trace_d, q1, q2):
+    """l / (Q + sqrt(Q^2 + c^2)), Q = Q2 c + Q1 l |tr d| in compression."""
+    qq = 0.0
+    if trace_d < 0.0:
+        qq = q2 * c + q1 * length * (-trace_d)
+    return length / (qq + np.sqrt(qq * qq + c * c))
+
+
+@njit(cache=True)
+def _stress_power(s, d):
+    """s : d with tensor components in order xx, yy, zz, xy, yz, zx."""
+    return s[0] * d[0] + s[1] * d[1] + s[2] * d[2] + 2.0 * (s[3] * d[3] + s[4] * d[4] + s[5] * d[5])
+
+
+@njit(parallel=True, cache=True)
+def solid_element_forces(
+    x, v, conn, active, elem_mat, elem_sec, mat_type, mat_param, sec_param,
+    vol0, dt, stress, hist, energy, hg_energy, hg_force, f_elem, dt_elem, vol, q_visc,
+):
+    """One step of every active solid element (see module docstring).
+
+    Inputs: node coordinates x^{n+1} (N, dim), velocities v^{n+1/2} (N, dim), connectivity
+    (E, 4|8), active (E,) bool (rigid-part elements are inactive), material/section ids and tables,
+    initial volumes vol0 (E,), the step dt just taken.
+    Updated in place: stress (E, 6), hist (E, NHIST), energy (E,) internal energy, hg_energy (E,),
+    hg_force (E, modes, dim) stiffness hourglass resultants.
+    Written: f_elem (E, nodes, dim) force on each element node, dt_elem (E,) stable step
+    (INVERTED where the volume is not positive), vol (E,), q_visc (E,) bulk viscosity.
+    """
+    n_elem, npe = conn.shape
+    dim = x.shape[1]
+    n_chunks = min(n_elem, 64 * 8)
+    for chunk in prange(n_chunks):
+        start = chunk * n_elem // n_chunks
+        stop = (chunk + 1) * n_elem // n_chunks
+        xe = np.empty((npe, dim))
+        xm = np.empty((npe, dim))
+        ve = np.empty((npe, dim))
+        b = np.empty((dim, npe))
+        bm = np.empty((dim, npe))
+        deps = np.empty(6)
+        d = np.empty(6)
+        sig_old = np.empty(6)
+        for e in range(start, stop):
+            if not active[e]:
+                dt_elem[e] = np.inf
+                continue
+            for a in range(npe):
+                n = conn[e, a]
+                for k in range(dim):
+                    xe[a, k] = x[n, k]
+                    ve[a, k] = v[n, k]
+                    xm[a, k] = x[n, k] - 0.5 * dt * v[n, k]
+            if dim == 2:
+                vm = quad4_gradient(xm, bm)
+                ve_new = quad4_gradient(xe, b)
+            else:
+                vm = hex8_gradient(xm, bm)
+                ve_new = hex8_gradient(xe, b)
+            vol[e] = ve_new
+            if ve_new <= 0.0 or vm <= 0.0:
+                dt_elem[e] = INVERTED
+                for a in range(npe):
+                    for k in range(dim):
+                        f_elem[e, a, k] = 0.0
+                continue
+
+            # Velocity gradient L_ij = sum_a v_ia b_ja at mid-step.
+            lxx = lyy = lzz = lxy = lyx = lyz = lzy = lzx = lxz = 0.0
+            for a in range(npe):
+                lxx += ve[a, 0] * bm[0, a]
+                lxy += ve[a, 0] * bm[1, a]
+                lyx += ve[a, 1] * bm[0, a]
+                lyy += ve[a, 1] * bm[1, a]
+                if dim == 3:
+                    lxz += ve[a, 0] * bm[2, a]
+                    lzx += ve[a, 2] * bm[0, a]
+                    lyz += ve[a, 1] * bm[2, a]
+                    lzy += ve[a, 2] * bm[1, a]
+                    lzz += ve[a, 2] * bm[2, a]
+            d[0] = lxx
+            d[1] = lyy
+            d[2] = lzz
+            d[3] = 0.5 * (lxy + lyx)
+            d[4] = 0.5 * (lyz + lzy)
+            d[5] = 0.5 * (lzx + lxz)
+            trace_d = lxx + lyy + lzz
+
+            m = elem_mat[e]
+            p = mat_param[m]
+            sec = sec_param[elem_sec[e]]
+            sig = stress[e]
+            for c in range(6):
+                sig_old[c] = sig[c]
+                deps[c] = d[c] * dt
+            rotate_stress(sig, 0.5 * (lxy - lyx), 0.5 * (lyz - lzy), 0.5 * (lzx - lxz), dt)
+            rel_volume = ve_new / vol0[e]
+            update_stress(mat_type[m], p, sig, hist[e], deps, dt, rel_volume, energy[e] / vol0[e])
+
+            rho = p[0] / rel_volume
+            c_snd = sound_speed(mat_type[m], p, rel_volume)
+            if dim == 2:
+                length = quad4_char_length(xe, ve_new)
+            else:
+                length = hex8_char_length(xe, ve_new)
+            q = _bulk_viscosity(rho, length, c_snd, trace_d, sec[SEC_Q1], sec[SEC_Q2])
+            q_visc[e] = q
+            dt_elem[e] = _stable_dt(length, c_snd, trace_d, sec[SEC_Q1], sec[SEC_Q2])
+
+            # Internal energy: mid-step stress power plus bulk-viscosity work.
+            power = 0.5 * (_stress_power(sig_old, d) + _stress_power(sig, d)) - q * trace_d
+            energy[e] += power * vm * dt
+
+            # f_I = -V (sigma - q I) . b_I
+            sxx = sig[0] - q
+            syy = sig[1] - q
+            szz = sig[2] - q
+            for a in range(npe):
+                if dim == 2:
+                    f_elem[e, a, 0] = -ve_new * (sxx * b[0, a] + sig[3] * b[1, a])
+                    f_elem[e, a, 1] = -ve_new * (sig[3] * b[0, a] + syy * b[1, a])
+                else:
+                    f_elem[e, a, 0] = -ve_new * (sxx * b[0, a] + sig[3] * b[1, a] + sig[5] * b[2, a])
+                    f_elem[e, a, 1] = -ve_new * (sig[3] * b[0, a] + syy * b[1, a] + sig[4] * b[2, a])
+                    f_elem[e, a, 2] = -ve_new * (sig[5] * b[0, a] + sig[4] * b[1, a] + szz * b[2, a])
+
+            # Flanagan-Belytschko hourglass control.
+            qm = sec[SEC_HG_COEF]
+            if qm > 0.0:
+                n_modes = 1 if dim == 2 else 4
+                bb = 0.0
+                for k in range(dim):
+                    for a in range(npe):
+                        bb += b[k, a] * b[k, a]
+                if sec[SEC_HG_TYPE] == HG_VISCOUS:
+                    scale = ve_new ** ((dim - 1.0) / dim)
+                    coef = 0.25 * qm * rho * c_snd * scale
+                else:
+                    coef = 0.5 * qm * p[3] * ve_new * bb
+                for mode in range(n_modes):
+                    # gamma_a = Gamma_a - (Gamma . x_k) b_k
+                    gx = np.zeros(3)
+                    for a in range(npe):
+                        g = _QUAD_GAMMA[a] if dim == 2 else _HEX_GAMMA[mode, a]
+                        for k in range(dim):
+                            gx[k] += g * xe[a, k]
+                    qv = np.zeros(3)
+                    gam = np.empty(npe)
+                    for a in range(npe):
+                        g = _QUAD_GAMMA[a] if dim == 2 else _HEX_GAMMA[mode, a]
+                        for k in range(dim):
+                            g -= gx[k] * b[k, a]
+                        gam[a] = g
+                        for k in range(dim):
+                            qv[k] += ve[a, k] * g
+                    work = 0.0
+                    for k in range(dim):
+                        if sec[SEC_HG_TYPE] == HG_VISCOUS:
+                            resultant = coef * qv[k]
+                        else:
+                            hg_force[e, mode, k] += coef * qv[k] * dt
+                            resultant = hg_force[e, mode, k]
+                        work += resultant * qv[k] * dt
+                        for a in range(npe):
+                            f_elem[e, a, k] -= resultant * gam[a]
+                    hg_energy[e] += work
+
+
+@njit(parallel=True, cache=True)
+def gather_nodal_forces(f_elem, node_elem_ptr, node_elem_idx, out):
+    """out[n] = sum of f_elem[e, a] over the (e, a) pairs listed for node n (CSR map).
+
+    node_elem_idx holds e * nodes_per_element + a; a gather, so deterministic for any thread count.
+    """
+    n_nodes, dim = out.shape
+    npe = f_elem.shape[1]
+    for n in prange(n_nodes):
+        for k in range(dim):
+            out[n, k] = 0.0
+        for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+            ea = node_elem_idx[r]
+            e = ea // npe
+            a = ea - e * npe
+            for k in range(dim):
+                out[n, k] += f_elem[e, a, k]
+
+
+@njit(parallel=True, cache=True)
+def central_difference_update(x, v, force, inv_mass, dt_avg, dt_next, fixed_mask):
+    """v^{n+1/2} = v^{n-1/2} + dt_avg F/m (fixed_mask components zeroed), x^{n+1} = x^n + dt v (paper eq. 2.7).
+
+    fixed_mask (N, dim) is 1 where the velocity is free, 0 where prescribed (caller sets those).
+    """
+    n_nodes, dim = x.shape
+    for n in prange(n_nodes):
+        for k in range(dim):
+            v[n, k] = (v[n, k] + dt_avg * force[n, k] * inv_mass[n]) * fixed_mask[n, k]
+            x[n, k] += dt_next * v[n, k]
