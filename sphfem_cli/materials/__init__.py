@@ -1,0 +1,37 @@
+"""Constitutive models and equations of state.
+
+``kernels`` holds the numba functions (``update_stress``, ``sound_speed``, ``eos_pressure``,
+``eos_sound_speed``) and the type-id constants; ``tables.pack_material`` turns a deck material
+(and its equation of state) into ``(type id, parameter row)``. Theory: docs/theory/materials.md.
+"""
+from __future__ import annotations
+
+from .kernels import (
+    EOS_GRUNEISEN,
+    EOS_IDEAL_GAS,
+    EOS_JWL,
+    EOS_LINEAR_POLYNOMIAL,
+    EOS_NONE,
+    EOS_OFFSET,
+    EOS_STIFFENED_GAS,
+    EOS_TAIT,
+    ELASTIC,
+    ELASTIC_PLASTIC,
+    FLUID,
+    JOHNSON_COOK,
+    NHIST,
+    NPARAM,
+    P_EOS_TYPE,
+    RIGID,
+    eos_pressure,
+    eos_sound_speed,
+    sound_speed,
+    update_stress,
+)
+
+__all__ = [
+    "ELASTIC", "ELASTIC_PLASTIC", "JOHNSON_COOK", "RIGID", "FLUID",
+    "EOS_NONE", "EOS_LINEAR_POLYNOMIAL", "EOS_GRUNEISEN", "EOS_TAIT", "EOS_IDEAL_GAS",
+    "EOS_STIFFENED_GAS", "EOS_JWL", "NPARAM", "NHIST", "P_EOS_TYPE", "EOS_OFFSET",
+    "update_stress", "sound_speed", "eos_pressure", "eos_sound_speed",
+]

@@ -1,0 +1,323 @@
+"""Constitutive updates and equations of state as numba kernels.
+
+Conventions (see docs/architecture.md): symmetric tensors are 6-vectors ``xx, yy, zz, xy, yz, zx``
+with tensor shear components; pressure is positive in compression, sigma = s - p I. A material is
+an integer type id plus a parameter row ``p`` of ``NPARAM`` floats packed by
+``materials.tables.pack_material`` (slot table there). The equation-of-state parameters live in
+the same row from ``EOS_OFFSET`` on, so an EOS is called as
+``eos_pressure(int(p[P_EOS_TYPE]), p[EOS_OFFSET:], rho_ratio, e_int)``.
+
+Equations and sources: docs/theory/materials.md.
+"""
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+# material type ids
+ELASTIC = 0
+ELASTIC_PLASTIC = 1
+JOHNSON_COOK = 2
+RIGID = 3
+FLUID = 4
+
+# equation-of-state type ids
+EOS_NONE = -1
+EOS_LINEAR_POLYNOMIAL = 0
+EOS_GRUNEISEN = 1
+EOS_TAIT = 2
+EOS_IDEAL_GAS = 3
+EOS_STIFFENED_GAS = 4
+EOS_JWL = 5
+
+NPARAM = 32
+NHIST = 8
+
+# common slots of the parameter row
+P_RHO0 = 0
+P_E = 1
+P_NU = 2
+P_G = 3
+P_K = 4
+P_EOS_TYPE = 15
+EOS_OFFSET = 16  # q = p[EOS_OFFSET:]; q[0] = rho0, q[1] = e0, q[2] = v0, q[3:] model constants
+
+# history slots
+H_EPS = 0  # effective plastic strain
+H_BACK = 1  # back stress, slots 1..6
+H_WP = 7  # plastic work per unit initial volume
+
+_JC_MAXIT = 100
+_JC_RTOL = 1e-12
+
+
+# ------------------------------------------------------------------------------ equations of state
+
+
+@njit(cache=True)
+def _eos_state(eos_type, q, r, e):
+    """Pressure and its partial derivatives ``(p, dp/dmu at fixed E, dp/dE at fixed mu)``.
+
+    ``r`` = rho/rho0, mu = r - 1, ``e`` = internal energy per unit reference volume E.
+    """
+    mu = r - 1.0
+    if eos_type == EOS_LINEAR_POLYNOMIAL:
+        c0, c1, c2, c3, c4, c5, c6 = q[3], q[4], q[5], q[6], q[7], q[8], q[9]
+        if mu < 0.0:  # LS-DYNA drops the quadratic terms in tension
+            c2 = 0.0
+            c6 = 0.0
+        p = c0 + mu * (c1 + mu * (c2 + mu * c3)) + (c4 + mu * (c5 + mu * c6)) * e
+        dpdmu = c1 + mu * (2.0 * c2 + 3.0 * c3 * mu) + (c5 + 2.0 * c6 * mu) * e
+        dpde = c4 + mu * (c5 + mu * c6)
+        return p, dpdmu, dpde
+    if eos_type == EOS_GRUNEISEN:
+        rho0, c, s1, s2, s3, g0, a = q[0], q[3], q[4], q[5], q[6], q[7], q[8]
+        k0 = rho0 * c * c
+        dpde = g0 + a * mu
+        if mu > 0.0:
+            m1 = mu + 1.0
+            num = 1.0 + (1.0 - 0.5 * g0) * mu - 0.5 * a * mu * mu
+            dnum = (1.0 - 0.5 * g0) - a * mu
+            den = 1.0 - (s1 - 1.0) * mu - s2 * mu * mu / m1 - s3 * mu * mu * mu / (m1 * m1)
+            dden = -(s1 - 1.0) - s2 * mu * (mu + 2.0) / (m1 * m1) - s3 * mu * mu * (mu + 3.0) / (m1 * m1 * m1)
+            p = k0 * mu * num / (den * den) + dpde * e
+            dpdmu = k0 * ((num + mu * dnum) / (den * den) - 2.0 * mu * num * dden / (den * den * den)) + a * e
+        else:
+            p = k0 * mu + dpde * e
+            dpdmu = k0 + a * e
+        return p, dpdmu, dpde
+    if eos_type == EOS_TAIT:
+        rho0, rho_ref, c, gam, pb, b = q[0], q[3], q[4], q[5], q[6], q[7]
+        x = rho0 * r / rho_ref
+        xg1 = x ** (gam - 1.0)
+        p = b * (xg1 * x - 1.0) + pb
+        dpdmu = b * gam * xg1 * rho0 / rho_ref
+        return p, dpdmu, 0.0
+    if eos_type == EOS_IDEAL_GAS:
+        gm1 = q[3] - 1.0
+        return gm1 * r * e, gm1 * e, gm1 * r
+    if eos_type == EOS_STIFFENED_GAS:
+        gam, pinf = q[3], q[4]
+        gm1 = gam - 1.0
+        return gm1 * r * e - gam * pinf, gm1 * e, gm1 * r
+    if eos_type == EOS_JWL:
+        a, b, r1, r2, w = q[3], q[4], q[5], q[6], q[7]
+        v = 1.0 / r
+        x1 = math.exp(-r1 * v)
+        x2 = math.exp(-r2 * v)
+        p = a * (1.0 - w / (r1 * v)) * x1 + b * (1.0 - w / (r2 * v)) * x2 + w * e * r
+        dpdv = (
+            a * x1 * (w / (r1 * v * v) - r1 + w / v)
+            + b * x2 * (w / (r2 * v * v) - r2 + w / v)
+            - w * e / (v * v)
+        )
+        return p, -v * v * dpdv, w * r
+    return 0.0, 0.0, 0.0
+
+
+@njit(cache=True)
+def eos_pressure(eos_type, q, rho_ratio, e_int):
+    """Pressure p(rho/rho0, E) of equation of state ``eos_type`` with parameter row ``q``.
+
+    ``e_int`` is the internal energy per unit reference volume (LS-DYNA's E). Formulas per type in
+    docs/theory/materials.md; the row layout is in ``materials.tables``.
+    """
+    return _eos_state(eos_type, q, rho_ratio, e_int)[0]
+
+
+@njit(cache=True)
+def eos_sound_speed(eos_type, q, rho_ratio, e_int):
+    """Isentropic sound speed c = sqrt((dp/drho)_e + p/rho^2 (dp/de)_rho).
+
+    In the variables mu = rho/rho0 - 1 and E = rho0 e this is
+    c^2 = (dp/dmu + p (dp/dE) / (rho/rho0)^2) / rho0. Negative c^2 is clamped to 0.
+    """
+    p, dpdmu, dpde = _eos_state(eos_type, q, rho_ratio, e_int)
+    c2 = (dpdmu + p * dpde / (rho_ratio * rho_ratio)) / q[0]
+    return math.sqrt(c2) if c2 > 0.0 else 0.0
+
+
+# ------------------------------------------------------------------------------ plasticity helpers
+
+
+@njit(cache=True)
+def _bilinear_return(p, hist, s0, s1, s2, s3, s4, s5, G):
+    """Radial return for bilinear von Mises plasticity with combined hardening (LS-DYNA MAT_003).
+
+    sigma_y = sigma_y0 + beta Ep eps_p, Ep = E Et/(E - Et); back stress rate (1 - beta) Ep deps_p
+    times the unit flow direction xi/xi_eq; deps_p = f/(3G + Ep). Updates ``hist`` and returns the
+    corrected deviator and the plastic work s_{n+1} : deps^p.
+    """
+    sy0, beta, ep_mod = p[5], p[7], p[8]
+    a0, a1, a2, a3, a4, a5 = hist[1], hist[2], hist[3], hist[4], hist[5], hist[6]
+    x0, x1, x2, x3, x4, x5 = s0 - a0, s1 - a1, s2 - a2, s3 - a3, s4 - a4, s5 - a5
+    xeq = math.sqrt(1.5 * (x0 * x0 + x1 * x1 + x2 * x2 + 2.0 * (x3 * x3 + x4 * x4 + x5 * x5)))
+    eps = hist[0]
+    f = xeq - (sy0 + beta * ep_mod * eps)
+    if f <= 0.0:
+        return s0, s1, s2, s3, s4, s5, 0.0
+    dl = f / (3.0 * G + ep_mod)
+    k = 3.0 * G * dl / xeq
+    s0, s1, s2, s3, s4, s5 = s0 - k * x0, s1 - k * x1, s2 - k * x2, s3 - k * x3, s4 - k * x4, s5 - k * x5
+    h = (1.0 - beta) * ep_mod * dl / xeq
+    hist[1], hist[2], hist[3] = a0 + h * x0, a1 + h * x1, a2 + h * x2
+    hist[4], hist[5], hist[6] = a3 + h * x3, a4 + h * x4, a5 + h * x5
+    hist[0] = eps + dl
+    sx = s0 * x0 + s1 * x1 + s2 * x2 + 2.0 * (s3 * x3 + s4 * x4 + s5 * x5)
+    dwp = 1.5 * dl * sx / xeq
+    hist[7] += dwp
+    return s0, s1, s2, s3, s4, s5, dwp
+
+
+@njit(cache=True)
+def jc_thermal_factor(p, wp):
+    """Johnson-Cook thermal factor 1 - T*^m, T* = (T - Tr)/(Tm - Tr), T = Tr + Wp/(rho0 cp).
+
+    ``wp`` is the plastic work per unit initial volume; cp = 0 means isothermal (factor 1).
+    """
+    cp = p[13]
+    if cp <= 0.0:
+        return 1.0
+    troom, tmelt = p[12], p[11]
+    tstar = (wp / (p[0] * cp)) / (tmelt - troom)
+    if tstar <= 0.0:
+        return 1.0
+    if tstar >= 1.0:
+        return 0.0
+    return 1.0 - tstar ** p[9]
+
+
+@njit(cache=True)
+def jc_flow_stress(p, eps, rate_star, theta):
+    """Johnson-Cook flow stress (A + B eps^n)(1 + C ln max(rate*, 1)) theta."""
+    a, b, n, c = p[5], p[6], p[7], p[8]
+    hard = a + b * eps ** n if eps > 0.0 else a
+    rate = 1.0 + c * math.log(rate_star) if rate_star > 1.0 else 1.0
+    return hard * rate * theta
+
+
+@njit(cache=True)
+def _jc_return(p, hist, s0, s1, s2, s3, s4, s5, G, dt):
+    """Radial return for Johnson-Cook plasticity (isotropic hardening).
+
+    Solves xi_eq - 3G dl - sigma_y(eps_p + dl, dl/(dt rate0)) = 0 for dl by Newton's method
+    safeguarded by bisection on [0, xi_eq/(3G)]; the rate is the plastic strain rate dl/dt and
+    the temperature is taken from the plastic work at the start of the step.
+    """
+    a, b, n, c, rate0 = p[5], p[6], p[7], p[8], p[10]
+    xeq = math.sqrt(1.5 * (s0 * s0 + s1 * s1 + s2 * s2 + 2.0 * (s3 * s3 + s4 * s4 + s5 * s5)))
+    eps = hist[0]
+    theta = jc_thermal_factor(p, hist[7])
+    if xeq <= jc_flow_stress(p, eps, 0.0, theta):
+        return s0, s1, s2, s3, s4, s5, 0.0
+    if theta <= 0.0:  # melted: no deviatoric strength
+        dl = xeq / (3.0 * G)
+        hist[0] = eps + dl
+        return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+    inv_rate = 1.0 / (dt * rate0) if dt > 0.0 else 0.0
+    lo = 0.0
+    hi = xeq / (3.0 * G)
+    dl = 0.5 * hi * (1.0 - jc_flow_stress(p, eps, 0.0, theta) / xeq)
+    for _ in range(_JC_MAXIT):
+        e1 = eps + dl
+        rs = dl * inv_rate
+        hard = a + b * e1 ** n if e1 > 0.0 else a
+        rate = 1.0 + c * math.log(rs) if rs > 1.0 else 1.0
+        f = xeq - 3.0 * G * dl - hard * rate * theta
+        if f > 0.0:
+            lo = dl
+        else:
+            hi = dl
+        if abs(f) <= _JC_RTOL * xeq:
+            break
+        dhard = b * n * e1 ** (n - 1.0) if e1 > 0.0 else 0.0
+        drate = c / dl if rs > 1.0 else 0.0
+        df = -3.0 * G - theta * (dhard * rate + hard * drate)
+        nxt = dl - f / df
+        if not (lo < nxt < hi):
+            nxt = 0.5 * (lo + hi)
+        if abs(nxt - dl) <= _JC_RTOL * hi:
+            dl = nxt
+            break
+        dl = nxt
+    scale = 1.0 - 3.0 * G * dl / xeq
+    hist[0] = eps + dl
+    dwp = dl * scale * xeq
+    hist[7] += dwp
+    return s0 * scale, s1 * scale, s2 * scale, s3 * scale, s4 * scale, s5 * scale, dwp
+
+
+# ------------------------------------------------------------------------------ stress update
+
+
+@njit(cache=True)
+def update_stress(mtype, p, sig, hist, deps, dt, rel_volume, e_int):
+    """Advance the Cauchy stress ``sig`` (6,) in place over one step; return the plastic work.
+
+    ``sig`` is the stress at the start of the step, already rotated (Jaumann); ``deps`` = d dt is
+    the strain increment (tensor shear); ``hist`` (NHIST,) is updated in place; ``rel_volume`` =
+    V/V0 and ``e_int`` (internal energy per unit initial volume) feed the EOS when one is
+    attached (``p[P_EOS_TYPE] >= 0``). Hypoelastic (Wilkins):
+    sigma += lambda tr(deps) I + 2G deps, then the deviator is returned to the yield surface
+    (elastic_plastic, johnson_cook). With an EOS the pressure is p_eos(1/rel_volume, e_int) and only
+    the deviator comes from the rate form. Fluid: sigma = -p_eos I + 2 mu_visc dev(deps)/dt.
+    Returns the plastic work increment per unit volume (0 for elastic, rigid and fluid).
+    """
+    if mtype == RIGID:
+        return 0.0
+    eos = int(p[P_EOS_TYPE])
+    tr = deps[0] + deps[1] + deps[2]
+    third = tr / 3.0
+    sm = (sig[0] + sig[1] + sig[2]) / 3.0
+    if eos >= 0:
+        sm_new = -eos_pressure(eos, p[EOS_OFFSET:], 1.0 / rel_volume, e_int)
+    else:
+        sm_new = sm + p[P_K] * tr
+    if mtype == FLUID:
+        k = 2.0 * p[5] / dt if dt > 0.0 else 0.0
+        sig[0] = sm_new + k * (deps[0] - third)
+        sig[1] = sm_new + k * (deps[1] - third)
+        sig[2] = sm_new + k * (deps[2] - third)
+        sig[3] = k * deps[3]
+        sig[4] = k * deps[4]
+        sig[5] = k * deps[5]
+        return 0.0
+    g2 = 2.0 * p[P_G]
+    s0 = sig[0] - sm + g2 * (deps[0] - third)
+    s1 = sig[1] - sm + g2 * (deps[1] - third)
+    s2 = sig[2] - sm + g2 * (deps[2] - third)
+    s3 = sig[3] + g2 * deps[3]
+    s4 = sig[4] + g2 * deps[4]
+    s5 = sig[5] + g2 * deps[5]
+    dwp = 0.0
+    if mtype == ELASTIC_PLASTIC:
+        s0, s1, s2, s3, s4, s5, dwp = _bilinear_return(p, hist, s0, s1, s2, s3, s4, s5, p[P_G])
+    elif mtype == JOHNSON_COOK:
+        s0, s1, s2, s3, s4, s5, dwp = _jc_return(p, hist, s0, s1, s2, s3, s4, s5, p[P_G], dt)
+    sig[0] = s0 + sm_new
+    sig[1] = s1 + sm_new
+    sig[2] = s2 + sm_new
+    sig[3] = s3
+    sig[4] = s4
+    sig[5] = s5
+    return dwp
+
+
+@njit(cache=True)
+def sound_speed(mtype, p, rel_volume, e_int=0.0):
+    """Wave speed for the stable time step.
+
+    Solids: dilatational speed sqrt((K + 4G/3)/rho), rho = rho0/rel_volume; with an EOS attached
+    K is replaced by max(K, rho c_eos^2). Fluids: the EOS sound speed at (rho0/rel_volume, e_int)
+    (without an EOS, sqrt(K/rho)). ``e_int`` matters only for energy-dependent EOSs.
+    """
+    rho = p[P_RHO0] / rel_volume
+    eos = int(p[P_EOS_TYPE])
+    k = p[P_K]
+    if eos >= 0:
+        c = eos_sound_speed(eos, p[EOS_OFFSET:], 1.0 / rel_volume, e_int)
+        if mtype == FLUID:
+            return c
+        k = max(k, rho * c * c)
+    return math.sqrt((k + 4.0 * p[P_G] / 3.0) / rho)
