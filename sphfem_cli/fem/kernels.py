@@ -376,13 +376,26 @@ def gather_nodal_forces(f_elem, node_elem_ptr, node_elem_idx, out):
 
 
 @njit(parallel=True, cache=True)
-def central_difference_update(x, v, force, inv_mass, dt_avg, dt_next, fixed_mask):
-    """v^{n+1/2} = v^{n-1/2} + dt_avg F/m (fixed_mask components zeroed), x^{n+1} = x^n + dt v (paper eq. 2.7).
+def central_difference_update(x, v, f_int, f_ext, inv_mass, free, v_prescribed, dt_avg, dt, power):
+    """One central-difference step for the nodes (paper eq. 2.7).
 
-    fixed_mask (N, dim) is 1 where the velocity is free, 0 where prescribed (caller sets those).
+    v^{n+1/2} = v^{n-1/2} + dt_avg (f_int + f_ext)/m where free is 1, v_prescribed where free is 0;
+    x^{n+1} = x^n + dt v^{n+1/2}. power[n] receives the work of the applied forces over the step,
+    F . (v^{n-1/2} + v^{n+1/2})/2 dt_avg, with F = f_ext on free components and the reaction
+    m a - f_int on prescribed ones; summing it afterwards keeps the total order-independent.
     """
     n_nodes, dim = x.shape
     for n in prange(n_nodes):
+        w = 0.0
         for k in range(dim):
-            v[n, k] = (v[n, k] + dt_avg * force[n, k] * inv_mass[n]) * fixed_mask[n, k]
-            x[n, k] += dt_next * v[n, k]
+            v_old = v[n, k]
+            if free[n, k]:
+                v_new = v_old + dt_avg * (f_int[n, k] + f_ext[n, k]) * inv_mass[n]
+                applied = f_ext[n, k]
+            else:
+                v_new = v_prescribed[n, k]
+                applied = (v_new - v_old) / dt_avg / inv_mass[n] - f_int[n, k] if dt_avg > 0.0 else 0.0
+            w += applied * 0.5 * (v_old + v_new) * dt_avg
+            v[n, k] = v_new
+            x[n, k] += dt * v_new
+        power[n] = w

@@ -1,0 +1,232 @@
+"""The `sphfem` command: a thin click shell over deck -> model -> solver -> output.
+
+Exit codes: 0 ok, 2 usage, 65 bad deck, 3 run stopped by a guard, 1 internal error.
+"""
+from __future__ import annotations
+
+import os
+import platform
+import socket
+import sys
+import time
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+
+import click
+
+from . import __version__
+
+EXIT_OK, EXIT_INTERNAL, EXIT_USAGE, EXIT_GUARD, EXIT_DECK = 0, 1, 2, 3, 65
+
+
+class DeckProblem(click.ClickException):
+    """A bad deck: one line on stderr, exit 65."""
+
+    exit_code = EXIT_DECK
+
+    def show(self, file=None) -> None:
+        click.echo(self.message, err=True)
+
+
+@dataclass
+class Loaded:
+    deck: object
+    model: object
+    path: Path
+
+
+def load_model(deck_path: str) -> Loaded:
+    """Read, validate and build; every deck problem becomes a one-line DeckProblem."""
+    from .deck import loader
+    from .deck.errors import DeckError, parse_path
+    from .deck.schema import Deck
+    from .deck.validate import validate_model
+    from .model.build import ModelError, build_model
+
+    try:
+        data, positions = loader.load(deck_path)
+        deck = validate_model(Deck, data, positions, deck_path)
+    except DeckError as err:
+        raise DeckProblem(str(err)) from None
+    try:
+        model = build_model(deck, Path(deck_path))
+    except ModelError as err:
+        line, col = positions.position_of(parse_path(err.path))
+        raise DeckProblem(str(DeckError(err.message, file=deck_path, line=line, col=col, path=err.path))) from None
+    return Loaded(deck, model, Path(deck_path))
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(__version__, prog_name="sphfem")
+def main() -> None:
+    """sphfem: explicit-dynamics fluid-structure interaction from a YAML deck."""
+
+
+@main.command()
+@click.argument("deck", type=click.Path(dir_okay=False))
+def check(deck: str) -> None:
+    """Validate DECK and print a model summary (counts, materials, stable step, memory)."""
+    loaded = load_model(deck)
+    from .solver.explicit import RunStopped, Simulation
+
+    model = loaded.model
+    d = loaded.deck
+    force, pressure, density = d.units.derived
+    click.echo(f"{d.title or Path(deck).name}")
+    click.echo(f"  units: {d.units.length}-{d.units.mass}-{d.units.time} "
+               f"(force {force}, pressure {pressure}, density {density}); dimension {d.dimension}")
+    click.echo(f"  {model.n_nodes} nodes, {model.n_elements} elements, {len(model.parts)} part(s)")
+    for p in model.parts:
+        kind = "rigid" if p.rigid else d.parts[p.name].section
+        click.echo(f"    {p.name}: {p.nodes.stop - p.nodes.start} nodes, {p.elements.stop - p.elements.start} "
+                   f"elements, material {model.material_names[p.material]}, {kind}")
+    for name, m in d.materials.items():
+        click.echo(f"  material {name}: {m.type}, density {m.density:g}")
+    try:
+        sim = Simulation(model)
+    except RunStopped as err:
+        raise DeckProblem(f"{deck}:1:1: model: {err}") from None
+    dt = sim.state.dt
+    click.echo(f"  stable time step {dt:.4e} (timestep_scale {d.control.timestep_scale}), "
+               f"about {int(d.control.end_time / dt) + 1} steps to end_time {d.control.end_time:g}")
+    click.echo(f"  memory estimate {model.memory_bytes() / 2**20:.1f} MiB")
+
+
+@main.command()
+@click.argument("deck", type=click.Path(dir_okay=False))
+@click.option("-o", "--output", "outdir", type=click.Path(file_okay=False),
+              help="Output folder. Default: <deck name>_results beside the current directory.")
+@click.option("--threads", type=click.IntRange(min=1), default=None, help="Worker threads (default: all cores).")
+@click.option("-q", "--quiet", is_flag=True, help="Print nothing but errors.")
+@click.option("-v", "--verbose", is_flag=True, help="Print the energy balance at every field output.")
+def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose: bool) -> None:
+    """Run DECK and write XDMF/HDF5 fields and CSV histories to the output folder."""
+    loaded = load_model(deck)
+    if threads is not None:
+        import numba
+
+        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    out = Path(outdir) if outdir else Path.cwd() / f"{Path(deck).stem}_results"
+    out.mkdir(parents=True, exist_ok=True)
+    code = execute(loaded, out, quiet=quiet, verbose=verbose)
+    sys.exit(code)
+
+
+def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = False) -> int:
+    """Run a built model into `out`; returns the exit code. Keeps the effective deck and a log."""
+    import numba
+    import yaml
+
+    from .output.results import RunOutput
+    from .solver.explicit import RunStopped, Simulation
+
+    (out / "deck.effective.yaml").write_text(
+        f"# {loaded.path} with every default filled in (sphfem {__version__})\n"
+        + yaml.safe_dump(loaded.deck.model_dump(mode="json"), sort_keys=False)
+    )
+    log = _RunLog(out / "run.log", loaded.path)
+    start = time.perf_counter()
+    status, message = "completed", ""
+    output = None
+    try:
+        sim = Simulation(loaded.model)
+        output = RunOutput(sim, out)
+        output()
+        with _Progress(sim, enabled=not quiet and sys.stderr.isatty()) as progress:
+            def on_step(st):
+                output()
+                progress.update(st)
+            sim.run(on_step)
+    except RunStopped as err:
+        status, message = "stopped by a guard", str(err)
+    except KeyboardInterrupt:
+        status, message = "interrupted", "interrupted by the user; output so far is kept"
+    except Exception as err:  # noqa: BLE001 - the CLI's last line of defence
+        status, message = "internal error", f"{type(err).__name__}: {err}"
+        log.write(traceback.format_exc())
+    finally:
+        if output is not None:
+            try:
+                if status != "completed":
+                    output(force=True)
+            finally:
+                output.close()
+    wall = time.perf_counter() - start
+    steps = output.sim.state.step if output else 0
+    log.close(status, message, wall, steps, numba.get_num_threads())
+    if status == "completed":
+        if not quiet:
+            row = output.last_energy
+            click.echo(f"completed: t = {output.sim.state.time:.6g}, {steps} steps, {wall:.2f} s wall, "
+                       f"energy ratio {row.ratio:.4f}; results in {out}", err=True)
+        return EXIT_OK
+    if status == "stopped by a guard":
+        (out / "diagnostics.txt").write_text(message + "\n")
+        click.echo(f"run stopped: {message}; last state written to {out}", err=True)
+        return EXIT_GUARD
+    if status == "interrupted":
+        click.echo(message, err=True)
+        return EXIT_GUARD
+    click.echo(f"internal error: {message} (details in {out / 'run.log'})", err=True)
+    return EXIT_INTERNAL
+
+
+class _RunLog:
+    def __init__(self, path: Path, deck: Path):
+        self.file = path.open("w")
+        self.file.write(
+            f"sphfem {__version__}\ncommand: {' '.join(sys.argv)}\ndeck: {deck.resolve()}\n"
+            f"host: {socket.gethostname()} ({platform.platform()}, Python {platform.python_version()})\n"
+            f"started: {time.strftime('%Y-%m-%d %H:%M:%S')}\n"
+        )
+        self.file.flush()
+
+    def write(self, text: str) -> None:
+        self.file.write(text)
+        self.file.flush()
+
+    def close(self, status: str, message: str, wall: float, steps: int, threads: int) -> None:
+        self.file.write(f"threads: {threads}\nsteps: {steps}\nwall time: {wall:.3f} s\nstatus: {status}\n")
+        if message:
+            self.file.write(f"message: {message}\n")
+        self.file.close()
+
+
+class _Progress:
+    """A rich progress bar on stderr (simulated time, step, dt, ETA), only on a terminal."""
+
+    def __init__(self, sim, enabled: bool):
+        self.sim = sim
+        self.enabled = enabled
+        self._last = 0.0
+
+    def __enter__(self):
+        if self.enabled:
+            from rich.progress import BarColumn, Progress, TextColumn, TimeRemainingColumn
+
+            self.bar = Progress(
+                TextColumn("t = {task.fields[t]:.4e}"), BarColumn(),
+                TextColumn("step {task.fields[step]} dt {task.fields[dt]:.2e}"), TimeRemainingColumn(),
+                transient=True, console=None,
+            )
+            self.bar.__enter__()
+            self.task = self.bar.add_task("run", total=self.sim.control.end_time, t=0.0, step=0, dt=0.0)
+        return self
+
+    def update(self, st) -> None:
+        if not self.enabled:
+            return
+        now = time.perf_counter()
+        if now - self._last > 0.2:
+            self._last = now
+            self.bar.update(self.task, completed=st.time, t=st.time, step=st.step, dt=st.dt)
+
+    def __exit__(self, *exc):
+        if self.enabled:
+            self.bar.__exit__(*exc)
+        return False
+
+
+if __name__ == "__main__":  # pragma: no cover
+    main()

@@ -1,0 +1,278 @@
+"""Deck -> Model: every part meshed, materials and sections packed into tables, sets resolved.
+
+The model is plain numpy arrays; nothing here runs per step.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..deck.schema import Deck
+from ..deck.schema.model import SegmentSet
+from ..fem.kernels import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2
+from ..materials.kernels import NHIST, RIGID
+from ..materials.tables import pack_material
+from . import mesh as meshgen
+from . import sets as selection
+
+
+class ModelError(Exception):
+    """A deck that validates but cannot be built (unreadable mesh, empty selection).
+
+    Carries the dotted deck path so the caller can point at the key's line and column.
+    """
+
+    def __init__(self, path: str, message: str) -> None:
+        self.path = path
+        self.message = message
+        super().__init__(f"{path}: {message}")
+
+
+@dataclass
+class PartInfo:
+    """One part's slices into the global node and element arrays."""
+
+    name: str
+    nodes: slice
+    elements: slice
+    material: int
+    section: int
+    rigid: bool
+
+
+@dataclass
+class RigidBody:
+    """A rigid part: its nodes move as one body (3 DOF in 2D, 6 in 3D)."""
+
+    part: int
+    nodes: np.ndarray
+    mass: float
+    center: np.ndarray  # initial centre of mass
+    inertia: np.ndarray  # 2D: polar moment (scalar array); 3D: (3, 3) about the centre
+
+
+@dataclass
+class Model:
+    deck: Deck
+    deck_path: Path
+    dim: int
+    coordinates: np.ndarray  # (N, dim) initial
+    connectivity: np.ndarray  # (E, 4|8)
+    parts: list[PartInfo]
+    element_part: np.ndarray
+    element_material: np.ndarray
+    element_section: np.ndarray
+    element_active: np.ndarray  # False for rigid-part elements
+    material_names: list[str]
+    material_type: np.ndarray  # (M,)
+    material_param: np.ndarray  # (M, NPARAM)
+    section_param: np.ndarray  # (S, NSEC)
+    volume0: np.ndarray  # (E,)
+    mass: np.ndarray  # (N,) lumped
+    node_elem_ptr: np.ndarray
+    node_elem_idx: np.ndarray
+    node_sets: dict[str, np.ndarray] = field(default_factory=dict)
+    segment_sets: dict[str, np.ndarray] = field(default_factory=dict)
+    rigid_bodies: list[RigidBody] = field(default_factory=list)
+
+    @property
+    def n_nodes(self) -> int:
+        return self.coordinates.shape[0]
+
+    @property
+    def n_elements(self) -> int:
+        return self.connectivity.shape[0]
+
+    @property
+    def nodes_per_element(self) -> int:
+        return self.connectivity.shape[1]
+
+    def part_index(self, name: str) -> int:
+        return next(i for i, p in enumerate(self.parts) if p.name == name)
+
+    def part_nodes(self, name: str) -> np.ndarray:
+        s = self.parts[self.part_index(name)].nodes
+        return np.arange(s.start, s.stop)
+
+    def target_nodes(self, part: str | None, set_name: str | None) -> np.ndarray:
+        """Node ids of a part or of a node/segment set."""
+        if part is not None:
+            return self.part_nodes(part)
+        if set_name in self.node_sets:
+            return self.node_sets[set_name]
+        return np.unique(self.segment_sets[set_name])
+
+    def memory_bytes(self) -> int:
+        """Arrays of the model plus the per-step state the solver allocates."""
+        n, e, dim, npe = self.n_nodes, self.n_elements, self.dim, self.nodes_per_element
+        per_node = 8 * dim * 6 + 8 * 3
+        per_elem = 8 * (npe + 6 + NHIST + 8 + npe * dim + 4 * dim) + 8 * npe * 2
+        return n * per_node + e * per_elem
+
+
+def build_model(deck: Deck, deck_path: Path) -> Model:
+    """Mesh every part and pack every table of the deck into a :class:`Model`."""
+    dim = deck.dimension
+    material_names = list(deck.materials)
+    rows = [
+        pack_material(m, deck.equations_of_state.get(getattr(m, "eos", None) or "", None))
+        for m in deck.materials.values()
+    ]
+    material_type = np.array([r[0] for r in rows], dtype=np.int64)
+    material_param = np.vstack([r[1] for r in rows])
+
+    section_names = list(deck.sections)
+    section_param = np.zeros((len(section_names), NSEC))
+    for i, s in enumerate(deck.sections.values()):
+        section_param[i, SEC_HG_TYPE] = HG_STIFFNESS if s.hourglass.type == "stiffness" else HG_VISCOUS
+        section_param[i, SEC_HG_COEF] = s.hourglass.coefficient
+        section_param[i, SEC_Q1] = s.bulk_viscosity.q1
+        section_param[i, SEC_Q2] = s.bulk_viscosity.q2
+
+    coords, conns, parts, file_sets = [], [], [], {}
+    n_nodes = n_elems = 0
+    for name, part in deck.parts.items():
+        mesh = _mesh_part(name, part, dim, deck_path)
+        conns.append(mesh.elements + n_nodes)
+        coords.append(mesh.nodes)
+        mat = material_names.index(part.material)
+        rigid = part.rigid or material_type[mat] == RIGID
+        parts.append(PartInfo(name, slice(n_nodes, n_nodes + mesh.n_nodes),
+                              slice(n_elems, n_elems + mesh.n_elements),
+                              mat, section_names.index(part.section), bool(rigid)))
+        for set_name, ids in mesh.node_sets.items():
+            file_sets[f"{name}.{set_name}"] = ids + n_nodes
+        n_nodes += mesh.n_nodes
+        n_elems += mesh.n_elements
+
+    coordinates = np.vstack(coords)
+    connectivity = np.vstack(conns).astype(np.int64)
+    element_part = np.concatenate([np.full(p.elements.stop - p.elements.start, i) for i, p in enumerate(parts)])
+    element_material = np.array([parts[i].material for i in element_part], dtype=np.int64)
+    element_section = np.array([parts[i].section for i in element_part], dtype=np.int64)
+    element_active = np.array([not parts[i].rigid for i in element_part])
+
+    volume0 = meshgen.element_jacobian_sign_check(coordinates, connectivity)
+    if dim == 3:
+        volume0 = _hex_volumes(coordinates, connectivity)
+    npe = connectivity.shape[1]
+    mass = np.zeros(len(coordinates))
+    np.add.at(mass, connectivity, (material_param[element_material, 0] * volume0 / npe)[:, None])
+
+    ptr, idx = _node_element_map(connectivity, len(coordinates))
+    model = Model(
+        deck=deck, deck_path=deck_path, dim=dim, coordinates=coordinates, connectivity=connectivity,
+        parts=parts, element_part=element_part, element_material=element_material,
+        element_section=element_section, element_active=element_active,
+        material_names=material_names, material_type=material_type, material_param=material_param,
+        section_param=section_param, volume0=volume0, mass=mass, node_elem_ptr=ptr, node_elem_idx=idx,
+    )
+    model.node_sets.update(file_sets)
+    _resolve_sets(model, deck)
+    model.rigid_bodies = [_rigid_body(model, i) for i, p in enumerate(parts) if p.rigid]
+    return model
+
+
+def _mesh_part(name, part, dim, deck_path: Path) -> meshgen.MeshData:
+    g = part.geometry
+    where = f"parts.{name}.geometry.{g.kind}"
+    try:
+        if g.box is not None:
+            return meshgen.box_mesh(g.box.min, g.box.max, divisions=g.box.divisions, element_size=g.box.element_size)
+        if g.ring is not None:
+            r = g.ring
+            return meshgen.ring_mesh(r.center, r.inner_radius, r.outer_radius, r.elements_around, r.elements_through)
+        if g.cylinder is not None:
+            c = g.cylinder
+            return meshgen.cylinder_mesh(c.center, c.axis, c.inner_radius, c.outer_radius, c.length,
+                                         c.elements_around, c.elements_through, c.elements_along)
+        path = (deck_path.parent / g.file.file).resolve()
+        data = meshgen.read_mesh(path, dim)
+        data.nodes *= g.file.scale
+        return data
+    except (ValueError, OSError) as exc:
+        raise ModelError(where, str(exc).splitlines()[0]) from None
+
+
+def _hex_volumes(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
+    """Exact trilinear hex8 volumes (the same ones the element kernel computes)."""
+    from ..fem.kernels import hex8_gradient
+
+    b = np.empty((3, 8))
+    return np.array([hex8_gradient(x[c], b) for c in conn])
+
+
+def _node_element_map(conn: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
+    """CSR map node -> (element * nodes_per_element + local index), sorted for determinism."""
+    flat = conn.ravel()
+    order = np.argsort(flat, kind="stable")
+    counts = np.bincount(flat, minlength=n_nodes)
+    ptr = np.zeros(n_nodes + 1, dtype=np.int64)
+    np.cumsum(counts, out=ptr[1:])
+    return ptr, order.astype(np.int64)
+
+
+def _resolve_sets(model: Model, deck: Deck) -> None:
+    extent = np.ptp(model.coordinates, axis=0).max() if model.n_nodes else 1.0
+    for name, s in deck.sets.items():
+        if s.part is not None:
+            candidates = model.part_nodes(s.part)
+        else:
+            candidates = np.arange(model.n_nodes)
+        x = model.coordinates[candidates]
+        tol = s.tolerance if s.tolerance is not None else 1e-6 * extent
+        keep = np.ones(len(candidates), dtype=bool)
+        if s.side is not None:
+            axis, sign = selection.SIDES[s.side]
+            target = x[:, axis].max() if sign > 0 else x[:, axis].min()
+            keep &= np.abs(x[:, axis] - target) <= tol
+        if s.box is not None:
+            lo, hi = np.array(s.box["min"]), np.array(s.box["max"])
+            keep &= np.all((x >= lo - tol) & (x <= hi + tol), axis=1)
+        if s.plane is not None:
+            normal = np.array(s.plane["normal"], dtype=float)
+            normal /= np.linalg.norm(normal)
+            keep &= np.abs((x - np.array(s.plane["point"])) @ normal) <= tol
+        if s.sphere is not None:
+            dist = np.linalg.norm(x - np.array(s.sphere["center"]), axis=1)
+            keep &= np.abs(dist - s.radius) <= tol
+        nodes = candidates[keep]
+        if len(nodes) == 0:
+            raise ModelError(f"sets.{name}", "the selection matches no node")
+        if isinstance(s, SegmentSet):
+            segs = _segments_with_nodes(model, nodes, s.part)
+            if len(segs) == 0:
+                raise ModelError(f"sets.{name}", "the selection matches no exterior face")
+            model.segment_sets[name] = segs
+        else:
+            model.node_sets[name] = nodes
+
+
+def _segments_with_nodes(model: Model, nodes: np.ndarray, part: str | None) -> np.ndarray:
+    """Exterior faces (outward-oriented) of each part, or of `part`, whose nodes all lie in `nodes`."""
+    chosen = np.zeros(model.n_nodes, dtype=bool)
+    chosen[nodes] = True
+    out = []
+    for p in model.parts:
+        if part is not None and p.name != part:
+            continue
+        faces, _ = selection.boundary_faces(model.connectivity[p.elements], model.dim)
+        out.append(faces[np.all(chosen[faces], axis=1)])
+    return np.vstack(out) if out else np.zeros((0, 2 if model.dim == 2 else 4), dtype=np.int64)
+
+
+def _rigid_body(model: Model, part_index: int) -> RigidBody:
+    s = model.parts[part_index].nodes
+    nodes = np.arange(s.start, s.stop)
+    m = model.mass[nodes]
+    total = m.sum()
+    center = (m[:, None] * model.coordinates[nodes]).sum(axis=0) / total
+    r = model.coordinates[nodes] - center
+    if model.dim == 2:
+        inertia = np.array((m * (r ** 2).sum(axis=1)).sum())
+    else:
+        inertia = (m[:, None, None] * ((r ** 2).sum(axis=1)[:, None, None] * np.eye(3)
+                                        - r[:, :, None] * r[:, None, :])).sum(axis=0)
+    return RigidBody(part_index, nodes, float(total), center, inertia)

@@ -1,0 +1,171 @@
+"""What a run writes: field steps to XDMF/HDF5 and the history tables, on their own intervals.
+
+histories/glstat.csv   global energies (LS-DYNA glstat)
+histories/matsum.csv   kinetic, internal, hourglass energy per part (LS-DYNA matsum)
+histories/<name>.csv   each requested history (LS-DYNA nodout/elout)
+The same tables are mirrored in results.h5 under /histories.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..solver.explicit import EnergyRow, Simulation
+from .history import HistoryWriter
+from .xdmf import GridStep, XdmfWriter
+
+TOPOLOGY = {4: "Quadrilateral", 8: "Hexahedron"}
+
+
+def von_mises(stress: np.ndarray) -> np.ndarray:
+    """sqrt(3/2 s:s) of the deviator, stress (E, 6) in order xx, yy, zz, xy, yz, zx."""
+    p = stress[:, :3].mean(axis=1)
+    s = stress[:, :3] - p[:, None]
+    shear = stress[:, 3:]
+    return np.sqrt(1.5 * (np.sum(s * s, axis=1) + 2.0 * np.sum(shear * shear, axis=1)))
+
+
+class RunOutput:
+    """Field and history output of one simulation into `directory`."""
+
+    def __init__(self, sim: Simulation, directory: Path):
+        self.sim = sim
+        model = sim.model
+        out = model.deck.output
+        end = model.deck.control.end_time
+        self.field_interval = out.interval or end / 50.0
+        self.history_interval = out.history_interval or end / 1000.0
+        self.fields = set(out.fields)
+        self.directory = Path(directory)
+        (self.directory / "histories").mkdir(parents=True, exist_ok=True)
+        self.xdmf = XdmfWriter(self.directory, "results")
+        for p in model.parts:
+            conn = model.connectivity[p.elements] - p.nodes.start
+            self.xdmf.add_grid(p.name, TOPOLOGY[model.nodes_per_element], conn, p.nodes.stop - p.nodes.start)
+        group = self.xdmf.h5.require_group("histories")
+        hist_dir = self.directory / "histories"
+        self.glstat = HistoryWriter(hist_dir, "glstat", EnergyRow.COLUMNS, h5=group)
+        part_cols = ["time"] + [f"{p.name}_{k}" for p in model.parts for k in ("kinetic", "internal", "hourglass")]
+        self.matsum = HistoryWriter(hist_dir, "matsum", part_cols, h5=group)
+        self.requests = [_HistoryProbe(sim, h, hist_dir, group) for h in out.histories]
+        self._next_field = 0.0
+        self._next_history = 0.0
+        self.last_energy: EnergyRow | None = None
+
+    def __call__(self, force: bool = False) -> None:
+        """Write whatever is due at the current state (everything when `force`)."""
+        t = self.sim.state.time
+        eps = 1e-9 * self.history_interval
+        if force or t >= self._next_history - eps:
+            self.write_histories()
+            self._next_history = (np.floor((t + eps) / self.history_interval) + 1) * self.history_interval
+        if force or t >= self._next_field - 1e-9 * self.field_interval:
+            self.write_fields()
+            self._next_field = (np.floor((t + 1e-9 * self.field_interval) / self.field_interval) + 1) * self.field_interval
+
+    def write_histories(self) -> None:
+        row = self.sim.energy_row()
+        self.last_energy = row
+        self.glstat.append(row.values())
+        self.matsum.append([row.time, *self.sim.part_energies().ravel()])
+        for probe in self.requests:
+            probe.append()
+
+    def write_fields(self) -> None:
+        sim, model, st = self.sim, self.sim.model, self.sim.state
+        accel = (st.f_int + st.f_ext) * sim.inv_mass[:, None]
+        vm = von_mises(st.stress)
+        pressure = -st.stress[:, :3].mean(axis=1)
+        density = model.material_param[model.element_material, 0] * model.volume0 / st.volume
+        data = {}
+        for p in model.parts:
+            n, e = p.nodes, p.elements
+            point = {
+                "displacement": st.x[n] - model.coordinates[n],
+                "velocity": st.v[n],
+                "acceleration": accel[n],
+            }
+            cell = {
+                "stress": st.stress[e],
+                "von_mises": vm[e],
+                "pressure": pressure[e],
+                "plastic_strain": st.hist[e, 0],
+                "density": density[e],
+            }
+            data[p.name] = GridStep(
+                coordinates=st.x[n],
+                point_data={k: val for k, val in point.items() if k in self.fields},
+                cell_data={k: val for k, val in cell.items() if k in self.fields},
+            )
+        self.xdmf.write_step(st.time, data)
+
+    def close(self) -> None:
+        for writer in (self.glstat, self.matsum, *(p.writer for p in self.requests)):
+            writer.close()
+        self.xdmf.close()
+
+
+class _HistoryProbe:
+    """One requested history: mean over nodes of a part/set, or the node/element nearest a point."""
+
+    def __init__(self, sim: Simulation, request, directory: Path, group):
+        self.sim = sim
+        model = sim.model
+        dim = model.dim
+        if request.point is not None:
+            point = np.array(request.point)
+            self.nodes = np.array([int(np.argmin(np.linalg.norm(model.coordinates - point, axis=1)))])
+            centres = model.coordinates[model.connectivity].mean(axis=1)
+            self.element = int(np.argmin(np.linalg.norm(centres - point, axis=1)))
+        else:
+            self.nodes = model.target_nodes(request.part, request.set)
+            self.element = None
+            if request.part is not None:
+                self.elements = model.parts[model.part_index(request.part)].elements
+        self.quantities = list(request.quantities)
+        columns = ["time"]
+        axes = "xyz"[:dim]
+        for q in self.quantities:
+            if q in ("displacement", "velocity", "acceleration", "coordinates"):
+                columns += [f"{q}_{a}" for a in axes]
+            elif q == "stress":
+                columns += [f"stress_{c}" for c in ("xx", "yy", "zz", "xy", "yz", "zx")]
+            else:
+                columns.append(q)
+        self.writer = HistoryWriter(directory, request.name, columns, h5=group)
+
+    def _element_values(self, q: str) -> list[float]:
+        st = self.sim.state
+        if self.element is not None:
+            rows = slice(self.element, self.element + 1)
+        elif hasattr(self, "elements"):
+            rows = self.elements
+        else:
+            rows = slice(0, self.sim.model.n_elements)
+        stress = st.stress[rows]
+        if q == "stress":
+            return list(stress.mean(axis=0))
+        if q == "von_mises":
+            return [float(von_mises(stress).max())]
+        if q == "pressure":
+            return [float(-stress[:, :3].mean())]
+        return [float(st.hist[rows, 0].max())]
+
+    def append(self) -> None:
+        sim, st = self.sim, self.sim.state
+        x0 = sim.model.coordinates[self.nodes]
+        row = [st.time]
+        for q in self.quantities:
+            if q == "displacement":
+                row += list((st.x[self.nodes] - x0).mean(axis=0))
+            elif q == "coordinates":
+                row += list(st.x[self.nodes].mean(axis=0))
+            elif q == "velocity":
+                row += list(st.v[self.nodes].mean(axis=0))
+            elif q == "acceleration":
+                f = st.f_int[self.nodes] + st.f_ext[self.nodes]
+                row += list((f * sim.inv_mass[self.nodes, None]).mean(axis=0))
+            else:
+                row += self._element_values(q)
+        self.writer.append(row)

@@ -1,0 +1,191 @@
+"""Kinematic conditions, loads and rigid bodies: everything the loop applies at the nodes."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..deck.schema.model import (
+    FixedBoundary, Gravity, NodalForce, PrescribedVelocity, PressureLoad, SymmetryBoundary,
+)
+from ..model.build import Model, RigidBody
+
+AXES = {"x": 0, "y": 1, "z": 2}
+
+
+class Curves:
+    """Named piecewise-linear time curves, constant beyond their ends; None means 1."""
+
+    def __init__(self, model: Model):
+        self._tables = {
+            name: (np.array([p[0] for p in c.points]), c.scale * np.array([p[1] for p in c.points]))
+            for name, c in model.deck.curves.items()
+        }
+
+    def __call__(self, name: str | None, t: float) -> float:
+        if name is None:
+            return 1.0
+        ts, fs = self._tables[name]
+        return float(np.interp(t, ts, fs))
+
+
+@dataclass
+class _Prescribed:
+    nodes: np.ndarray
+    components: list[tuple[int, float]]
+    curve: str | None
+
+
+class Constraints:
+    """Fixed, symmetry and prescribed-velocity conditions as a free mask and prescribed values."""
+
+    def __init__(self, model: Model, curves: Curves):
+        self.curves = curves
+        self.free = np.ones((model.n_nodes, model.dim), dtype=np.bool_)
+        self.v_prescribed = np.zeros((model.n_nodes, model.dim))
+        self.prescribed: list[_Prescribed] = []
+        self.rigid_prescribed: dict[int, list[tuple[int, float, str | None]]] = {}
+        rigid_parts = {b.part: b for b in model.rigid_bodies}
+        for bc in model.deck.boundaries:
+            rigid = bc.part is not None and model.part_index(bc.part) in rigid_parts
+            if isinstance(bc, FixedBoundary):
+                comps = [(AXES[d], 0.0) for d in bc.directions if AXES[d] < model.dim]
+                curve = None
+            elif isinstance(bc, SymmetryBoundary):
+                comps, curve = [(AXES[bc.normal], 0.0)], None
+            else:
+                comps = [(k, val) for k, val in enumerate(bc.velocity) if val is not None]
+                curve = bc.curve
+            if rigid:
+                entry = self.rigid_prescribed.setdefault(model.part_index(bc.part), [])
+                entry.extend((k, val, curve) for k, val in comps)
+                continue
+            nodes = model.target_nodes(bc.part, bc.set)
+            for k, _ in comps:
+                self.free[nodes, k] = False
+            if any(val != 0.0 for _, val in comps):
+                self.prescribed.append(_Prescribed(nodes, comps, curve))
+
+    def update(self, t: float) -> None:
+        """Prescribed velocities at time t (the mid-step time of the update that uses them)."""
+        for p in self.prescribed:
+            scale = self.curves(p.curve, t)
+            for k, val in p.components:
+                self.v_prescribed[p.nodes, k] = val * scale
+
+
+class Loads:
+    """External nodal forces: gravity, follower pressure on segments, nodal forces."""
+
+    def __init__(self, model: Model, curves: Curves):
+        self.model = model
+        self.curves = curves
+        self.gravity = []
+        for load in model.deck.loads:
+            if isinstance(load, Gravity):
+                mask = np.zeros(model.n_nodes, dtype=bool)
+                for name in load.parts or [p.name for p in model.parts]:
+                    mask[model.part_nodes(name)] = True
+                weight = np.where(mask, model.mass, 0.0)[:, None] * np.array(load.acceleration)[None, :]
+                self.gravity.append((weight, load.curve))
+        self.pressures = [(model.segment_sets[l.set], l.value, l.curve)
+                          for l in model.deck.loads if isinstance(l, PressureLoad)]
+        self.nodal = [(model.node_sets[l.set], np.array(l.force), l.curve)
+                      for l in model.deck.loads if isinstance(l, NodalForce)]
+        self.active = bool(self.gravity or self.pressures or self.nodal)
+
+    def compute(self, t: float, x: np.ndarray, out: np.ndarray) -> None:
+        out[:] = 0.0
+        for weight, curve in self.gravity:
+            out += self.curves(curve, t) * weight
+        for nodes, force, curve in self.nodal:
+            out[nodes] += self.curves(curve, t) * force
+        for segs, value, curve in self.pressures:
+            p = value * self.curves(curve, t)
+            if p == 0.0:
+                continue
+            area_vectors = _segment_area_vectors(x, segs)
+            share = -p * area_vectors / segs.shape[1]
+            for a in range(segs.shape[1]):
+                np.add.at(out, segs[:, a], share)
+
+
+def _segment_area_vectors(x: np.ndarray, segs: np.ndarray) -> np.ndarray:
+    """Outward area vector of each segment: 2D edge (dy, -dx); 3D quad half the diagonals' cross product."""
+    if segs.shape[1] == 2:
+        d = x[segs[:, 1]] - x[segs[:, 0]]
+        return np.stack([d[:, 1], -d[:, 0]], axis=1)
+    d1 = x[segs[:, 2]] - x[segs[:, 0]]
+    d2 = x[segs[:, 3]] - x[segs[:, 1]]
+    return 0.5 * np.cross(d1, d2)
+
+
+class RigidBodies:
+    """Rigid parts integrated as bodies; their nodes follow exactly (no straight-line drift).
+
+    2D: centre c, angle theta, velocity V, spin omega; 3D: rotation matrix R, spin vector omega
+    with Euler's equations in the world frame, I_w = R I0 R^T.
+    """
+
+    def __init__(self, model: Model, constraints: Constraints, curves: Curves):
+        self.bodies: list[RigidBody] = model.rigid_bodies
+        self.dim = model.dim
+        self.curves = curves
+        self.constraints = constraints
+        self.x0 = model.coordinates
+        self.mass = model.mass
+        self.center = [b.center.copy() for b in self.bodies]
+        self.rotation = [np.eye(self.dim) for _ in self.bodies]
+        self.velocity = [np.zeros(self.dim) for _ in self.bodies]
+        self.spin = [np.zeros(1 if self.dim == 2 else 3) for _ in self.bodies]
+        for b in self.bodies:
+            constraints.free[b.nodes] = False
+
+    def set_initial_velocity(self, v: np.ndarray) -> None:
+        """Body velocity = momentum of its nodes' initial velocities over its mass (no initial spin)."""
+        for i, b in enumerate(self.bodies):
+            self.velocity[i] = (self.mass[b.nodes, None] * v[b.nodes]).sum(axis=0) / b.mass
+            v[b.nodes] = self.velocity[i]
+
+    def kick(self, force: np.ndarray, t_mid: float, dt_avg: float, x: np.ndarray) -> None:
+        """Advance body velocities by the resultant of `force` on their nodes; set their nodes' velocities."""
+        for i, b in enumerate(self.bodies):
+            f = force[b.nodes]
+            r = x[b.nodes] - self.center[i]
+            self.velocity[i] = self.velocity[i] + dt_avg * f.sum(axis=0) / b.mass
+            if self.dim == 2:
+                torque = float((r[:, 0] * f[:, 1] - r[:, 1] * f[:, 0]).sum())
+                self.spin[i] = self.spin[i] + dt_avg * torque / float(b.inertia)
+            else:
+                torque = np.cross(r, f).sum(axis=0)
+                iw = self.rotation[i] @ b.inertia @ self.rotation[i].T
+                w = self.spin[i]
+                self.spin[i] = w + dt_avg * np.linalg.solve(iw, torque - np.cross(w, iw @ w))
+            for k, val, curve in self.constraints.rigid_prescribed.get(b.part, []):
+                self.velocity[i][k] = val * self.curves(curve, t_mid)
+            self.constraints.v_prescribed[b.nodes] = self._node_velocity(i, r)
+
+    def drift(self, dt: float, x: np.ndarray) -> None:
+        """Move each body by dt and place its nodes exactly."""
+        for i, b in enumerate(self.bodies):
+            self.center[i] = self.center[i] + dt * self.velocity[i]
+            if self.dim == 2:
+                a = dt * float(self.spin[i][0])
+                c, s = np.cos(a), np.sin(a)
+                self.rotation[i] = np.array([[c, -s], [s, c]]) @ self.rotation[i]
+            else:
+                self.rotation[i] = _cayley(0.5 * dt * self.spin[i]) @ self.rotation[i]
+            r0 = self.x0[b.nodes] - b.center
+            x[b.nodes] = self.center[i] + r0 @ self.rotation[i].T
+
+    def _node_velocity(self, i: int, r: np.ndarray) -> np.ndarray:
+        if self.dim == 2:
+            w = float(self.spin[i][0])
+            return self.velocity[i] + w * np.stack([-r[:, 1], r[:, 0]], axis=1)
+        return self.velocity[i] + np.cross(self.spin[i], r)
+
+
+def _cayley(a: np.ndarray) -> np.ndarray:
+    """(I - A)^-1 (I + A) for the skew matrix A of axial vector a: an exact rotation."""
+    skew = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+    return np.eye(3) + 2.0 / (1.0 + a @ a) * (skew + skew @ skew)

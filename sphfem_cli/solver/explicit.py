@@ -1,0 +1,224 @@
+"""The explicit central-difference time loop (paper eq. 2.7) and its per-step state.
+
+Step n -> n+1, with forces F^n known:
+  1. rigid bodies and prescribed velocities fix v^{n+1/2} on constrained components;
+  2. v^{n+1/2} = v^{n-1/2} + dt_avg F^n/m, x^{n+1} = x^n + dt v^{n+1/2} (fem.kernels);
+  3. element kernels: stress^{n+1}, internal forces F_int^{n+1}, stable steps;
+  4. loads F_ext^{n+1}; energy accounting; next dt = timestep_scale * min element dt.
+"""
+from __future__ import annotations
+
+import time as wallclock
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from ..fem import kernels as fem
+from ..materials.kernels import EOS_OFFSET, NHIST, P_EOS_TYPE
+from ..model.build import Model
+from .boundary import Constraints, Curves, Loads, RigidBodies
+
+
+class RunStopped(Exception):
+    """A guard stopped the run; the message says where, when and what, and what to try."""
+
+
+@dataclass
+class State:
+    """Everything that evolves. Arrays are (N, dim) for nodes, (E, ...) for elements."""
+
+    time: float
+    step: int
+    dt: float
+    x: np.ndarray
+    v: np.ndarray
+    f_int: np.ndarray
+    f_ext: np.ndarray
+    stress: np.ndarray
+    hist: np.ndarray
+    energy: np.ndarray
+    hg_energy: np.ndarray
+    hg_force: np.ndarray
+    volume: np.ndarray
+    q_visc: np.ndarray
+    dt_prev: float = 0.0
+    external_work: float = 0.0
+    initial_energy: float = 0.0
+    node_power: np.ndarray = field(default=None)  # type: ignore[assignment]
+
+
+@dataclass
+class EnergyRow:
+    """One row of the global energy table (LS-DYNA glstat)."""
+
+    time: float
+    kinetic: float
+    internal: float
+    hourglass: float
+    external_work: float
+    total: float
+    ratio: float
+    dt: float
+
+    COLUMNS = ("time", "kinetic", "internal", "hourglass", "external_work", "total", "energy_ratio", "dt")
+
+    def values(self) -> list[float]:
+        return [self.time, self.kinetic, self.internal, self.hourglass, self.external_work,
+                self.total, self.ratio, self.dt]
+
+
+class Simulation:
+    """A model, its state and the machinery of one run."""
+
+    def __init__(self, model: Model):
+        self.model = model
+        deck = model.deck
+        self.control = deck.control
+        self.curves = Curves(model)
+        self.constraints = Constraints(model, self.curves)
+        self.loads = Loads(model, self.curves)
+        self.rigid = RigidBodies(model, self.constraints, self.curves)
+        self.inv_mass = 1.0 / model.mass
+        self._f_elem = np.zeros((model.n_elements, model.nodes_per_element, model.dim))
+        self._dt_elem = np.zeros(model.n_elements)
+        self.state = self._initial_state()
+        self._dt_start = self.state.dt
+
+    # ------------------------------------------------------------------------------- set-up
+
+    def _initial_state(self) -> State:
+        m = self.model
+        n, e, dim = m.n_nodes, m.n_elements, m.dim
+        v = np.zeros((n, dim))
+        for ic in m.deck.initial:
+            v[m.target_nodes(ic.part, ic.set)] = np.array(ic.velocity)
+        self.rigid.set_initial_velocity(v)
+        n_modes = 1 if dim == 2 else 4
+        has_eos = m.material_param[m.element_material, P_EOS_TYPE] >= 0
+        e0 = np.where(has_eos, m.material_param[m.element_material, EOS_OFFSET + 1], 0.0) * m.volume0
+        st = State(
+            time=0.0, step=0, dt=0.0, x=m.coordinates.copy(), v=v,
+            f_int=np.zeros((n, dim)), f_ext=np.zeros((n, dim)),
+            stress=np.zeros((e, 6)), hist=np.zeros((e, NHIST)), energy=e0,
+            hg_energy=np.zeros(e), hg_force=np.zeros((e, n_modes, dim)),
+            volume=m.volume0.copy(), q_visc=np.zeros(e), node_power=np.zeros(n),
+        )
+        # Stable step and forces of the initial configuration (zero-length step).
+        self._element_pass(st, 0.0)
+        self.loads.compute(0.0, st.x, st.f_ext)
+        st.dt = self._next_dt(st)
+        st.initial_energy = self.kinetic_energy(st) + float(np.sum(st.energy))
+        return st
+
+    # ---------------------------------------------------------------------------------- loop
+
+    def _element_pass(self, st: State, dt: float) -> None:
+        m = self.model
+        fem.solid_element_forces(
+            st.x, st.v, m.connectivity, m.element_active, m.element_material, m.element_section,
+            m.material_type, m.material_param, m.section_param, m.volume0, dt,
+            st.stress, st.hist, st.energy, st.hg_energy, st.hg_force,
+            self._f_elem, self._dt_elem, st.volume, st.q_visc,
+        )
+        fem.gather_nodal_forces(self._f_elem, m.node_elem_ptr, m.node_elem_idx, st.f_int)
+        self._check_elements(st)
+
+    def _next_dt(self, st: State) -> float:
+        dt = self.control.timestep_scale * float(self._dt_elem.min()) if self.model.n_elements else np.inf
+        if self.control.dt_max is not None:
+            dt = min(dt, self.control.dt_max)
+        if not np.isfinite(dt):
+            if np.all(~self.model.element_active):
+                return self.control.dt_max or self.control.end_time / 1000.0
+            raise RunStopped(self._where_not_finite(st))
+        if dt < self.control.dt_min:
+            e = int(np.argmin(self._dt_elem))
+            raise RunStopped(
+                f"time step {dt:.3e} fell below dt_min {self.control.dt_min:.3e} at t = {st.time:.6e}, "
+                f"step {st.step}, controlled by element {e} of part '{self._part_of(e)}' "
+                "(remedies: refine less there, check for a collapsing element, lower dt_min)"
+            )
+        return dt
+
+    def step(self) -> None:
+        """Advance one step."""
+        st = self.state
+        dt = min(st.dt, max(self.control.end_time - st.time, 1e-3 * st.dt))
+        dt_avg = 0.5 * dt if st.step == 0 else 0.5 * (st.dt_prev + dt)
+        t_mid = st.time + 0.5 * dt
+        self.constraints.update(t_mid)
+        if self.rigid.bodies:
+            self.rigid.kick(st.f_int + st.f_ext, t_mid, dt_avg, st.x)
+        fem.central_difference_update(
+            st.x, st.v, st.f_int, st.f_ext, self.inv_mass, self.constraints.free,
+            self.constraints.v_prescribed, dt_avg, dt, st.node_power,
+        )
+        st.external_work += float(np.sum(st.node_power))
+        if self.rigid.bodies:
+            self.rigid.drift(dt, st.x)
+        st.time += dt
+        st.step += 1
+        st.dt_prev = dt
+        self._element_pass(st, dt)
+        if self.loads.active:
+            self.loads.compute(st.time, st.x, st.f_ext)
+        st.dt = self._next_dt(st)
+
+    def run(self, on_step: Callable[[State], None] | None = None, until: float | None = None) -> None:
+        """Step until `until` (default end_time); `on_step` is called after every step."""
+        end = self.control.end_time if until is None else until
+        st = self.state
+        while st.time < end * (1.0 - 1e-12):
+            self.step()
+            if on_step is not None:
+                on_step(st)
+
+    # ---------------------------------------------------------------------------- energies
+
+    def kinetic_energy(self, st: State | None = None) -> float:
+        st = st or self.state
+        return 0.5 * float(np.sum(self.model.mass[:, None] * st.v * st.v))
+
+    def energy_row(self) -> EnergyRow:
+        st = self.state
+        ke = self.kinetic_energy()
+        ie = float(np.sum(st.energy))
+        hg = float(np.sum(st.hg_energy))
+        total = ke + ie + hg
+        reference = st.initial_energy + st.external_work
+        ratio = total / reference if abs(reference) > 1e-300 else 1.0
+        return EnergyRow(st.time, ke, ie, hg, st.external_work, total, ratio, st.dt)
+
+    def part_energies(self) -> np.ndarray:
+        """(parts, 3): kinetic, internal, hourglass per part (LS-DYNA matsum)."""
+        m, st = self.model, self.state
+        node_ke = 0.5 * m.mass * np.sum(st.v * st.v, axis=1)
+        out = np.zeros((len(m.parts), 3))
+        for i, p in enumerate(m.parts):
+            out[i, 0] = node_ke[p.nodes].sum()
+            out[i, 1] = st.energy[p.elements].sum()
+            out[i, 2] = st.hg_energy[p.elements].sum()
+        return out
+
+    # ------------------------------------------------------------------------------ guards
+
+    def _part_of(self, e: int) -> str:
+        return self.model.parts[int(self.model.element_part[e])].name
+
+    def _check_elements(self, st: State) -> None:
+        bad = np.flatnonzero(self._dt_elem == fem.INVERTED)
+        if len(bad):
+            e = int(bad[0])
+            raise RunStopped(
+                f"negative volume in element {e} of part '{self._part_of(e)}' at t = {st.time:.6e} "
+                f"(step {st.step}, volume {st.volume[e]:.3e}, {len(bad)} element(s) inverted) "
+                "(remedies: lower timestep_scale, refine the mesh, raise hourglass stiffness)"
+            )
+
+    def _where_not_finite(self, st: State) -> str:
+        bad = np.flatnonzero(~np.isfinite(self._dt_elem))
+        e = int(bad[0]) if len(bad) else -1
+        where = f" in element {e} of part '{self._part_of(e)}'" if e >= 0 else ""
+        return (f"non-finite state{where} at t = {st.time:.6e}, step {st.step} "
+                "(remedies: lower timestep_scale, check material constants and units)")
