@@ -137,7 +137,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
             def on_step(st):
                 output()
                 progress.update(st)
-            sim.run(on_step)
+            sim.run(on_step, next_stop=output.next_field_time)
     except RunStopped as err:
         status, message = "stopped by a guard", str(err)
     except KeyboardInterrupt:

@@ -64,6 +64,10 @@ class RunOutput:
             self.write_fields()
             self._next_field = (np.floor((t + 1e-9 * self.field_interval) / self.field_interval) + 1) * self.field_interval
 
+    def next_field_time(self) -> float:
+        """The next field-output time; the solver lands on it exactly."""
+        return self._next_field
+
     def write_histories(self) -> None:
         row = self.sim.energy_row()
         self.last_energy = row

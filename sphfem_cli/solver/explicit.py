@@ -141,10 +141,11 @@ class Simulation:
             )
         return dt
 
-    def step(self) -> None:
-        """Advance one step."""
+    def step(self, stop: float | None = None) -> None:
+        """Advance one step, shortened if needed to land exactly on time `stop` (default end_time)."""
         st = self.state
-        dt = min(st.dt, max(self.control.end_time - st.time, 1e-3 * st.dt))
+        stop = self.control.end_time if stop is None else stop
+        dt = min(st.dt, max(stop - st.time, 1e-6 * st.dt))
         dt_avg = 0.5 * dt if st.step == 0 else 0.5 * (st.dt_prev + dt)
         t_mid = st.time + 0.5 * dt
         self.constraints.update(t_mid)
@@ -165,12 +166,17 @@ class Simulation:
             self.loads.compute(st.time, st.x, st.f_ext)
         st.dt = self._next_dt(st)
 
-    def run(self, on_step: Callable[[State], None] | None = None, until: float | None = None) -> None:
-        """Step until `until` (default end_time); `on_step` is called after every step."""
+    def run(self, on_step: Callable[[State], None] | None = None, until: float | None = None,
+            next_stop: Callable[[], float] | None = None) -> None:
+        """Step until `until` (default end_time), landing on every time `next_stop()` names.
+
+        `on_step` is called after every step.
+        """
         end = self.control.end_time if until is None else until
         st = self.state
         while st.time < end * (1.0 - 1e-12):
-            self.step()
+            stop = end if next_stop is None else min(end, next_stop())
+            self.step(stop)
             if on_step is not None:
                 on_step(st)
 
