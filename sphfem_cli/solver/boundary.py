@@ -49,7 +49,7 @@ class Constraints:
         for bc in model.deck.boundaries:
             rigid = bc.part is not None and model.part_index(bc.part) in rigid_parts
             if isinstance(bc, FixedBoundary):
-                comps = [(AXES[d], 0.0) for d in bc.directions if AXES[d] < model.dim]
+                comps = [(AXES[d], 0.0) for d in (bc.directions or "xyz"[:model.dim])]
                 curve = None
             elif isinstance(bc, SymmetryBoundary):
                 comps, curve = [(AXES[bc.normal], 0.0)], None

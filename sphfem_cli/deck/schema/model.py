@@ -248,8 +248,8 @@ class FixedBoundary(Target):
     """Zero velocity in the listed directions (LS-DYNA *BOUNDARY_SPC)."""
 
     type: Literal["fixed"]
-    directions: list[Direction] = Field(
-        default_factory=lambda: ["x", "y", "z"], description="Fixed directions. Default all."
+    directions: list[Direction] | None = Field(
+        None, description="Fixed directions. Default all directions of the deck's dimension."
     )
 
 
