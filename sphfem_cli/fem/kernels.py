@@ -148,35 +148,43 @@ def rotate_stress(s, w_xy, w_yz, w_zx, dt):
     """s <- R s R^T with R the Cayley transform of S = dt/2 W (Hughes & Winget 1980).
 
     W is the spin, W_ij = (L_ij - L_ji)/2, given by its components w_xy, w_yz, w_zx;
-    R = I + 2/(1 + |a|^2) (S + S^2), a the axial vector of S.
+    R = I + 2/(1 + |a|^2) (S + S^2), a the axial vector of S (an exact rotation).
     """
     h = 0.5 * dt
-    # S as a full 3x3 (row-major): S_xy = h w_xy, S_yz = h w_yz, S_zx = h w_zx, skew.
-    s01 = h * w_xy
-    s12 = h * w_yz
-    s20 = h * w_zx
-    if s01 == 0.0 and s12 == 0.0 and s20 == 0.0:
+    a = h * w_xy  # S_xy = -S_yx
+    b = h * w_yz  # S_yz = -S_zy
+    c = h * w_zx  # S_zx = -S_xz
+    if a == 0.0 and b == 0.0 and c == 0.0:
         return
-    a2 = s01 * s01 + s12 * s12 + s20 * s20
-    f = 2.0 / (1.0 + a2)
-    S = ((0.0, s01, -s20), (-s01, 0.0, s12), (s20, -s12, 0.0))
-    R = np.empty((3, 3))
-    for i in range(3):
-        for j in range(3):
-            sq = S[i][0] * S[0][j] + S[i][1] * S[1][j] + S[i][2] * S[2][j]
-            R[i, j] = (1.0 if i == j else 0.0) + f * (S[i][j] + sq)
-    T = ((s[0], s[3], s[5]), (s[3], s[1], s[4]), (s[5], s[4], s[2]))
-    RT = np.empty((3, 3))
-    for i in range(3):
-        for j in range(3):
-            RT[i, j] = R[i, 0] * T[0][j] + R[i, 1] * T[1][j] + R[i, 2] * T[2][j]
-    out = np.empty(6)
-    idx = ((0, 0), (1, 1), (2, 2), (0, 1), (1, 2), (2, 0))
-    for c in range(6):
-        i, j = idx[c]
-        out[c] = RT[i, 0] * R[j, 0] + RT[i, 1] * R[j, 1] + RT[i, 2] * R[j, 2]
-    for c in range(6):
-        s[c] = out[c]
+    f = 2.0 / (1.0 + a * a + b * b + c * c)
+    # S = [[0, a, -c], [-a, 0, b], [c, -b, 0]]; S^2 is symmetric.
+    r00 = 1.0 + f * (-a * a - c * c)
+    r11 = 1.0 + f * (-a * a - b * b)
+    r22 = 1.0 + f * (-b * b - c * c)
+    r01 = f * (a + b * c)
+    r10 = f * (-a + b * c)
+    r02 = f * (-c + a * b)
+    r20 = f * (c + a * b)
+    r12 = f * (b + a * c)
+    r21 = f * (-b + a * c)
+    sxx, syy, szz, sxy, syz, szx = s[0], s[1], s[2], s[3], s[4], s[5]
+    # T = R s
+    t00 = r00 * sxx + r01 * sxy + r02 * szx
+    t01 = r00 * sxy + r01 * syy + r02 * syz
+    t02 = r00 * szx + r01 * syz + r02 * szz
+    t10 = r10 * sxx + r11 * sxy + r12 * szx
+    t11 = r10 * sxy + r11 * syy + r12 * syz
+    t12 = r10 * szx + r11 * syz + r12 * szz
+    t20 = r20 * sxx + r21 * sxy + r22 * szx
+    t21 = r20 * sxy + r21 * syy + r22 * syz
+    t22 = r20 * szx + r21 * syz + r22 * szz
+    # s' = T R^T
+    s[0] = t00 * r00 + t01 * r01 + t02 * r02
+    s[1] = t10 * r10 + t11 * r11 + t12 * r12
+    s[2] = t20 * r20 + t21 * r21 + t22 * r22
+    s[3] = t00 * r10 + t01 * r11 + t02 * r12
+    s[4] = t10 * r20 + t11 * r21 + t12 * r22
+    s[5] = t20 * r00 + t21 * r01 + t22 * r02
 
 
 @njit(cache=True)
@@ -231,6 +239,9 @@ def solid_element_forces(
         deps = np.empty(6)
         d = np.empty(6)
         sig_old = np.empty(6)
+        gam = np.empty(npe)
+        gx = np.empty(3)
+        qv = np.empty(3)
         for e in range(start, stop):
             if not active[e]:
                 dt_elem[e] = np.inf
@@ -329,13 +340,12 @@ def solid_element_forces(
                     coef = 0.5 * qm * p[3] * ve_new * bb
                 for mode in range(n_modes):
                     # gamma_a = Gamma_a - (Gamma . x_k) b_k
-                    gx = np.zeros(3)
+                    gx[0] = gx[1] = gx[2] = 0.0
+                    qv[0] = qv[1] = qv[2] = 0.0
                     for a in range(npe):
                         g = _QUAD_GAMMA[a] if dim == 2 else _HEX_GAMMA[mode, a]
                         for k in range(dim):
                             gx[k] += g * xe[a, k]
-                    qv = np.zeros(3)
-                    gam = np.empty(npe)
                     for a in range(npe):
                         g = _QUAD_GAMMA[a] if dim == 2 else _HEX_GAMMA[mode, a]
                         for k in range(dim):

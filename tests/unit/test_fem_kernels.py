@@ -1,0 +1,77 @@
+"""Element kernels against short NumPy references on small random inputs."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from sphfem_cli.fem.kernels import hex8_gradient, quad4_gradient, rotate_stress
+
+HEX_SIGNS = np.array([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
+                      (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)], dtype=float)
+
+
+def hex_volume_and_dvdx(x):
+    """Reference: V = sum over 2x2x2 Gauss points of det J (exact for trilinear maps), and
+    dV/dx_I = sum_g det J_g dN_I/dx (g), the Flanagan-Belytschko uniform gradient times V."""
+    g = 1.0 / np.sqrt(3.0)
+    volume, dvdx = 0.0, np.zeros((3, 8))
+    for xi in (-g, g):
+        for eta in (-g, g):
+            for zeta in (-g, g):
+                p = np.array([xi, eta, zeta])
+                dn = np.empty((8, 3))  # dN/dxi
+                for i, s in enumerate(HEX_SIGNS):
+                    dn[i, 0] = s[0] / 8.0 * (1 + s[1] * p[1]) * (1 + s[2] * p[2])
+                    dn[i, 1] = s[1] / 8.0 * (1 + s[0] * p[0]) * (1 + s[2] * p[2])
+                    dn[i, 2] = s[2] / 8.0 * (1 + s[0] * p[0]) * (1 + s[1] * p[1])
+                jac = x.T @ dn  # dx/dxi
+                det = np.linalg.det(jac)
+                volume += det
+                dvdx += det * np.linalg.solve(jac.T, dn.T)
+    return volume, dvdx
+
+
+def distorted_hex(rng):
+    x = (HEX_SIGNS + 1.0) / 2.0 * np.array([1.0, 0.7, 1.3])
+    return x + 0.12 * rng.uniform(-1, 1, size=(8, 3))
+
+
+def test_hex8_gradient_equals_dv_dx():
+    rng = np.random.default_rng(3)
+    b = np.empty((3, 8))
+    for _ in range(20):
+        x = distorted_hex(rng)
+        volume = hex8_gradient(x, b)
+        ref_v, ref_dvdx = hex_volume_and_dvdx(x)
+        assert volume == pytest.approx(ref_v, rel=1e-13)
+        assert np.allclose(b * volume, ref_dvdx, rtol=0, atol=1e-13)
+        # A linear field's gradient is exact: sum_I x_I (x) b_I = identity.
+        assert np.allclose(x.T @ b.T, np.eye(3), atol=1e-13)
+
+
+def test_quad4_gradient():
+    rng = np.random.default_rng(4)
+    b = np.empty((2, 4))
+    for _ in range(20):
+        x = np.array([[0, 0], [1, 0], [1.2, 0.9], [-0.1, 1.0]]) + 0.1 * rng.uniform(-1, 1, size=(4, 2))
+        area = quad4_gradient(x, b)
+        shoelace = 0.5 * np.sum(x[:, 0] * np.roll(x[:, 1], -1) - np.roll(x[:, 0], -1) * x[:, 1])
+        assert area == pytest.approx(shoelace, rel=1e-13)
+        assert np.allclose(x.T @ b.T, np.eye(2), atol=1e-13)
+        assert np.allclose(b.sum(axis=1), 0.0, atol=1e-13)
+
+
+def test_rotate_stress_is_the_cayley_rotation():
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        w_xy, w_yz, w_zx, dt = rng.normal(size=4)
+        s = rng.normal(size=6)
+        t = np.array([[s[0], s[3], s[5]], [s[3], s[1], s[4]], [s[5], s[4], s[2]]])
+        spin = np.array([[0, w_xy, -w_zx], [-w_xy, 0, w_yz], [w_zx, -w_yz, 0]])
+        half = 0.5 * dt * spin
+        r = np.linalg.solve(np.eye(3) - half, np.eye(3) + half)
+        expected = r @ t @ r.T
+        rotate_stress(s, w_xy, w_yz, w_zx, dt)
+        got = np.array([[s[0], s[3], s[5]], [s[3], s[1], s[4]], [s[5], s[4], s[2]]])
+        assert np.allclose(got, expected, atol=1e-13)
+        assert np.allclose(r @ r.T, np.eye(3), atol=1e-13)
