@@ -1,6 +1,7 @@
 """The `sphfem` command: a thin click shell over deck -> model -> solver -> output.
 
-Exit codes: 0 ok, 2 usage, 65 bad deck, 3 run stopped by a guard, 1 internal error.
+Exit codes: 0 ok, 2 usage, 65 bad deck, 3 run stopped by a guard, 1 internal error,
+130 interrupted by the user (output so far kept).
 """
 from __future__ import annotations
 
@@ -18,6 +19,7 @@ import click
 from . import __version__
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE, EXIT_GUARD, EXIT_DECK = 0, 1, 2, 3, 65
+EXIT_INTERRUPTED = 130  # 128 + SIGINT, as shells report it
 
 
 class DeckProblem(click.ClickException):
@@ -113,6 +115,22 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
     sys.exit(code)
 
 
+@main.command()
+@click.argument("decks", nargs=-1, type=click.Path(exists=True, dir_okay=False))
+@click.option("--update-refs", is_flag=True, help="Rewrite the reference files from this run.")
+@click.option("--end-time-fraction", type=click.FloatRange(0.0, 1.0, min_open=True), default=None,
+              help="Run each deck to this fraction of its end_time (default: the reference's end time, else 0.1).")
+@click.option("--references", type=click.Path(file_okay=False), default=None,
+              help="Reference folder. Default: tests/regression/references of the project.")
+@click.option("--failures-only", is_flag=True, help="List only the quantities that failed.")
+def regress(decks, update_refs, end_time_fraction, references, failures_only) -> None:
+    """Run DECKS (default: every decks/*.yaml) briefly and compare energies and histories with stored references."""
+    from .regress import main as regress_main
+
+    sys.exit(regress_main(decks, update=update_refs, fraction=end_time_fraction, references=references,
+                          failures_only=failures_only, echo=click.echo))
+
+
 def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = False) -> int:
     """Run a built model into `out`; returns the exit code. Keeps the effective deck and a log."""
     import numba
@@ -135,8 +153,14 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
         output()
         with _Progress(sim, enabled=not quiet and sys.stderr.isatty()) as progress:
             def on_step(st):
+                fields_before = output.xdmf.n_steps
                 output()
                 progress.update(st)
+                if verbose and output.xdmf.n_steps > fields_before:
+                    row = sim.energy_row()
+                    progress.echo(f"t = {row.time:.5e}  step {st.step}  dt {row.dt:.3e}  kinetic {row.kinetic:.4e}  "
+                                  f"internal {row.internal:.4e}  hourglass {row.hourglass:.3e}  "
+                                  f"energy ratio {row.ratio:.5f}")
             sim.run(on_step, next_stop=output.next_field_time)
     except RunStopped as err:
         status, message = "stopped by a guard", str(err)
@@ -167,7 +191,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
         return EXIT_GUARD
     if status == "interrupted":
         click.echo(message, err=True)
-        return EXIT_GUARD
+        return EXIT_INTERRUPTED
     click.echo(f"internal error: {message} (details in {out / 'run.log'})", err=True)
     return EXIT_INTERNAL
 
@@ -221,6 +245,13 @@ class _Progress:
         if now - self._last > 0.2:
             self._last = now
             self.bar.update(self.task, completed=st.time, t=st.time, step=st.step, dt=st.dt)
+
+    def echo(self, line: str) -> None:
+        """A line on stderr that does not break the bar."""
+        if self.enabled:
+            self.bar.console.print(line, highlight=False)
+        else:
+            click.echo(line, err=True)
 
     def __exit__(self, *exc):
         if self.enabled:
