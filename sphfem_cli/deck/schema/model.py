@@ -24,9 +24,9 @@ UNIT_SYSTEMS: dict[tuple[str, str, str], tuple[str, str, str]] = {
 class Units(DeckModel):
     """The deck's consistent unit system; kernels never convert."""
 
-    length: Literal["m", "mm", "cm"] = Field("m", description="Length unit.")
-    mass: Literal["kg", "t", "g"] = Field("kg", description="Mass unit.")
-    time: Literal["s", "ms", "us"] = Field("s", description="Time unit.")
+    length: Literal["m", "mm", "cm"] = Field("m", description="Length unit. Default m.")
+    mass: Literal["kg", "t", "g"] = Field("kg", description="Mass unit (t is the tonne, 1000 kg). Default kg.")
+    time: Literal["s", "ms", "us"] = Field("s", description="Time unit (us is the microsecond). Default s.")
 
     @model_validator(mode="after")
     def _consistent(self) -> "Units":
@@ -80,7 +80,7 @@ class Hourglass(DeckModel):
     """Flanagan–Belytschko hourglass control of one-point elements."""
 
     type: Literal["viscous", "stiffness"] = Field(
-        "viscous", description="viscous (LS-DYNA IHQ=1 form) or stiffness (IHQ=4 form). Default viscous."
+        "viscous", description="viscous (Flanagan-Belytschko viscous form with the LS-DYNA IHQ=1 coefficient; like IHQ=2) or stiffness (Flanagan-Belytschko stiffness form, like IHQ=4). Default viscous."
     )
     coefficient: Annotated[float, Field(ge=0, le=0.5)] = Field(
         0.1, description="Hourglass coefficient QM. Default 0.1 (0.05–0.1 typical for stiffness)."
@@ -97,7 +97,7 @@ class BulkViscosity(DeckModel):
 class SolidSection(DeckModel):
     """Lagrangian solid elements: quad4 plane strain (2D) or hex8 (3D), one-point integration."""
 
-    type: Literal["solid"]
+    type: Literal["solid"] = Field(description="Section selector: Lagrangian solid elements.")
     hourglass: Hourglass = Field(default_factory=Hourglass, description="Hourglass control.")
     bulk_viscosity: BulkViscosity = Field(default_factory=BulkViscosity, description="Shock viscosity.")
 
@@ -157,10 +157,10 @@ class FileGeometry(DeckModel):
 class Geometry(DeckModel):
     """Exactly one of box, ring, cylinder or file."""
 
-    box: BoxGeometry | None = None
-    ring: RingGeometry | None = None
-    cylinder: CylinderGeometry | None = None
-    file: FileGeometry | None = None
+    box: BoxGeometry | None = Field(None, description="A structured block of elements (2D or 3D).")
+    ring: RingGeometry | None = Field(None, description="A 2D annulus or disc of quad4.")
+    cylinder: CylinderGeometry | None = Field(None, description="A 3D tube or solid cylinder of hex8.")
+    file: FileGeometry | None = Field(None, description="A mesh read from a file.")
 
     @model_validator(mode="after")
     def _exactly_one(self) -> "Geometry":
@@ -213,13 +213,13 @@ class Selection(DeckModel):
 class NodeSet(Selection):
     """Nodes chosen by part and geometric filters."""
 
-    type: Literal["node"]
+    type: Literal["node"] = Field(description="Set selector: a node set.")
 
 
 class SegmentSet(Selection):
     """Exterior element faces (edges in 2D) whose nodes all pass the filters."""
 
-    type: Literal["segment"]
+    type: Literal["segment"] = Field(description="Set selector: a segment set (faces, for pressure loads).")
 
 
 SetDef = Annotated[Union[NodeSet, SegmentSet], Field(discriminator="type")]
@@ -247,7 +247,7 @@ Direction = Literal["x", "y", "z"]
 class FixedBoundary(Target):
     """Zero velocity in the listed directions (LS-DYNA *BOUNDARY_SPC)."""
 
-    type: Literal["fixed"]
+    type: Literal["fixed"] = Field(description="Boundary selector: fixed directions.")
     directions: list[Direction] | None = Field(
         None, description="Fixed directions. Default all directions of the deck's dimension."
     )
@@ -256,14 +256,14 @@ class FixedBoundary(Target):
 class SymmetryBoundary(Target):
     """A symmetry plane: zero velocity normal to it."""
 
-    type: Literal["symmetry"]
+    type: Literal["symmetry"] = Field(description="Boundary selector: symmetry plane.")
     normal: Direction = Field(description="Axis normal to the symmetry plane.")
 
 
 class PrescribedVelocity(Target):
     """Velocity imposed on nodes, or on a rigid part as a whole (LS-DYNA *BOUNDARY_PRESCRIBED_MOTION)."""
 
-    type: Literal["prescribed_velocity"]
+    type: Literal["prescribed_velocity"] = Field(description="Boundary selector: prescribed velocity.")
     velocity: OptionalComponents = Field(
         description="Velocity [length/time] per direction; null leaves a direction free."
     )
@@ -278,7 +278,7 @@ Boundary = Annotated[
 class InitialVelocity(Target):
     """Initial nodal velocity (LS-DYNA *INITIAL_VELOCITY)."""
 
-    type: Literal["velocity"]
+    type: Literal["velocity"] = Field(description="Initial-condition selector: nodal velocity.")
     velocity: Vector = Field(description="Velocity [length/time].")
 
 
@@ -288,7 +288,7 @@ Initial = Annotated[Union[InitialVelocity], Field(discriminator="type")]
 class Gravity(DeckModel):
     """Body acceleration on every part (or the listed parts)."""
 
-    type: Literal["gravity"]
+    type: Literal["gravity"] = Field(description="Load selector: body acceleration.")
     acceleration: Vector = Field(description="Acceleration vector [length/time^2], e.g. [0, -9.81].")
     parts: list[str] | None = Field(None, description="Parts it acts on. Default all.")
     curve: str | None = Field(None, description="Curve scaling it in time. Default constant.")
@@ -297,7 +297,7 @@ class Gravity(DeckModel):
 class PressureLoad(DeckModel):
     """Pressure on a segment set, positive pushing into the body (LS-DYNA *LOAD_SEGMENT_SET)."""
 
-    type: Literal["pressure"]
+    type: Literal["pressure"] = Field(description="Load selector: pressure on segments.")
     set: str = Field(description="A segment set.")
     value: float = Field(description="Pressure [pressure].")
     curve: str | None = Field(None, description="Curve scaling it in time. Default constant.")
@@ -306,7 +306,7 @@ class PressureLoad(DeckModel):
 class NodalForce(DeckModel):
     """A force applied at each node of a node set (LS-DYNA *LOAD_NODE_SET)."""
 
-    type: Literal["nodal_force"]
+    type: Literal["nodal_force"] = Field(description="Load selector: force on nodes.")
     set: str = Field(description="A node set.")
     force: Vector = Field(description="Force at each node [force].")
     curve: str | None = Field(None, description="Curve scaling it in time. Default constant.")
