@@ -1,0 +1,625 @@
+"""Multi-material ALE (operator split) on quad4 meshes: numba kernels.
+
+State (per element e, material m, extensive so that conservation is a matter of bookkeeping):
+``vol_m[e, m]`` material volume, ``mass_m[e, m]`` material mass, ``ener_m[e, m]`` material
+internal energy (energy, not per unit mass). Volume fraction phi_m = vol_m / sum_k vol_k,
+density rho_m = mass_m / vol_m, specific internal energy e_m = ener_m / mass_m. Nodes carry the
+velocity v (half-step, central difference) and the lumped mass m_I = sum_e M_e / 4.
+
+One step (paper section 2, eqs. 2.5-2.8; Benson 1992):
+
+1. ``lagrange_forces``: per element, each material's pressure from its EOS at its own density and
+   energy; mixture stress sigma = -sum_m phi_m p_m (volume-weighted, the paper's mixture theory);
+   bulk viscosity q (von Neumann-Richtmyer, linear + quadratic) and Flanagan-Belytschko viscous
+   hourglass forces; element forces f_eI = V (p + q) b_I - hourglass; stable dt.
+2. ``nodal_update``: gather of the element forces, v^{n+1/2} = v^{n-1/2} + dt f / m (eq. 2.7),
+   velocity boundary conditions with the reaction impulse recorded.
+3. ``lagrange_energy``: the work of the element forces over the step,
+   W_e = -dt sum_I f_eI . (v_I^{n-1/2} + v_I^{n+1/2}) / 2 (compatible form: kinetic plus internal
+   energy is conserved to round-off), the new Lagrangian volume at x + dt v^{n+1/2}, and the
+   mixed-cell closure: the volume change split between materials (equal strain, or pressure
+   relaxation), each material receiving its own -(p_m + q) dV_m plus its share of the remainder
+   of W_e.
+4. Remap (``face_fluxes``, ``apply_face_fluxes``, ``dual_fluxes``, ``apply_dual_fluxes``,
+   ``finish_remap``): directional sweeps (order alternating each step) through the faces of one
+   logical direction; the face flux of volume is the signed area swept by the face from its
+   Lagrangian to its remapped position; material volumes split by a directional SLIC
+   (Noh & Woodward 1976) or by donor fractions; mass and energy by donor-cell or van Leer (1977)
+   MUSCL values; nodal momentum remapped on the dual mesh (half-index shift, Benson 1992 sec. 5.4)
+   with the same mass fluxes, and the kinetic energy lost by the remap returned to the elements
+   (DeBar's fix) so that total energy is conserved.
+
+Every parallel loop is a gather: faces write face arrays, elements their own rows, nodes their
+own entries. Equations and references: docs/theory/ale.md.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ..fem.kernels import _QUAD_GAMMA, _bulk_viscosity, _stable_dt, quad4_char_length, quad4_gradient
+from ..materials.kernels import _eos_state
+
+# boundary condition codes per node
+BC_FREE = 0
+BC_SLIP = 1
+BC_FIXED = 2
+
+# interface (material volume flux) modes
+IFACE_DONOR = 0
+IFACE_SLIC = 1
+
+# closures
+CLOSURE_EQUAL_STRAIN = 0
+CLOSURE_RELAX = 1
+
+# local faces of a quad4: face k joins corners k and k+1. Sweep direction 0 (xi) crosses faces
+# 3 (side "a") and 1 (side "b"); direction 1 (eta) crosses faces 0 (a) and 2 (b).
+# For a sweep direction d, half h joins corners (src, dst), src on side a, dst on side b.
+_SIDE_A = (3, 0)
+_SIDE_B = (1, 2)
+# _CORNER_HALF[d, corner] = half index, _CORNER_DST[d, corner] = 1 when the corner is on side b.
+_CORNER_HALF = np.array([[0, 0, 1, 1], [0, 1, 1, 0]], dtype=np.int64)
+_CORNER_DST = np.array([[0, 1, 1, 0], [0, 0, 1, 1]], dtype=np.int64)
+_HALF_NODES = np.array([[[0, 1], [3, 2]], [[0, 3], [1, 2]]], dtype=np.int64)
+
+
+@njit(cache=True)
+def material_state(eos, q, rho0, rho, e_spec):
+    """(p, c) of one material at density rho and specific internal energy e_spec; (0, 0) for void."""
+    if eos < 0 or rho0 <= 0.0 or rho <= 0.0:
+        return 0.0, 0.0
+    r = rho / rho0
+    p, dpdmu, dpde = _eos_state(eos, q, r, rho0 * e_spec)
+    c2 = (dpdmu + p * dpde / (r * r)) / rho0
+    return p, math.sqrt(c2) if c2 > 0.0 else 0.0
+
+
+@njit(cache=True)
+def quad_area(x0, y0, x1, y1, x2, y2, x3, y3):
+    """Signed area of the quadrilateral (0, 1, 2, 3): half the cross product of its diagonals."""
+    return 0.5 * ((x2 - x0) * (y3 - y1) - (y2 - y0) * (x3 - x1))
+
+
+@njit(cache=True)
+def van_leer(qd, qa, qu, courant):
+    """Face value of q leaving donor d towards acceptor a (u: upwind of d), van Leer limited.
+
+    slope s = 2 (qa - qd)(qd - qu) / (qa - qu) where both differences share a sign, else 0;
+    value at the centre of the swept region: qd + s (1 - courant) / 2.
+    """
+    d1 = qa - qd
+    d2 = qd - qu
+    if d1 * d2 <= 0.0:
+        return qd
+    return qd + (1.0 - courant) * d1 * d2 / (d1 + d2)
+
+
+# ------------------------------------------------------------------------------ Lagrangian phase
+
+
+@njit(parallel=True, cache=True)
+def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
+                    phi_eps, f_elem, pres_m, bulk_m, q_elem, dt_elem):
+    """Element forces at x^n with v^{n-1/2} (see module docstring, step 1).
+
+    Written: f_elem (E, 4, 2) force on each element node, pres_m (E, N) material pressures,
+    bulk_m (E, N) material bulk moduli rho c^2, q_elem (E,) bulk viscosity, dt_elem (E,) stable step.
+    """
+    n_elem = conn.shape[0]
+    n_mat = vol_m.shape[1]
+    n_chunks = min(n_elem, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * n_elem // n_chunks
+        stop = (chunk + 1) * n_elem // n_chunks
+        xe = np.empty((4, 2))
+        ve = np.empty((4, 2))
+        b = np.empty((2, 4))
+        for e in range(start, stop):
+            vmax2 = 0.0
+            for a in range(4):
+                n = conn[e, a]
+                xe[a, 0] = x[n, 0]
+                xe[a, 1] = x[n, 1]
+                ve[a, 0] = v[n, 0]
+                ve[a, 1] = v[n, 1]
+                vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1])
+            area = quad4_gradient(xe, b)
+            vtot = 0.0
+            mtot = 0.0
+            for m in range(n_mat):
+                vtot += vol_m[e, m]
+                mtot += mass_m[e, m]
+            p_mix = 0.0
+            c_max = 0.0
+            for m in range(n_mat):
+                pres_m[e, m] = 0.0
+                bulk_m[e, m] = 0.0
+                if vol_m[e, m] > phi_eps * vtot and mass_m[e, m] > 0.0:
+                    rho = mass_m[e, m] / vol_m[e, m]
+                    p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m])
+                    pres_m[e, m] = p
+                    bulk_m[e, m] = rho * c * c
+                    p_mix += vol_m[e, m] / vtot * p
+                    c_max = max(c_max, c)
+            rho_e = mtot / area
+            trace_d = 0.0
+            for a in range(4):
+                trace_d += ve[a, 0] * b[0, a] + ve[a, 1] * b[1, a]
+            length = quad4_char_length(xe, area)
+            q = _bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
+            q_elem[e] = q
+            c_eff = c_max + math.sqrt(vmax2)
+            dt_elem[e] = _stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
+            s = area * (p_mix + q)
+            for a in range(4):
+                f_elem[e, a, 0] = s * b[0, a]
+                f_elem[e, a, 1] = s * b[1, a]
+            if qhg > 0.0 and rho_e > 0.0:
+                # gamma_a = Gamma_a - (Gamma . x) b_a (Flanagan & Belytschko 1981), viscous form
+                gx0 = 0.0
+                gx1 = 0.0
+                for a in range(4):
+                    gx0 += _QUAD_GAMMA[a] * xe[a, 0]
+                    gx1 += _QUAD_GAMMA[a] * xe[a, 1]
+                coef = 0.25 * qhg * rho_e * c_max * math.sqrt(area)
+                hq0 = 0.0
+                hq1 = 0.0
+                for a in range(4):
+                    g = _QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
+                    hq0 += g * ve[a, 0]
+                    hq1 += g * ve[a, 1]
+                for a in range(4):
+                    g = _QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
+                    f_elem[e, a, 0] -= coef * hq0 * g
+                    f_elem[e, a, 1] -= coef * hq1 * g
+
+
+@njit(parallel=True, cache=True)
+def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, v, bc_type, bc_normal, dt, impulse):
+    """v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m (eq. 2.7), then the velocity conditions.
+
+    bc_type per node: BC_FREE, BC_SLIP (normal component along bc_normal removed), BC_FIXED.
+    impulse (N, 2) receives the reaction impulse m (v_constrained - v_free) of this step.
+    Nodes without mass keep a zero velocity.
+    """
+    n_nodes = v.shape[0]
+    for n in prange(n_nodes):
+        f0 = f_ext[n, 0]
+        f1 = f_ext[n, 1]
+        for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+            ea = node_elem_idx[r]
+            e = ea // 4
+            a = ea - 4 * e
+            f0 += f_elem[e, a, 0]
+            f1 += f_elem[e, a, 1]
+        m = mass[n]
+        if m > 0.0:
+            w0 = v[n, 0] + dt * f0 / m
+            w1 = v[n, 1] + dt * f1 / m
+        else:
+            w0 = 0.0
+            w1 = 0.0
+        u0, u1 = _apply_bc(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
+        impulse[n, 0] = m * (u0 - w0)
+        impulse[n, 1] = m * (u1 - w1)
+        v[n, 0] = u0
+        v[n, 1] = u1
+
+
+@njit(cache=True)
+def _apply_bc(kind, nx, ny, w0, w1):
+    if kind == BC_FIXED:
+        return 0.0, 0.0
+    if kind == BC_SLIP:
+        vn = w0 * nx + w1 * ny
+        return w0 - vn * nx, w1 - vn * ny
+    return w0, w1
+
+
+@njit(parallel=True, cache=True)
+def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, q_elem,
+                    closure, alpha, beta, phi_eps, work_elem):
+    """Internal energy and material volumes over the Lagrangian step (module docstring, step 3).
+
+    work_elem (E,) receives W_e, the internal-energy increment of the element. Material volumes
+    follow the Lagrangian volume at x + dt v_new. Closure CLOSURE_EQUAL_STRAIN: dV_m = phi_m dV;
+    CLOSURE_RELAX: dV_m = dV (V_m/K_m) / S + alpha V_m (p_m - pbar) / K_m, S = sum V_k/K_k,
+    pbar = sum (V_k p_k / K_k) / S (equal pressure increments plus a relaxation towards a common
+    pressure), its departure from equal strain scaled down so that no material loses more than a
+    fraction beta of its volume in one step.
+    """
+    n_elem = conn.shape[0]
+    n_mat = vol_m.shape[1]
+    n_chunks = min(n_elem, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * n_elem // n_chunks
+        stop = (chunk + 1) * n_elem // n_chunks
+        dvm = np.empty(n_mat)
+        dev = np.empty(n_mat)
+        px = np.empty(4)
+        py = np.empty(4)
+        for e in range(start, stop):
+            w = 0.0
+            for a in range(4):
+                n = conn[e, a]
+                w -= f_elem[e, a, 0] * 0.5 * (v_old[n, 0] + v_new[n, 0]) + f_elem[e, a, 1] * 0.5 * (v_old[n, 1] + v_new[n, 1])
+                px[a] = x[n, 0] + dt * v_new[n, 0]
+                py[a] = x[n, 1] + dt * v_new[n, 1]
+            w *= dt
+            work_elem[e] = w
+            v_lag = quad_area(px[0], py[0], px[1], py[1], px[2], py[2], px[3], py[3])
+            vtot = 0.0
+            for m in range(n_mat):
+                vtot += vol_m[e, m]
+            dv = v_lag - vtot
+            n_present = 0
+            s_comp = 0.0
+            s_p = 0.0
+            kmax = 0.0
+            for m in range(n_mat):
+                dvm[m] = dv * vol_m[e, m] / vtot
+                dev[m] = 0.0
+                if vol_m[e, m] > phi_eps * vtot:
+                    n_present += 1
+                    kmax = max(kmax, bulk_m[e, m])
+            if closure == CLOSURE_RELAX and n_present > 1 and kmax > 0.0:
+                kmin = 1e-9 * kmax  # void (or a material without stiffness) takes the volume change
+                for m in range(n_mat):
+                    if vol_m[e, m] > phi_eps * vtot:
+                        k = max(bulk_m[e, m], kmin)
+                        s_comp += vol_m[e, m] / k
+                        s_p += vol_m[e, m] * pres_m[e, m] / k
+                pbar = s_p / s_comp
+                scale = 1.0
+                for m in range(n_mat):
+                    if vol_m[e, m] > phi_eps * vtot:
+                        k = max(bulk_m[e, m], kmin)
+                        target = dv * vol_m[e, m] / k / s_comp + alpha * vol_m[e, m] * (pres_m[e, m] - pbar) / k
+                        dev[m] = target - dvm[m]
+                        if dev[m] < 0.0:
+                            room = beta * vol_m[e, m] + dvm[m]
+                            if room <= 0.0:
+                                scale = 0.0
+                            else:
+                                scale = min(scale, room / -dev[m])
+                for m in range(n_mat):
+                    dvm[m] += scale * dev[m]
+            # energy: each material its own -(p_m + q) dV_m, the remainder of W_e by volume fraction
+            own = 0.0
+            for m in range(n_mat):
+                if mass_m[e, m] > 0.0:
+                    own -= (pres_m[e, m] + q_elem[e]) * dvm[m]
+            rest = w - own
+            mass_e = 0.0
+            for m in range(n_mat):
+                mass_e += mass_m[e, m]
+            for m in range(n_mat):
+                if mass_m[e, m] > 0.0:
+                    ener_m[e, m] += -(pres_m[e, m] + q_elem[e]) * dvm[m] + rest * mass_m[e, m] / mass_e
+                vol_m[e, m] += dvm[m]
+
+
+# ------------------------------------------------------------------------------ remap
+
+
+@njit(parallel=True, cache=True)
+def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x_lag, x_new,
+                vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener):
+    """Fluxes through the listed faces, positive into the face's first element (its owner).
+
+    The volume through face (n0, n1) (owner orientation) is the signed area swept by it from the
+    Lagrangian position x_lag to the remapped position x_new: quad (l0, w0, w1, l1); positive when
+    the owner gains volume, the other element (or the outside, on open faces) being the donor.
+    Material volumes: IFACE_DONOR phi_m of the donor; IFACE_SLIC materials leave the donor in the
+    order of their fraction gradient across it (acceptor minus upwind), the highest first, each
+    at most its volume in the donor. Mass and energy: donor-cell (order 1) or van Leer (order 2)
+    values of rho_m and e_m. Boundary faces carry flux only when open (transmitting): the outside
+    state is a copy of the inside element. Writes fvol, fmass, fener rows of the listed faces.
+    """
+    nf = faces.shape[0]
+    n_mat = vol_m.shape[1]
+    n_chunks = min(nf, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * nf // n_chunks
+        stop = (chunk + 1) * nf // n_chunks
+        dvm = np.empty(n_mat)
+        g = np.empty(n_mat)
+        used = np.empty(n_mat, dtype=np.bool_)
+        for i in range(start, stop):
+            f = faces[i]
+            n0 = face_nodes[f, 0]
+            n1 = face_nodes[f, 1]
+            for m in range(n_mat):
+                fvol[f, m] = 0.0
+                fmass[f, m] = 0.0
+                fener[f, m] = 0.0
+            el = face_elem[f, 0]
+            er = face_elem[f, 1]
+            if er < 0 and not face_open[f]:
+                continue
+            dv = quad_area(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
+                           x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
+            if dv == 0.0:
+                continue
+            if dv > 0.0:
+                donor = er
+                acc = el
+                sgn = 1.0
+                far = elem_nbr[er, (face_local[f, 1] + 2) % 4] if er >= 0 else -1
+            else:
+                donor = el
+                acc = er
+                sgn = -1.0
+                far = elem_nbr[el, (face_local[f, 0] + 2) % 4]
+            amount = abs(dv)
+            if donor < 0:
+                # inflow through an open boundary: the outside is a copy of the acceptor
+                vt = 0.0
+                for m in range(n_mat):
+                    vt += vol_m[acc, m]
+                for m in range(n_mat):
+                    if vol_m[acc, m] > 0.0:
+                        dvol = amount * vol_m[acc, m] / vt
+                        dmass = dvol * mass_m[acc, m] / vol_m[acc, m]
+                        fvol[f, m] = sgn * dvol
+                        fmass[f, m] = sgn * dmass
+                        if mass_m[acc, m] > 0.0:
+                            fener[f, m] = sgn * dmass * ener_m[acc, m] / mass_m[acc, m]
+                continue
+            if acc < 0:
+                acc = donor  # outflow: zero gradient outside
+            vd = 0.0
+            va = 0.0
+            vu = 0.0
+            for m in range(n_mat):
+                vd += vol_m[donor, m]
+                va += vol_m[acc, m]
+                if far >= 0:
+                    vu += vol_m[far, m]
+            amount = min(amount, vd)
+            courant = amount / vd
+            # material volumes
+            if iface == IFACE_SLIC:
+                for m in range(n_mat):
+                    used[m] = vol_m[donor, m] <= 0.0
+                    dvm[m] = 0.0
+                    fu = vol_m[far, m] / vu if far >= 0 else vol_m[donor, m] / vd
+                    g[m] = vol_m[acc, m] / va - fu
+                left = amount
+                for it in range(n_mat):
+                    best = -1
+                    for m in range(n_mat):
+                        if not used[m] and (best < 0 or g[m] > g[best]):
+                            best = m
+                    if best < 0:
+                        break
+                    used[best] = True
+                    take = min(left, vol_m[donor, best])
+                    dvm[best] = take
+                    left -= take
+                    if left <= 0.0:
+                        break
+            else:
+                for m in range(n_mat):
+                    dvm[m] = amount * vol_m[donor, m] / vd
+            for m in range(n_mat):
+                if dvm[m] <= 0.0:
+                    continue
+                vdm = vol_m[donor, m]
+                if dvm[m] >= vdm * (1.0 - 1e-12):
+                    dmass = mass_m[donor, m]
+                    dener = ener_m[donor, m]
+                    dvol = vdm
+                else:
+                    dvol = dvm[m]
+                    mdm = mass_m[donor, m]
+                    if mdm > 0.0:
+                        rho_d = mdm / vdm
+                        e_d = ener_m[donor, m] / mdm
+                        rho_f = rho_d
+                        e_f = e_d
+                        if order == 2 and far >= 0:
+                            ha = vol_m[acc, m] > phi_eps * va and mass_m[acc, m] > 0.0
+                            hu = vol_m[far, m] > phi_eps * vu and mass_m[far, m] > 0.0
+                            if ha and hu:
+                                rho_f = van_leer(rho_d, mass_m[acc, m] / vol_m[acc, m],
+                                                 mass_m[far, m] / vol_m[far, m], courant)
+                                e_f = van_leer(e_d, ener_m[acc, m] / mass_m[acc, m],
+                                               ener_m[far, m] / mass_m[far, m], courant)
+                        dmass = min(rho_f * dvol, mdm)
+                        dener = e_f * dmass
+                        if ener_m[donor, m] > 0.0:
+                            dener = min(dener, ener_m[donor, m])
+                    else:
+                        dmass = 0.0
+                        dener = 0.0
+                fvol[f, m] = sgn * dvol
+                fmass[f, m] = sgn * dmass
+                fener[f, m] = sgn * dener
+
+
+@njit(parallel=True, cache=True)
+def apply_face_fluxes(direction, elem_face, elem_sign, fvol, fmass, fener, vol_m, mass_m, ener_m):
+    """Each element adds the fluxes of its two faces of this sweep direction (a gather)."""
+    n_elem = elem_face.shape[0]
+    n_mat = vol_m.shape[1]
+    ka = _SIDE_A[direction]
+    kb = _SIDE_B[direction]
+    for e in prange(n_elem):
+        for k in (ka, kb):
+            f = elem_face[e, k]
+            s = elem_sign[e, k]
+            for m in range(n_mat):
+                vol_m[e, m] += s * fvol[f, m]
+                mass_m[e, m] += s * fmass[f, m]
+                ener_m[e, m] += s * fener[f, m]
+
+
+@njit(parallel=True, cache=True)
+def dual_fluxes(direction, conn, elem_face, elem_sign, elem_nbr, face_open, fmass, node_line,
+                mnode, pnode, order, gm, gp, gk, bm, bp, bk):
+    """Mass, momentum and kinetic-energy fluxes of the dual (nodal) cells in this sweep.
+
+    Inside element e the dual face between the corners (src, dst) of half h carries the mass
+    G/2, G = (F_a,in + F_b,out) / 2 the mean of the element's mass fluxes through its side-a and
+    side-b faces (half-index shift); the momentum G/2 v_face and kinetic energy G/4 |v_face|^2 with
+    v_face the upwind node's velocity (order 1) or van Leer along the node line
+    node_line[e, direction, h] = (before src, src, dst, after dst). On open boundary faces the
+    boundary nodes also receive half the face's mass flux with their own velocity (bm, bp, bk:
+    [e, h, 0] into src through side a, [e, h, 1] into dst through side b).
+    """
+    n_elem = conn.shape[0]
+    n_mat = fmass.shape[1]
+    ka = _SIDE_A[direction]
+    kb = _SIDE_B[direction]
+    for e in prange(n_elem):
+        fa = elem_face[e, ka]
+        fb = elem_face[e, kb]
+        fa_in = 0.0
+        fb_in = 0.0
+        for m in range(n_mat):
+            fa_in += fmass[fa, m]
+            fb_in += fmass[fb, m]
+        fa_in *= elem_sign[e, ka]
+        fb_in *= elem_sign[e, kb]
+        gh = 0.25 * (fa_in - fb_in)
+        open_a = elem_nbr[e, ka] < 0 and face_open[fa]
+        open_b = elem_nbr[e, kb] < 0 and face_open[fb]
+        for h in range(2):
+            src = node_line[e, direction, h, 1]
+            dst = node_line[e, direction, h, 2]
+            gm[e, h] = gh
+            if gh >= 0.0:
+                donor = src
+                acc = dst
+                up = node_line[e, direction, h, 0]
+            else:
+                donor = dst
+                acc = src
+                up = node_line[e, direction, h, 3]
+            md = mnode[donor]
+            ke = 0.0
+            for k in range(2):
+                vd = pnode[donor, k] / md if md > 0.0 else 0.0
+                vf = vd
+                if order == 2 and up >= 0 and md > 0.0 and mnode[acc] > 0.0 and mnode[up] > 0.0:
+                    courant = min(1.0, 2.0 * abs(gh) / md)
+                    vf = van_leer(vd, pnode[acc, k] / mnode[acc], pnode[up, k] / mnode[up], courant)
+                gp[e, h, k] = gh * vf
+                ke += vf * vf
+            gk[e, h] = 0.5 * gh * ke
+            for side in range(2):
+                bm[e, h, side] = 0.0
+                bp[e, h, side, 0] = 0.0
+                bp[e, h, side, 1] = 0.0
+                bk[e, h, side] = 0.0
+            for side in range(2):
+                if side == 0:
+                    if not open_a:
+                        continue
+                    flux = 0.5 * fa_in
+                    n = src
+                else:
+                    if not open_b:
+                        continue
+                    flux = 0.5 * fb_in
+                    n = dst
+                mn = mnode[n]
+                if mn > 0.0:
+                    u0 = pnode[n, 0] / mn
+                    u1 = pnode[n, 1] / mn
+                else:
+                    u0 = 0.0
+                    u1 = 0.0
+                bm[e, h, side] = flux
+                bp[e, h, side, 0] = flux * u0
+                bp[e, h, side, 1] = flux * u1
+                bk[e, h, side] = 0.5 * flux * (u0 * u0 + u1 * u1)
+
+
+@njit(parallel=True, cache=True)
+def apply_dual_fluxes(direction, node_elem_ptr, node_elem_idx, gm, gp, gk, bm, bp, bk, mnode, pnode, knode):
+    """Each node adds the dual fluxes of its element corners (a gather)."""
+    n_nodes = mnode.shape[0]
+    for n in prange(n_nodes):
+        dm = 0.0
+        dp0 = 0.0
+        dp1 = 0.0
+        dk = 0.0
+        for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+            ea = node_elem_idx[r]
+            e = ea // 4
+            a = ea - 4 * e
+            h = _CORNER_HALF[direction, a]
+            side = _CORNER_DST[direction, a]
+            s = 1.0 if side == 1 else -1.0
+            dm += s * gm[e, h] + bm[e, h, side]
+            dp0 += s * gp[e, h, 0] + bp[e, h, side, 0]
+            dp1 += s * gp[e, h, 1] + bp[e, h, side, 1]
+            dk += s * gk[e, h] + bk[e, h, side]
+        mnode[n] += dm
+        pnode[n, 0] += dp0
+        pnode[n, 1] += dp1
+        knode[n] += dk
+
+
+@njit(parallel=True, cache=True)
+def finish_remap_nodes(mnode, pnode, knode, bc_type, bc_normal, v, impulse, dissip):
+    """Velocity from the remapped momentum, velocity conditions, kinetic energy lost (DeBar).
+
+    v = p / m; the velocity conditions (reaction impulse into ``impulse``); dissip[n] = the
+    kinetic energy carried into the node minus 1/2 m |v|^2 afterwards.
+    """
+    n_nodes = mnode.shape[0]
+    for n in prange(n_nodes):
+        m = mnode[n]
+        if m > 0.0:
+            w0 = pnode[n, 0] / m
+            w1 = pnode[n, 1] / m
+        else:
+            w0 = 0.0
+            w1 = 0.0
+        u0, u1 = _apply_bc(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
+        impulse[n, 0] = m * (u0 - w0)
+        impulse[n, 1] = m * (u1 - w1)
+        v[n, 0] = u0
+        v[n, 1] = u1
+        dissip[n] = knode[n] - 0.5 * m * (u0 * u0 + u1 * u1) if m > 0.0 else knode[n]
+
+
+@njit(parallel=True, cache=True)
+def finish_remap_elements(conn, mass_m, ener_m, node_mass, dissip, ke_fix):
+    """Element share of the nodal kinetic-energy loss, by corner mass, into material energies."""
+    n_elem = conn.shape[0]
+    n_mat = mass_m.shape[1]
+    if not ke_fix:
+        return
+    for e in prange(n_elem):
+        me = 0.0
+        for m in range(n_mat):
+            me += mass_m[e, m]
+        if me <= 0.0:
+            continue
+        add = 0.0
+        for a in range(4):
+            n = conn[e, a]
+            if node_mass[n] > 0.0:
+                add += dissip[n] * 0.25 * me / node_mass[n]
+        for m in range(n_mat):
+            ener_m[e, m] += add * mass_m[e, m] / me
+
+
+@njit(parallel=True, cache=True)
+def nodal_mass(mass_m, node_elem_ptr, node_elem_idx, out):
+    """m_I = sum over the node's elements of M_e / 4 (gather)."""
+    n_mat = mass_m.shape[1]
+    for n in prange(out.shape[0]):
+        s = 0.0
+        for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+            e = node_elem_idx[r] // 4
+            for m in range(n_mat):
+                s += 0.25 * mass_m[e, m]
+        out[n] = s
