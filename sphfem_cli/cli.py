@@ -21,6 +21,9 @@ from . import __version__
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE, EXIT_GUARD, EXIT_DECK = 0, 1, 2, 3, 65
 EXIT_INTERRUPTED = 130  # 128 + SIGINT, as shells report it
 
+# Below this much work per thread a parallel loop costs more in synchronisation than it saves.
+ELEMENTS_PER_THREAD = 20_000
+
 
 class DeckProblem(click.ClickException):
     """A bad deck: one line on stderr, exit 65."""
@@ -99,16 +102,19 @@ def check(deck: str) -> None:
 @click.argument("deck", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", "outdir", type=click.Path(file_okay=False),
               help="Output folder. Default: <deck name>_results beside the current directory.")
-@click.option("--threads", type=click.IntRange(min=1), default=None, help="Worker threads (default: all cores).")
+@click.option("--threads", type=click.IntRange(min=1), default=None,
+              help="Worker threads. Default: one per 20 000 elements, up to the number of cores "
+                   "(small models run fastest on one thread).")
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing but errors.")
 @click.option("-v", "--verbose", is_flag=True, help="Print the energy balance at every field output.")
 def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose: bool) -> None:
     """Run DECK and write XDMF/HDF5 fields and CSV histories to the output folder."""
     loaded = load_model(deck)
-    if threads is not None:
-        import numba
+    import numba
 
-        numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
+    if threads is None:
+        threads = max(1, loaded.model.n_elements // ELEMENTS_PER_THREAD)
+    numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     out = Path(outdir) if outdir else Path.cwd() / f"{Path(deck).stem}_results"
     out.mkdir(parents=True, exist_ok=True)
     code = execute(loaded, out, quiet=quiet, verbose=verbose)
