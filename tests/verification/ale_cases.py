@@ -1,0 +1,131 @@
+"""Shared set-ups of the ALE verification tests: gas rows, shock tubes, exact Riemann solution."""
+from __future__ import annotations
+
+import numpy as np
+
+from sphfem_cli.ale import AleSystem, fill_fractions
+from sphfem_cli.materials import kernels as mk
+from sphfem_cli.model.mesh import box_mesh
+
+
+def gas_row(gamma: float, rho0: float, p_inf: float = 0.0) -> np.ndarray:
+    """Parameter row of a fluid with an ideal-gas (p_inf = 0) or stiffened-gas EOS."""
+    p = np.zeros(mk.NPARAM)
+    p[mk.P_RHO0] = rho0
+    p[mk.P_EOS_TYPE] = mk.EOS_IDEAL_GAS if p_inf == 0.0 else mk.EOS_STIFFENED_GAS
+    p[mk.EOS_OFFSET] = rho0
+    p[mk.EOS_OFFSET + 3] = gamma
+    p[mk.EOS_OFFSET + 4] = p_inf
+    return p
+
+
+def box_walls(ale: AleSystem, nodes: np.ndarray, lo, hi, tol: float = 1e-12) -> None:
+    """Slip walls on the four sides of a box mesh (corners fixed)."""
+    for axis in range(2):
+        normal = np.eye(2)[axis]
+        ale.set_slip(np.flatnonzero(np.abs(nodes[:, axis] - lo[axis]) < tol), normal)
+        ale.set_slip(np.flatnonzero(np.abs(nodes[:, axis] - hi[axis]) < tol), normal)
+
+
+def shock_tube(n: int, length: float, x_diaphragm: float, left: tuple, right: tuple, two_materials: bool,
+               **options) -> AleSystem:
+    """Quasi-1D tube, n x 1 quad4, slip walls all round; left/right = (row, rho, p)."""
+    h = length / n
+    mesh = box_mesh([0.0, 0.0], [length, h], divisions=[n, 1])
+    nodes, conn = mesh.nodes, mesh.elements
+    f_left = fill_fractions(nodes, conn, lambda x, y: x < x_diaphragm)
+    if two_materials:
+        mats = [left[0], right[0]]
+        fr = np.stack([f_left, 1.0 - f_left], axis=1)
+        ale = AleSystem(nodes, conn, mats, fr, [left[1], right[1]], pressure=[left[2], right[2]], **options)
+    else:
+        rho = np.where(f_left > 0.5, left[1], right[1])[:, None]
+        pr = np.where(f_left > 0.5, left[2], right[2])[:, None]
+        ale = AleSystem(nodes, conn, [left[0]], np.ones((n, 1)), rho, pressure=pr, **options)
+    box_walls(ale, nodes, (0.0, 0.0), (length, h), tol=1e-9 * length)
+    return ale
+
+
+def run_to(ale: AleSystem, t_end: float, cfl: float = 0.5) -> AleSystem:
+    while ale.time < t_end * (1.0 - 1e-12):
+        ale.step(min(ale.stable_dt(cfl), t_end - ale.time))
+    return ale
+
+
+def sod(n: int, **options) -> AleSystem:
+    g = gas_row(1.4, 1.0)
+    two = options.pop("two_materials", False)
+    right_row = gas_row(1.4, 0.125) if two else g
+    return run_to(shock_tube(n, 1.0, 0.5, (g, 1.0, 1.0), (right_row, 0.125, 0.1), two, **options), 0.2)
+
+
+# ------------------------------------------------------------------ exact Riemann solution (Toro ch. 4)
+
+
+def _f_k(p, rho, pk, ck, gam, pinf):
+    """Toro's pressure function for a stiffened gas (p -> p + p_inf)."""
+    a_k = 2.0 / ((gam + 1.0) * rho)
+    b_k = (gam - 1.0) / (gam + 1.0) * (pk + pinf)
+    if p > pk:
+        return (p - pk) * np.sqrt(a_k / (p + pinf + b_k))
+    return 2.0 * ck / (gam - 1.0) * (((p + pinf) / (pk + pinf)) ** ((gam - 1.0) / (2.0 * gam)) - 1.0)
+
+
+def riemann_star(wl, wr):
+    """(p*, u*) of the Riemann problem between states w = (rho, u, p, gamma, p_inf), by bisection."""
+    rl, ul, pl, gl, pil = wl
+    rr, ur, pr, gr, pir = wr
+    cl = np.sqrt(gl * (pl + pil) / rl)
+    cr = np.sqrt(gr * (pr + pir) / rr)
+
+    def fun(p):
+        return _f_k(p, rl, pl, cl, gl, pil) + _f_k(p, rr, pr, cr, gr, pir) + ur - ul
+
+    lo = -min(pil, pir) + 1e-12 * max(pl, pr)
+    hi = 10.0 * max(pl, pr) + 10.0 * max(pil, pir)
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if fun(mid) > 0.0:
+            hi = mid
+        else:
+            lo = mid
+    p = 0.5 * (lo + hi)
+    u = 0.5 * (ul + ur) + 0.5 * (_f_k(p, rr, pr, cr, gr, pir) - _f_k(p, rl, pl, cl, gl, pil))
+    return p, u
+
+
+def riemann_sample(wl, wr, x, x0, t):
+    """Exact (rho, u, p) at points x for the Riemann problem with the jump at x0 (Toro 4.5)."""
+    ps, us = riemann_star(wl, wr)
+    out = np.zeros((3, len(x)))
+    for i, xi in enumerate(np.asarray(x)):
+        s = (xi - x0) / t
+        if s <= us:
+            rho, u, p, g, pinf = wl
+            sign = 1.0
+        else:
+            rho, u, p, g, pinf = wr
+            sign = -1.0
+        c = np.sqrt(g * (p + pinf) / rho)
+        gm = (g - 1.0) / (g + 1.0)
+        if ps > p:  # shock
+            rs = rho * ((ps + pinf) / (p + pinf) + gm) / (gm * (ps + pinf) / (p + pinf) + 1.0)
+            sh = u - sign * c * np.sqrt((g + 1.0) / (2.0 * g) * (ps + pinf) / (p + pinf) + (g - 1.0) / (2.0 * g))
+            behind = (s > sh) if sign > 0 else (s < sh)
+            out[:, i] = (rs, us, ps) if behind else (rho, u, p)
+        else:  # rarefaction
+            rs = rho * ((ps + pinf) / (p + pinf)) ** (1.0 / g)
+            cs = np.sqrt(g * (ps + pinf) / rs)
+            head = u - sign * c
+            tail = us - sign * cs
+            if (sign > 0 and s <= head) or (sign < 0 and s >= head):
+                out[:, i] = (rho, u, p)
+            elif (sign > 0 and s >= tail) or (sign < 0 and s <= tail):
+                out[:, i] = (rs, us, ps)
+            else:
+                uu = 2.0 / (g + 1.0) * (sign * c + (g - 1.0) / 2.0 * u + s)
+                cc = sign * (uu - s)
+                rr = rho * (cc / c) ** (2.0 / (g - 1.0))
+                pp = (p + pinf) * (cc / c) ** (2.0 * g / (g - 1.0)) - pinf
+                out[:, i] = (rr, uu, pp)
+    return out
