@@ -55,6 +55,9 @@ IFACE_SLIC = 1
 CLOSURE_EQUAL_STRAIN = 0
 CLOSURE_RELAX = 1
 
+# SLIC orders the materials only where their fraction gradient across the donor is at least this
+SLIC_JUMP = 0.1
+
 # local faces of a quad4: face k joins corners k and k+1. Sweep direction 0 (xi) crosses faces
 # 3 (side "a") and 1 (side "b"); direction 1 (eta) crosses faces 0 (a) and 2 (b).
 # For a sweep direction d, half h joins corners (src, dst), src on side a, dst on side b.
@@ -380,14 +383,23 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
                 if far >= 0:
                     vu += vol_m[far, m]
             amount = min(amount, vd)
-            courant = amount / vd
             # material volumes
+            sharp = False
             if iface == IFACE_SLIC:
+                gmin = 1.0
+                gmax = -1.0
                 for m in range(n_mat):
                     used[m] = vol_m[donor, m] <= 0.0
                     dvm[m] = 0.0
                     fu = vol_m[far, m] / vu if far >= 0 else vol_m[donor, m] / vd
                     g[m] = vol_m[acc, m] / va - fu
+                    if not used[m]:
+                        gmin = min(gmin, g[m])
+                        gmax = max(gmax, g[m])
+                # an interface across the sweep shows as a fraction jump; without one (interface
+                # along the sweep, or an isolated fragment) the donor's fractions are used
+                sharp = gmax - gmin >= SLIC_JUMP
+            if sharp:
                 left = amount
                 for it in range(n_mat):
                     best = -1
@@ -421,15 +433,20 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
                         e_d = ener_m[donor, m] / mdm
                         rho_f = rho_d
                         e_f = e_d
+                        ha = False
+                        hu = False
                         if order == 2 and far >= 0:
                             ha = vol_m[acc, m] > phi_eps * va and mass_m[acc, m] > 0.0
                             hu = vol_m[far, m] > phi_eps * vu and mass_m[far, m] > 0.0
                             if ha and hu:
+                                # Courant number of the material itself, so that what stays in the
+                                # donor keeps a density between its neighbours' (no mass without volume)
                                 rho_f = van_leer(rho_d, mass_m[acc, m] / vol_m[acc, m],
-                                                 mass_m[far, m] / vol_m[far, m], courant)
-                                e_f = van_leer(e_d, ener_m[acc, m] / mass_m[acc, m],
-                                               ener_m[far, m] / mass_m[far, m], courant)
+                                                 mass_m[far, m] / vol_m[far, m], dvol / vdm)
                         dmass = min(rho_f * dvol, mdm)
+                        if order == 2 and far >= 0 and ha and hu:
+                            e_f = van_leer(e_d, ener_m[acc, m] / mass_m[acc, m],
+                                           ener_m[far, m] / mass_m[far, m], dmass / mdm)
                         dener = e_f * dmass
                         if ener_m[donor, m] > 0.0:
                             dener = min(dener, ener_m[donor, m])
