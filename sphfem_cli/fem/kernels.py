@@ -13,9 +13,9 @@ Per element and step (central difference, paper eqs. 2.5-2.8):
 4. internal force f_I = -V (sigma - q I) b_I at x^{n+1} (paper eq. 2.8 with one-point quadrature);
 5. Flanagan-Belytschko hourglass forces on the hourglass shape vectors
    gamma_aI = Gamma_aI - (Gamma_a . x_k) b_kI, viscous (f = -a_h q gamma, a_h = QM rho c V^{(d-1)/d} / 4)
-   or stiffness (Q += k q dt, f = -Q gamma, k = QM G V |b|^2 / 2);
-6. stable step l / (Q + sqrt(Q^2 + c^2)), Q = Q2 c + Q1 l |tr d| in compression, l = V / largest
-   face (area in 3D, edge in 2D).
+   or stiffness (Q += k q dt, f = -Q gamma, k = QM G V |b|^2 / 2, work (Q^n + Q^{n+1})/2 . q dt);
+6. stable step l / (Q + sqrt(Q^2 + c^2)), Q = Q2 c + Q1^2 l |tr d| in compression (the signal speed
+   the viscosity q adds), l = V / largest face (area in 3D, edge in 2D).
 
 Element results are written per element (forces per element node); `gather_nodal_forces` sums them
 at nodes through the node->element map, so results do not depend on the thread count.
@@ -197,11 +197,17 @@ def _bulk_viscosity(rho, length, c, trace_d, q1, q2):
 
 @njit(cache=True)
 def _stable_dt(length, c, trace_d, q1, q2):
-    """l / (Q + sqrt(Q^2 + c^2)), Q = Q2 c + Q1 l |tr d| in compression."""
+    """l / (Q + sqrt(Q^2 + c^2)), Q = Q2 c + Q1^2 l |tr d| in compression (consistent with q).
+
+    A state with no signal speed at all (c = 0, no compression) sets no limit: +inf.
+    """
     qq = 0.0
     if trace_d < 0.0:
-        qq = q2 * c + q1 * length * (-trace_d)
-    return length / (qq + np.sqrt(qq * qq + c * c))
+        qq = q2 * c + q1 * q1 * length * (-trace_d)
+    denominator = qq + np.sqrt(qq * qq + c * c)
+    if denominator <= 0.0:
+        return np.inf
+    return length / denominator
 
 
 @njit(cache=True)
@@ -299,7 +305,7 @@ def solid_element_forces(
             update_stress(mat_type[m], p, sig, hist[e], deps, dt, rel_volume, energy[e] / vol0[e])
 
             rho = p[0] / rel_volume
-            c_snd = sound_speed(mat_type[m], p, rel_volume)
+            c_snd = sound_speed(mat_type[m], p, rel_volume, energy[e] / vol0[e])
             if dim == 2:
                 length = quad4_char_length(xe, ve_new)
             else:
@@ -357,10 +363,14 @@ def solid_element_forces(
                     for k in range(dim):
                         if sec[SEC_HG_TYPE] == HG_VISCOUS:
                             resultant = coef * qv[k]
+                            work += resultant * qv[k] * dt
                         else:
+                            # Stored (elastic) energy: trapezoidal work of the resultant over the
+                            # step, as for the stress power, so that it sums to Q^2/(2k).
+                            old = hg_force[e, mode, k]
                             hg_force[e, mode, k] += coef * qv[k] * dt
                             resultant = hg_force[e, mode, k]
-                        work += resultant * qv[k] * dt
+                            work += 0.5 * (old + resultant) * qv[k] * dt
                         for a in range(npe):
                             f_elem[e, a, k] -= resultant * gam[a]
                     hg_energy[e] += work

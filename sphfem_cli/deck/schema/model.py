@@ -82,8 +82,8 @@ class Hourglass(DeckModel):
     type: Literal["viscous", "stiffness"] = Field(
         "viscous", description="viscous (Flanagan-Belytschko viscous form with the LS-DYNA IHQ=1 coefficient; like IHQ=2) or stiffness (Flanagan-Belytschko stiffness form, like IHQ=4). Default viscous."
     )
-    coefficient: Annotated[float, Field(ge=0, le=0.5)] = Field(
-        0.1, description="Hourglass coefficient QM [-]. Default 0.1 (0.05–0.1 typical for stiffness). The hourglass terms are not part of the stable time step: in 3D, viscous QM above about 0.14 (as LS-DYNA warns, above 0.15) and stiffness QM above about 0.2 (low Poisson ratio) to 0.35 (nu = 0.3) make the run unstable."
+    coefficient: Annotated[float, Field(ge=0, le=0.12)] = Field(
+        0.1, description="Hourglass coefficient QM [-], at most 0.12. Default 0.1 (0.05–0.1 typical for stiffness). The hourglass terms are not part of the stable time step: in 3D, viscous QM above about 0.14 (LS-DYNA warns above 0.15) and stiffness QM above about 0.2 make a run unstable, hence the bound."
     )
 
 
