@@ -45,6 +45,7 @@ class Constraints:
         self.v_prescribed = np.zeros((model.n_nodes, model.dim))
         self.prescribed: list[_Prescribed] = []
         self.rigid_prescribed: dict[int, list[tuple[int, float, str | None]]] = {}
+        self.rigid_held: set[int] = set()  # rigid parts fixed in every direction: no spin either
         rigid_parts = {b.part: b for b in model.rigid_bodies}
         for bc in model.deck.boundaries:
             rigid = bc.part is not None and model.part_index(bc.part) in rigid_parts
@@ -59,6 +60,8 @@ class Constraints:
             if rigid:
                 entry = self.rigid_prescribed.setdefault(model.part_index(bc.part), [])
                 entry.extend((k, val, curve) for k, val in comps)
+                if isinstance(bc, FixedBoundary) and len(comps) == model.dim:
+                    self.rigid_held.add(model.part_index(bc.part))
                 continue
             nodes = model.target_nodes(bc.part, bc.set)
             for k, _ in comps:
@@ -163,6 +166,8 @@ class RigidBodies:
                 self.spin[i] = w + dt_avg * np.linalg.solve(iw, torque - np.cross(w, iw @ w))
             for k, val, curve in self.constraints.rigid_prescribed.get(b.part, []):
                 self.velocity[i][k] = val * self.curves(curve, t_mid)
+            if b.part in self.constraints.rigid_held:
+                self.spin[i] = np.zeros_like(self.spin[i])
             self.constraints.v_prescribed[b.nodes] = self._node_velocity(i, r)
 
     def drift(self, dt: float, x: np.ndarray) -> None:

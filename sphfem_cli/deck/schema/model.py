@@ -245,7 +245,11 @@ Direction = Literal["x", "y", "z"]
 
 
 class FixedBoundary(Target):
-    """Zero velocity in the listed directions (LS-DYNA *BOUNDARY_SPC)."""
+    """Zero velocity in the listed directions (LS-DYNA *BOUNDARY_SPC).
+
+    On a rigid part it holds the body's translation in those directions; fixed in every direction,
+    the body is held entirely (no rotation either).
+    """
 
     type: Literal["fixed"] = Field(description="Boundary selector: fixed directions.")
     directions: list[Direction] | None = Field(
