@@ -476,7 +476,7 @@ def apply_face_fluxes(direction, elem_face, elem_sign, fvol, fmass, fener, vol_m
 
 
 @njit(parallel=True, cache=True)
-def dual_fluxes(direction, conn, elem_face, elem_sign, elem_nbr, face_open, fmass, node_line,
+def dual_fluxes(direction, conn, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass, node_line,
                 mnode, pnode, order, gm, gp, gk, bm, bp, bk):
     """Mass, momentum and kinetic-energy fluxes of the dual (nodal) cells in this sweep.
 
@@ -486,7 +486,8 @@ def dual_fluxes(direction, conn, elem_face, elem_sign, elem_nbr, face_open, fmas
     v_face the upwind node's velocity (order 1) or van Leer along the node line
     node_line[e, direction, h] = (before src, src, dst, after dst). On open boundary faces the
     boundary nodes also receive half the face's mass flux with their own velocity (bm, bp, bk:
-    [e, h, 0] into src through side a, [e, h, 1] into dst through side b).
+    [e, h, 0] into src through side a, [e, h, 1] into dst through side b); without open faces
+    (any_open False) bm, bp, bk are left as they are (zero).
     """
     n_elem = conn.shape[0]
     n_mat = fmass.shape[1]
@@ -528,6 +529,8 @@ def dual_fluxes(direction, conn, elem_face, elem_sign, elem_nbr, face_open, fmas
                 gp[e, h, k] = gh * vf
                 ke += vf * vf
             gk[e, h] = 0.5 * gh * ke
+            if not any_open:
+                continue
             for side in range(2):
                 bm[e, h, side] = 0.0
                 bp[e, h, side, 0] = 0.0
@@ -558,8 +561,9 @@ def dual_fluxes(direction, conn, elem_face, elem_sign, elem_nbr, face_open, fmas
 
 
 @njit(parallel=True, cache=True)
-def apply_dual_fluxes(direction, node_elem_ptr, node_elem_idx, gm, gp, gk, bm, bp, bk, mnode, pnode, knode):
-    """Each node adds the dual fluxes of its element corners (a gather)."""
+def apply_dual_fluxes(direction, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk, mnode, pnode,
+                      knode):
+    """Each node adds the dual fluxes of its element corners (a gather); open-face terms if any_open."""
     n_nodes = mnode.shape[0]
     for n in prange(n_nodes):
         dm = 0.0
@@ -573,10 +577,15 @@ def apply_dual_fluxes(direction, node_elem_ptr, node_elem_idx, gm, gp, gk, bm, b
             h = _CORNER_HALF[direction, a]
             side = _CORNER_DST[direction, a]
             s = 1.0 if side == 1 else -1.0
-            dm += s * gm[e, h] + bm[e, h, side]
-            dp0 += s * gp[e, h, 0] + bp[e, h, side, 0]
-            dp1 += s * gp[e, h, 1] + bp[e, h, side, 1]
-            dk += s * gk[e, h] + bk[e, h, side]
+            dm += s * gm[e, h]
+            dp0 += s * gp[e, h, 0]
+            dp1 += s * gp[e, h, 1]
+            dk += s * gk[e, h]
+            if any_open:
+                dm += bm[e, h, side]
+                dp0 += bp[e, h, side, 0]
+                dp1 += bp[e, h, side, 1]
+                dk += bk[e, h, side]
         mnode[n] += dm
         pnode[n, 0] += dp0
         pnode[n, 1] += dp1

@@ -52,7 +52,7 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
     length = area / edges
     q = np.where(trace_d < 0, rho_e * length * (q1 * q1 * length * trace_d ** 2 - q2 * c_max * trace_d), 0.0)
     c_eff = c_max + np.sqrt((ve ** 2).sum(axis=2).max(axis=1))
-    qq = np.where(trace_d < 0, q2 * c_eff + q1 * length * np.abs(trace_d), 0.0)
+    qq = np.where(trace_d < 0, q2 * c_eff + q1 * q1 * length * np.abs(trace_d), 0.0)
     with np.errstate(divide="ignore"):
         dt = np.where(c_eff > 0, length / (qq + np.sqrt(qq * qq + c_eff * c_eff)), np.inf)
     f = (area * (p_mix + q))[:, None, None] * np.transpose(b, (0, 2, 1))

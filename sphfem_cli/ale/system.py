@@ -365,19 +365,20 @@ class AleSystem:
         pnode = mnode[:, None] * self.velocity
         knode = 0.5 * mnode * (self.velocity ** 2).sum(axis=1)
         dirs = (0, 1) if self.n_steps % 2 == 0 else (1, 0)
+        any_open = bool(self.face_open.any())
         for d in dirs:
             K.face_fluxes(topo["faces_by_dir"][d], topo["face_nodes"], topo["face_elem"], topo["face_local"],
                           topo["elem_nbr"], self.face_open, x_lag, x_new, self.vol_m, self.mass_m, self.ener_m,
                           self.order, self.iface, self.phi_eps, self._fvol, self._fmass, self._fener)
-            if self.face_open.any():
+            if any_open:
                 fo = np.flatnonzero(self.face_open & (topo["face_dir"] == d))
                 self.outflow -= self._fmass[fo].sum(axis=0)
             K.apply_face_fluxes(d, topo["elem_face"], topo["elem_sign"], self._fvol, self._fmass, self._fener,
                                 self.vol_m, self.mass_m, self.ener_m)
             K.dual_fluxes(d, self.conn, topo["elem_face"], topo["elem_sign"], topo["elem_nbr"], self.face_open,
-                          self._fmass, topo["node_line"], mnode, pnode, self.order,
+                          any_open, self._fmass, topo["node_line"], mnode, pnode, self.order,
                           self._gm, self._gp, self._gk, self._bm, self._bp, self._bk)
-            K.apply_dual_fluxes(d, topo["node_elem_ptr"], topo["node_elem_idx"], self._gm, self._gp, self._gk,
+            K.apply_dual_fluxes(d, topo["node_elem_ptr"], topo["node_elem_idx"], any_open, self._gm, self._gp, self._gk,
                                 self._bm, self._bp, self._bk, mnode, pnode, knode)
         dissip = np.empty_like(mnode)
         K.finish_remap_nodes(mnode, pnode, knode, self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)
