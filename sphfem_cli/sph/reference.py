@@ -1,0 +1,188 @@
+"""Short NumPy versions of the SPH hot kernels, for the tests (dense all-pairs, small inputs only).
+
+``rates_reference`` recomputes, from the particle state alone, what ``ParticleSystem.compute_rates``
+computes with the numba kernels: EOS state, ghost particles, dummy-wall pressures, viscous stress,
+and the continuity / momentum / energy / delta-SPH / XSPH rates. It follows the equations of
+docs/theory/sph.md directly, with O(N^2) memory.
+"""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from ..materials import kernels as mk
+from . import kernels as k
+
+
+def kernel_w(kernel: int, dim: int, r, h):
+    """W(r, h), vectorised."""
+    q = np.asarray(r, dtype=float) / h
+    if kernel == k.WENDLAND_C2:
+        t = np.maximum(1.0 - 0.5 * q, 0.0)
+        th = t**3 * (1.5 * q + 1.0) if dim == 1 else t**4 * (2.0 * q + 1.0)
+    else:
+        th = np.where(q < 1.0, 1.0 - 1.5 * q**2 + 0.75 * q**3, 0.25 * np.maximum(2.0 - q, 0.0) ** 3)
+    return k.kernel_sigma(kernel, dim) / h**dim * th
+
+
+def kernel_f(kernel: int, dim: int, r, h):
+    """(1/r) dW/dr, vectorised (finite at r = 0)."""
+    q = np.asarray(r, dtype=float) / h
+    if kernel == k.WENDLAND_C2:
+        t = np.maximum(1.0 - 0.5 * q, 0.0)
+        d = -3.0 * t**2 if dim == 1 else -5.0 * t**3
+    else:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d = np.where(q < 1.0, -3.0 + 2.25 * q, -0.75 * np.maximum(2.0 - q, 0.0) ** 2 / q)
+    return k.kernel_sigma(kernel, dim) / h ** (dim + 2) * d
+
+
+def neighbour_pairs(x: np.ndarray, h: np.ndarray) -> set[tuple[int, int]]:
+    """All ordered pairs (i, j), i != j, with |x_i - x_j| < 2 h_ij = h_i + h_j (brute force)."""
+    d = np.sqrt(((x[:, None, :] - x[None, :, :]) ** 2).sum(-1))
+    close = d < h[:, None] + h[None, :]
+    np.fill_diagonal(close, False)
+    return set(zip(*map(lambda a: a.tolist(), np.nonzero(close))))
+
+
+def ghosts(x, v, rho, p, walls, reach, gravity=None, hydrostatic=False):
+    """Mirror particles: one per subset (one wall per axis) of the walls within ``reach``.
+
+    Returns (positions (G, 3), velocities (G, 3), source index (G,), pressure (G,)).
+    """
+    n, dim = x.shape
+    x3 = np.zeros((n, 3))
+    v3 = np.zeros((n, 3))
+    x3[:, :dim], v3[:, :dim] = x, v
+    g = np.zeros(3) if gravity is None else np.asarray(gravity, float)
+    out_x, out_v, src, pg = [], [], [], []
+    for i in range(n):
+        near = [w for w in walls if 0.0 <= w.side * (x3[i, w.axis] - w.position) < reach]
+        for size in range(1, len(near) + 1):
+            for sub in itertools.combinations(near, size):
+                if len({w.axis for w in sub}) < size:
+                    continue
+                xg, vg = x3[i].copy(), v3[i].copy()
+                for w in sub:
+                    xg[w.axis] = 2.0 * w.position - xg[w.axis]
+                    if w.condition == "no_slip":
+                        vg = -vg
+                    else:
+                        vg[w.axis] = -vg[w.axis]
+                out_x.append(xg)
+                out_v.append(vg)
+                src.append(i)
+                pg.append(p[i] + (rho[i] * g @ (xg - x3[i]) if hydrostatic else 0.0))
+    return (np.array(out_x).reshape(-1, 3), np.array(out_v).reshape(-1, 3), np.array(src, dtype=int),
+            np.array(pg))
+
+
+def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
+    """Rates of the particle state (all particles active) with the options ``opt`` (SPHOptions)
+    and optional dummy walls ``wall`` = (positions, spacing, material).
+
+    Returns dict with acc (N, dim), drho, de, xsph (N, dim), p, c, h.
+    """
+    n, dim = x.shape
+    kern = {"cubic_spline": k.CUBIC_SPLINE, "wendland_c2": k.WENDLAND_C2}[opt.kernel]
+    g = np.zeros(3)
+    if opt.gravity is not None:
+        g[:dim] = opt.gravity
+    p = np.empty(n)
+    c = np.empty(n)
+    for i in range(n):
+        row = params[mat[i]]
+        eos, q, r, ee = int(row[mk.P_EOS_TYPE]), row[mk.EOS_OFFSET:], rho[i] / row[0], row[0] * e[i]
+        p[i] = max(mk.eos_pressure(eos, q, r, ee), opt.pressure_min)
+        c[i] = mk.eos_sound_speed(eos, q, r, ee)
+    h = opt.smoothing_ratio * (m / rho) ** (1.0 / dim)
+    hmax = h.max()
+
+    # point set: fluid, ghosts, walls
+    X = [np.pad(x, ((0, 0), (0, 3 - dim)))]
+    V = [np.pad(v, ((0, 0), (0, 3 - dim)))]
+    R, M, P, C, H, MAT, KIND = [rho], [m], [p], [c], [h], [mat], [np.zeros(n, int)]
+    if opt.walls:
+        wr = max(hmax, opt.smoothing_ratio * wall[1]) if wall is not None else hmax
+        gx, gv, gs, gp = ghosts(x, v, rho, p, list(opt.walls), 2.0 * wr, g, opt.ghost_hydrostatic)
+        X.append(gx)
+        V.append(gv)
+        R.append(rho[gs])
+        M.append(m[gs])
+        P.append(gp)
+        C.append(c[gs])
+        H.append(h[gs])
+        MAT.append(mat[gs])
+        KIND.append(np.ones(len(gs), int))
+    if wall is not None:
+        wx, spacing, wmat = wall
+        nw = len(wx)
+        wx3 = np.pad(np.asarray(wx, float), ((0, 0), (0, 3 - dim)))
+        hw = np.full(nw, opt.smoothing_ratio * spacing)
+        row = params[wmat]
+        # Adami et al. 2012: p_w = (sum p_f W + g . sum rho_f r_wf W) / sum W over fluid f
+        rwf = wx3[:, None, :] - X[0][None, :, :]
+        W = kernel_w(kern, dim, np.sqrt((rwf**2).sum(-1)), 0.5 * (hw[:, None] + h[None, :]))
+        sw = W.sum(1)
+        pw = np.where(sw > 0, (W @ p + (rho[None, :, None] * rwf * W[:, :, None]).sum(1) @ g) / np.where(sw > 0, sw, 1), 0.0)
+        pw = np.maximum(pw, opt.pressure_min)
+        eos, q = int(row[mk.P_EOS_TYPE]), row[mk.EOS_OFFSET:]
+        rw = np.array([k.density_from_pressure(eos, q, row[0], pp, q[1], row[0]) for pp in pw])
+        cw = np.array([mk.eos_sound_speed(eos, q, r / row[0], q[1]) for r in rw])
+        X.append(wx3)
+        V.append(np.zeros((nw, 3)))
+        R.append(rw)
+        M.append(np.full(nw, row[0] * spacing**dim))
+        P.append(pw)
+        C.append(cw)
+        H.append(hw)
+        MAT.append(np.full(nw, wmat))
+        KIND.append(np.full(nw, 2))
+    X, V, R, M, P, C, H, MAT, KIND = map(np.concatenate, (X, V, R, M, P, C, H, MAT, KIND))
+
+    rij = X[:n, None, :] - X[None, :, :]  # fluid i, point j
+    r = np.sqrt((rij**2).sum(-1))
+    hij = 0.5 * (h[:, None] + H[None, :])
+    inside = (r < 2.0 * hij) & (r > 0.0)
+    F = np.where(inside, kernel_f(kern, dim, r, hij), 0.0)
+    Wv = np.where(inside, kernel_w(kern, dim, r, hij), 0.0)
+    gradW = F[:, :, None] * rij
+    vij = V[:n, None, :] - V[None, :, :]
+    vol = M / R
+
+    # viscous stress at every point (needs the gradient at all points, fluid i -> all i)
+    mu = params[MAT, k.P_VISCOSITY]
+    viscous = bool(np.any(params[:, k.P_VISCOSITY] > 0) or opt.dilatational_viscosity > 0)
+    if viscous:
+        ra = X[:, None, :] - X[None, :, :]
+        rr = np.sqrt((ra**2).sum(-1))
+        ha = 0.5 * (H[:, None] + H[None, :])
+        Fa = np.where((rr < 2 * ha) & (rr > 0), kernel_f(kern, dim, rr, ha), 0.0)
+        L = np.einsum("j,ija,ijb->iab", vol, V[None, :, :] - V[:, None, :], Fa[:, :, None] * ra)
+        D = 0.5 * (L + L.transpose(0, 2, 1))
+        div = np.trace(L, axis1=1, axis2=2)
+        tau = 2.0 * mu[:, None, None] * D + ((opt.dilatational_viscosity - 2.0 / 3.0 * mu) * div)[:, None, None] * np.eye(3)
+    else:
+        tau = np.zeros((len(X), 3, 3))
+
+    vdotr = (vij * rij).sum(-1)
+    cbar = 0.5 * (c[:, None] + C[None, :])
+    rbar = 0.5 * (rho[:, None] + R[None, :])
+    muij = hij * np.minimum(vdotr, 0.0) / (r**2 + opt.eps * hij**2)
+    Pi = (-opt.alpha * cbar * muij + opt.beta * muij**2) / rbar
+    S = (p / rho**2)[:, None] + (P / R**2)[None, :] + Pi  # pressure part, times -I
+    T = tau[:n, None] / (rho**2)[:, None, None, None] + tau[None, :] / (R**2)[None, :, None, None]
+    sig = -S[:, :, None, None] * np.eye(3) + T  # sigma_i/rho_i^2 + sigma_j/rho_j^2 - Pi I
+    acc = np.einsum("j,ijab,ijb->ia", M, sig * inside[:, :, None, None], gradW)
+    de = -0.5 * np.einsum("j,ijab,ija,ijb->i", M, sig * inside[:, :, None, None], vij, gradW)
+    drho = rho * np.einsum("j,ija,ija->i", vol, vij, gradW)
+    if opt.delta:
+        psi = R[None, :] - rho[:, None]
+        if opt.delta_hydrostatic:
+            psi = psi + rbar * (rij @ g) / cbar**2
+        same = (MAT[None, :] == mat[:, None]) & (KIND[None, :] != 2)
+        drho = drho - 2.0 * opt.delta * np.sum(same * hij * cbar * psi * F * vol[None, :], axis=1)
+    notwall = KIND[None, :] != 2
+    xs = opt.xsph * np.einsum("ij,ija->ia", notwall * Wv * M[None, :] / rbar, -vij)
+    return {"acc": acc[:, :dim], "drho": drho, "de": de, "xsph": xs[:, :dim], "p": p, "c": c, "h": h}

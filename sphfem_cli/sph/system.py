@@ -1,0 +1,482 @@
+"""``ParticleSystem``: the SPH fluid as plain arrays plus the calls into ``sph.kernels``.
+
+One step, as the explicit loop drives it (see ``step`` for the integrator)::
+
+    ps.compute_rates()            # neighbour search + all rates at the current state
+    ps.f_ext[:] = ...             # contact/coupling forces (force units), optional
+    dt = ps.stable_dt(scale)      # CFL, force and viscous criteria times timestep_scale
+    ps.step(dt)                   # kick-drift-kick leapfrog, walls, domain
+
+Arrays are public and owned by the system: ``x``, ``v`` (N, dim); ``rho``, ``e`` (specific
+internal energy), ``m``, ``h``, ``p``, ``c`` (N,); ``mat`` (N,) material index into the table;
+``active`` (N,) bool; rates ``acc`` (N, dim, without gravity and f_ext), ``drho``, ``de``,
+``xsph``; ``f_ext`` (N, dim). Every ``reorder_every`` evaluations ``compute_rates`` permutes all
+per-particle arrays into cell order for memory locality (``ids`` holds each slot's original
+particle number; ``reorder_every=0`` keeps the order fixed).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from ..materials import kernels as mk
+from . import kernels as k
+
+KERNELS = {"cubic_spline": k.CUBIC_SPLINE, "wendland_c2": k.WENDLAND_C2}
+
+
+@dataclass(frozen=True)
+class Wall:
+    """An axis-aligned planar wall x[axis] = position, modelled by ghost (mirror) particles.
+
+    ``side`` = +1 when the fluid lies on x[axis] > position (e.g. a floor or a left wall),
+    -1 when it lies below (a right wall, a ceiling). ``condition``: "slip" mirrors the normal
+    velocity only; "no_slip" reverses the whole velocity (wall at rest).
+    """
+
+    axis: int
+    position: float
+    side: int = 1
+    condition: str = "slip"
+
+    def __post_init__(self):
+        if self.side not in (1, -1):
+            raise ValueError(f"wall side must be +1 or -1, got {self.side}")
+        if self.condition not in ("slip", "no_slip"):
+            raise ValueError(f"wall condition must be 'slip' or 'no_slip', got {self.condition!r}")
+
+
+def box_walls(lo: Sequence[float], hi: Sequence[float], sides: Sequence[str], condition: str = "slip") -> list[Wall]:
+    """Walls on the named faces of the box [lo, hi]: 'left'/'right' (x), 'bottom'/'top' (y),
+    'back'/'front' (z); in 2D 'bottom'/'top' are y, in 1D 'left'/'right' are x."""
+    faces = {"left": (0, 0, 1), "right": (0, 1, -1), "bottom": (1, 0, 1), "top": (1, 1, -1),
+             "back": (2, 0, 1), "front": (2, 1, -1)}
+    out = []
+    for s in sides:
+        axis, which, side = faces[s]
+        out.append(Wall(axis, float((lo, hi)[which][axis]), side, condition))
+    return out
+
+
+@dataclass
+class SPHOptions:
+    """Numerical options of an SPH fluid (defaults in brackets).
+
+    kernel: "cubic_spline" or "wendland_c2" ["cubic_spline"]; smoothing_ratio: h/dx [1.2];
+    alpha, beta, eps: Monaghan viscosity [0.1, 0.0, 0.01]; delta: delta-SPH density diffusion
+    coefficient, 0 = off [0.0]; delta_hydrostatic: subtract the hydrostatic density difference
+    in the diffusion (Fourtakas-type, linearised) [False]; xsph: XSPH coefficient, 0 = off [0.0];
+    pressure_min: pressure cut-off (cavitation) [-inf]; dilatational_viscosity mu' [0.0];
+    walls: ghost-particle walls [()]; ghost_hydrostatic: add rho g.(x_ghost - x) to the ghost
+    pressure [False, the paper's plain mirror]; domain: (lo, hi) box outside which particles are
+    deactivated [None]; gravity: body acceleration [zero]; cfl, force_factor, viscous_factor:
+    time-step constants [0.25, 0.25, 0.125]; reorder_every: evaluations between reorderings of
+    the particle arrays, 0 = never [20]; max_cells_per_point: cell-grid size limit [4].
+    """
+
+    kernel: str = "cubic_spline"
+    smoothing_ratio: float = 1.2
+    alpha: float = 0.1
+    beta: float = 0.0
+    eps: float = 0.01
+    delta: float = 0.0
+    delta_hydrostatic: bool = False
+    xsph: float = 0.0
+    pressure_min: float = -np.inf
+    dilatational_viscosity: float = 0.0
+    walls: Sequence[Wall] = ()
+    ghost_hydrostatic: bool = False
+    domain: tuple | None = None
+    gravity: Sequence[float] | None = None
+    cfl: float = 0.25
+    force_factor: float = 0.25
+    viscous_factor: float = 0.125
+    reorder_every: int = 20
+    max_cells_per_point: int = 4
+
+
+@dataclass
+class WallParticles:
+    """Fixed dummy wall particles (Adami et al. 2012) for walls of any shape.
+
+    ``positions`` (Nw, dim) at spacing ``spacing``; volume spacing^dim, mass rho0 spacing^dim of
+    material ``material``; ``velocities`` (Nw, dim), zero by default (used in continuity,
+    viscosity and the viscous stress; the wall itself never moves).
+    """
+
+    positions: np.ndarray
+    spacing: float
+    material: int = 0
+    velocities: np.ndarray | None = None
+
+
+def material_table(entries) -> tuple[np.ndarray, np.ndarray]:
+    """``(type ids (M,), rows (M, NPARAM))`` from ``[(material_model, eos_model), ...]``."""
+    from ..materials.tables import pack_material
+
+    ids, rows = [], []
+    for mat, eos in entries:
+        t, p = pack_material(mat, eos)
+        ids.append(t)
+        rows.append(p)
+    return np.asarray(ids, dtype=np.int64), np.asarray(rows, dtype=np.float64)
+
+
+class ParticleSystem:
+    """An SPH fluid: particles, optional dummy wall particles, ghost walls, and their time stepping.
+
+    Parameters
+    ----------
+    x, v : (N, dim) positions and velocities (dim 1, 2 or 3).
+    mass, density : (N,) particle masses and densities.
+    material : (N,) int index into ``materials``.
+    materials : ``(type ids (M,), rows (M, NPARAM))`` as ``materials.tables.pack_material``
+        gives them (see ``material_table``); every type must be ``fluid``.
+    options : ``SPHOptions``.
+    energy : (N,) specific internal energy; default e0/rho0 of each particle's EOS.
+    wall_particles : optional ``WallParticles``.
+    """
+
+    def __init__(self, x, v, mass, density, material, materials, options: SPHOptions | None = None,
+                 energy=None, wall_particles: WallParticles | None = None):
+        self.options = opt = options or SPHOptions()
+        self.x = np.array(x, dtype=np.float64, order="C")
+        if self.x.ndim != 2 or self.x.shape[1] not in (1, 2, 3):
+            raise ValueError(f"positions must be (N, dim) with dim 1, 2 or 3, got shape {self.x.shape}")
+        n, dim = self.x.shape
+        self.dim = dim
+        self.v = np.array(v, dtype=np.float64, order="C").reshape(n, dim)
+        self.m = np.array(mass, dtype=np.float64).reshape(n).copy()
+        self.rho = np.array(density, dtype=np.float64).reshape(n).copy()
+        self.mat = np.array(material, dtype=np.int64).reshape(n).copy()
+        types, rows = materials
+        self.material_types = np.asarray(types, dtype=np.int64).reshape(-1)
+        self.params = np.ascontiguousarray(rows, dtype=np.float64).reshape(len(self.material_types), mk.NPARAM)
+        if np.any(self.material_types != mk.FLUID):
+            raise ValueError("SPH particles need materials of type 'fluid'")
+        if n and (self.mat.min() < 0 or self.mat.max() >= len(self.material_types)):
+            raise ValueError("particle material index out of range of the material table")
+        if np.any(self.params[:, mk.P_EOS_TYPE] < 0):
+            raise ValueError("every SPH fluid material needs an equation of state")
+        if energy is None:
+            self.e = self.params[self.mat, mk.EOS_OFFSET + 1] / self.params[self.mat, mk.P_RHO0]
+        else:
+            self.e = np.array(energy, dtype=np.float64).reshape(n).copy()
+        if opt.kernel not in KERNELS:
+            raise ValueError(f"unknown kernel {opt.kernel!r} (expected one of {sorted(KERNELS)})")
+
+        self.n = n
+        self.active = np.ones(n, dtype=np.bool_)
+        self.ids = np.arange(n, dtype=np.int64)
+        self.h = np.zeros(n)
+        self.p = np.zeros(n)
+        self.c = np.zeros(n)
+        self.acc = np.zeros((n, dim))
+        self.drho = np.zeros(n)
+        self.de = np.zeros(n)
+        self.xsph = np.zeros((n, dim))
+        self.f_ext = np.zeros((n, dim))
+        self.v_half = self.v.copy()
+        self.rho_half = self.rho.copy()
+        self.e_half = self.e.copy()
+        self._power = np.zeros(n)
+        self._crossed = np.zeros(n, dtype=np.int64)
+        self._lost = np.zeros(n, dtype=np.int64)
+
+        self.gravity = np.zeros(3)
+        if opt.gravity is not None:
+            g = np.asarray(opt.gravity, dtype=np.float64).reshape(-1)
+            self.gravity[: len(g)] = g
+        self.walls = np.array([[w.axis, w.position, w.side, 1.0 if w.condition == "no_slip" else 0.0]
+                               for w in opt.walls], dtype=np.float64).reshape(-1, 4)
+        if np.any(self.walls[:, 0] >= dim):
+            raise ValueError("wall axis beyond the dimension")
+        nsub = 1 << len(self.walls)
+        self._valid = np.zeros(nsub, dtype=np.bool_)
+        for s in range(1, nsub):
+            axes = [int(self.walls[w, 0]) for w in range(len(self.walls)) if s >> w & 1]
+            self._valid[s] = len(axes) == len(set(axes))
+        if opt.domain is not None:
+            lo, hi = (np.asarray(b, dtype=np.float64).reshape(dim) for b in opt.domain)
+            self._dom_lo, self._dom_hi, self._use_domain = lo, hi, True
+        else:
+            self._dom_lo, self._dom_hi, self._use_domain = np.zeros(dim), np.zeros(dim), False
+
+        wp = wall_particles
+        if wp is not None:
+            self.wall_x = np.array(wp.positions, dtype=np.float64).reshape(-1, dim)
+            nw = len(self.wall_x)
+            self.wall_v = (np.zeros((nw, 3)) if wp.velocities is None else
+                           np.pad(np.asarray(wp.velocities, dtype=np.float64).reshape(nw, dim), ((0, 0), (0, 3 - dim))))
+            rho0 = self.params[wp.material, mk.P_RHO0]
+            self.wall_rho = np.full(nw, rho0)
+            self.wall_m = np.full(nw, rho0 * wp.spacing**dim)
+            self.wall_h = np.full(nw, opt.smoothing_ratio * wp.spacing)
+            self.wall_mat = np.full(nw, wp.material, dtype=np.int64)
+        else:
+            self.wall_x = np.zeros((0, dim))
+            self.wall_v = np.zeros((0, 3))
+            self.wall_rho = self.wall_m = self.wall_h = np.zeros(0)
+            self.wall_mat = np.zeros(0, dtype=np.int64)
+
+        self.viscous = bool(np.any(self.params[:, k.P_VISCOSITY] > 0.0) or opt.dilatational_viscosity > 0.0)
+        self.fprm = np.zeros(k.NF)
+        self.fprm[[k.F_ALPHA, k.F_BETA, k.F_EPS, k.F_DELTA, k.F_XSPH]] = [
+            opt.alpha, opt.beta, opt.eps, opt.delta, opt.xsph]
+        self.fprm[k.F_GX:k.F_GZ + 1] = self.gravity
+        self.fprm[k.F_MU_DIL] = opt.dilatational_viscosity
+        self.fprm[k.F_PMIN] = opt.pressure_min
+        self.iprm = np.zeros(k.NI, dtype=np.int64)
+        self.iprm[k.I_DIM] = dim
+        self.iprm[k.I_KERNEL] = KERNELS[opt.kernel]
+        self.iprm[k.I_VISCOUS] = int(self.viscous)
+        self.iprm[k.I_DELTA_HYDRO] = int(opt.delta_hydrostatic)
+
+        self.time = 0.0
+        self.nsteps = 0
+        self.lost = 0
+        self.lost_mass = 0.0
+        self.lost_energy = 0.0
+        self.wall_crossings = 0
+        self.external_work = 0.0
+        self._dt_prev = 0.0
+        self._evaluations = 0
+        self._rates_valid = False
+        self._sorted = None  # last evaluation's point set (see kernels module docstring)
+        self._update_state()
+
+    # ------------------------------------------------------------------ evaluation
+
+    def _update_state(self) -> None:
+        k.update_particle_state(self.rho, self.e, self.m, self.mat, self.active, self.params,
+                                self.options.smoothing_ratio, self.dim, self.options.pressure_min,
+                                self.p, self.c, self.h)
+
+    def _reorder(self) -> None:
+        """Permute every per-particle array into the cell order of the last evaluation."""
+        perm = self._sorted["perm"]
+        order = perm[perm < self.n]
+        if len(order) < self.n:
+            seen = np.zeros(self.n, dtype=bool)
+            seen[order] = True
+            order = np.concatenate([order, np.flatnonzero(~seen)])
+        if np.array_equal(order, np.arange(self.n)):
+            return
+        for name in ("x", "v", "v_half", "m", "rho", "rho_half", "e", "e_half", "mat", "active", "ids",
+                     "h", "p", "c", "acc", "drho", "de", "xsph", "f_ext", "_power"):
+            arr = getattr(self, name)
+            arr[...] = arr[order]  # in place: references held by callers stay valid
+
+    def _build_points(self) -> dict:
+        opt = self.options
+        n = self.n
+        hmax = float(np.max(self.h[self.active], initial=0.0))
+        if len(self.wall_h):
+            hmax = max(hmax, float(self.wall_h.max()))
+        if len(self.walls):
+            reach = 2.0 * hmax
+            counts = np.empty(n, dtype=np.int64)
+            k.count_ghosts(self.x, self.active, self.walls, self._valid, reach, counts)
+            offsets = np.zeros(n + 1, dtype=np.int64)
+            np.cumsum(counts, out=offsets[1:])
+            ng = int(offsets[-1])
+            gpos = np.empty((ng, 3))
+            gvel = np.empty((ng, 3))
+            gsrc = np.empty(ng, dtype=np.int64)
+            gdp = np.empty(ng)
+            k.fill_ghosts(self.x, self.v, self.rho, self.active, self.walls, self._valid, reach, offsets,
+                          self.gravity, opt.ghost_hydrostatic, gpos, gvel, gsrc, gdp)
+        else:
+            gpos, gvel = np.zeros((0, 3)), np.zeros((0, 3))
+            gsrc, gdp = np.zeros(0, dtype=np.int64), np.zeros(0)
+        perm, cell_start, ox, oy, oz, cell, nx, ny, nz, hmax = k.bin_points(
+            self.x, self.h, self.active, gpos, gsrc, self.wall_x, self.wall_h, opt.max_cells_per_point)
+        npts = len(perm)
+        sx = np.empty((npts, 4))
+        sd = np.empty((npts, k.ND))
+        k.gather_points(perm, self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat,
+                        gpos, gvel, gsrc, gdp, self.wall_x, self.wall_v, self.wall_rho, self.wall_m,
+                        self.wall_h, self.wall_mat, sx, sd)
+        self.fprm[[k.F_HMAX, k.F_CELL, k.F_OX, k.F_OY, k.F_OZ]] = [hmax, cell, ox, oy, oz]
+        self.iprm[[k.I_NX, k.I_NY, k.I_NZ]] = [nx, ny, nz]
+        self.iprm[k.I_NREAL] = n
+        return {"perm": perm, "cell_start": cell_start, "sx": sx, "sd": sd, "n_ghost": len(gsrc),
+                "ghost_source": gsrc, "fprm": self.fprm.copy(), "iprm": self.iprm.copy()}
+
+    def compute_rates(self) -> None:
+        """Neighbour search and every rate at the current state (x, v, rho, e).
+
+        Updates p, c, h; builds ghosts, the cell list and the sorted point set; extrapolates the
+        dummy-wall pressures; computes the viscous stress (if any material is viscous) and then
+        ``acc``, ``drho``, ``de``, ``xsph`` of every active particle (0 for inactive ones).
+        Reorders the particle arrays first every ``reorder_every`` evaluations.
+        """
+        opt = self.options
+        if opt.reorder_every and self._sorted is not None and self._evaluations % opt.reorder_every == 0:
+            self._reorder()
+        self._update_state()
+        pts = self._build_points()
+        sx, sd, perm, cs = pts["sx"], pts["sd"], pts["perm"], pts["cell_start"]
+        if len(self.wall_x):
+            k.wall_pressure(sx, sd, cs, self.fprm, self.iprm, self.params)
+        stau = np.zeros((len(sx) if self.viscous else 1, 6))
+        if self.viscous:
+            k.viscous_stress(sx, sd, cs, self.fprm, self.iprm, self.params, stau)
+        pts["stau"] = stau
+        if not self.active.all():
+            inactive = ~self.active
+            self.acc[inactive] = 0.0
+            self.drho[inactive] = 0.0
+            self.de[inactive] = 0.0
+            self.xsph[inactive] = 0.0
+        k.fluid_rates(sx, sd, stau, perm, cs, self.fprm, self.iprm, self.acc, self.drho, self.de, self.xsph)
+        self._sorted = pts
+        self._evaluations += 1
+        self._rates_valid = True
+
+    # ------------------------------------------------------------------ stepping
+
+    def stable_dt(self, scale: float = 1.0) -> float:
+        """scale x min over active particles of cfl h/(c+|v|), force_factor sqrt(h/|a|) and
+        viscous_factor rho h^2/mu, with a = acc + g + f_ext/m (call after ``compute_rates``)."""
+        opt = self.options
+        dt = k.stable_time_step(self.h, self.c, self.v, self.acc, self.f_ext, self.m, self.rho, self.mat,
+                                self.active, self.params, self.gravity, opt.cfl, opt.force_factor,
+                                opt.viscous_factor)
+        return scale * float(dt)
+
+    def step(self, dt: float) -> None:
+        """Advance by ``dt`` with the rates of the last ``compute_rates`` (kick-drift-kick leapfrog).
+
+        With a^n = acc + g + f_ext/m evaluated at step n (and drho, de likewise):
+        v^n = v^{n-1/2} + dt_prev/2 a^n closes the previous step, v^{n+1/2} = v^n + dt/2 a^n,
+        x^{n+1} = x^n + dt (v^{n+1/2} + xsph); rho and e are kicked the same way. Afterwards ``v``,
+        ``rho``, ``e`` hold the predictions v^{n+1/2} + dt/2 a^n (the state the next rates are
+        evaluated at); the next step replaces them by the corrected values. Over two steps this is
+        v^{n+1/2} = v^{n-1/2} + (dt_prev + dt)/2 a^n, the FEM central difference. Then particles
+        behind a wall are mirrored back (counted in ``wall_crossings``) and particles outside
+        ``domain`` are deactivated (counted in ``lost``).
+        """
+        if not self._rates_valid:
+            raise RuntimeError("step() needs the rates of the current state: call compute_rates() first")
+        k.kick_drift(self.x, self.v, self.v_half, self.rho, self.rho_half, self.e, self.e_half, self.acc,
+                     self.drho, self.de, self.xsph, self.f_ext, self.m, self.active, self.gravity, dt,
+                     self._dt_prev, self._power)
+        if self._f_ext_used():
+            self.external_work += dt * float(np.sum(self._power))
+        if len(self.walls) or self._use_domain:
+            nref, nlost = k.enforce_bounds(self.x, self.v, self.v_half, self.active, self.walls, self._dom_lo,
+                                           self._dom_hi, self._use_domain, self._crossed, self._lost)
+            self.wall_crossings += int(nref)
+            if nlost:
+                gone = self._lost.astype(bool)
+                self.lost += int(nlost)
+                self.lost_mass += float(self.m[gone].sum())
+                self.lost_energy += float(np.sum(self.m[gone] * (0.5 * np.sum(self.v[gone] ** 2, axis=1)
+                                                                 + self.e[gone])))
+        self._dt_prev = dt
+        self.time += dt
+        self.nsteps += 1
+        self._rates_valid = False
+
+    def _f_ext_used(self) -> bool:
+        return bool(self.f_ext.any())
+
+    def advance(self, scale: float = 1.0, dt_max: float | None = None) -> float:
+        """``compute_rates()``, ``stable_dt(scale)`` (capped by dt_max), ``step(dt)``; returns dt."""
+        self.compute_rates()
+        dt = self.stable_dt(scale)
+        if dt_max is not None:
+            dt = min(dt, dt_max)
+        if not np.isfinite(dt) or dt <= 0.0:
+            raise RuntimeError(f"no usable time step (dt = {dt}) at t = {self.time:.6e}")
+        self.step(dt)
+        return dt
+
+    def run(self, end_time: float, scale: float = 1.0, every: Callable[["ParticleSystem"], None] | None = None,
+            max_steps: int | None = None) -> None:
+        """Step until ``end_time`` (the last step is shortened to land on it); ``every(self)`` after each step."""
+        while self.time < end_time * (1.0 - 1e-12):
+            if max_steps is not None and self.nsteps >= max_steps:
+                break
+            self.advance(scale, dt_max=end_time - self.time)
+            if every is not None:
+                every(self)
+
+    # ------------------------------------------------------------------ diagnostics
+
+    def energies(self) -> dict:
+        """Kinetic, internal and gravitational potential energy of the active particles, the external
+        work of ``f_ext`` and the energy carried away by deactivated particles."""
+        a = self.active
+        m = self.m[a]
+        ke = 0.5 * float(np.sum(m * np.sum(self.v[a] ** 2, axis=1)))
+        ie = float(np.sum(m * self.e[a]))
+        pe = -float(np.sum(m * (self.x[a] @ self.gravity[: self.dim])))
+        return {"kinetic": ke, "internal": ie, "potential": pe, "external_work": self.external_work,
+                "lost": self.lost_energy, "total": ke + ie + pe}
+
+    def momentum(self) -> np.ndarray:
+        """Total linear momentum of the active particles."""
+        return (self.m[self.active, None] * self.v[self.active]).sum(axis=0)
+
+    def accelerations(self) -> np.ndarray:
+        """Total acceleration acc + g + f_ext/m of every particle at the last evaluation."""
+        a = self.acc + self.gravity[: self.dim] + self.f_ext / self.m[:, None]
+        a[~self.active] = 0.0
+        return a
+
+    def _pad(self, points) -> np.ndarray:
+        pts = np.atleast_2d(np.asarray(points, dtype=np.float64))
+        out = np.zeros((len(pts), 3))
+        out[:, : pts.shape[1]] = pts
+        return out
+
+    def interpolate(self, points, quantity: str = "pressure", include_walls: bool = True) -> np.ndarray:
+        """Shepard-normalised SPH interpolation of ``quantity`` ("pressure", "density", "vx", "vy",
+        "vz", "sound_speed") at ``points`` (P, dim), from the point set of the last evaluation
+        (fluid, ghosts and, with ``include_walls``, dummy walls). NaN where no particle is near."""
+        if self._sorted is None:
+            self.compute_rates()
+        cols = {"pressure": -1, "density": k.D_RHO, "vx": k.D_VX, "vy": k.D_VY, "vz": k.D_VZ,
+                "sound_speed": k.D_C}
+        s = self._sorted
+        return k.interpolate_points(self._pad(points), s["sx"], s["sd"], s["cell_start"], s["fprm"], s["iprm"],
+                                    cols[quantity], include_walls)
+
+    def front(self, axis: int = 0, material: int | None = None) -> float:
+        """Largest coordinate along ``axis`` of the active particles (of ``material`` if given)."""
+        sel = self.active if material is None else self.active & (self.mat == material)
+        return float(self.x[sel, axis].max()) if sel.any() else float("nan")
+
+    def surface_height(self, gauge: float, axis: int = 0, up: int = 1, width: float | None = None) -> float:
+        """Free-surface height at ``x[axis] = gauge``: the highest particle (along ``up``) within
+        ``width`` (default the smoothing length) of the gauge line, plus half a particle spacing."""
+        w = float(np.median(self.h[self.active])) if width is None else width
+        sel = self.active & (np.abs(self.x[:, axis] - gauge) < w)
+        if not sel.any():
+            return float("nan")
+        top = np.argmax(np.where(sel, self.x[:, up], -np.inf))
+        return float(self.x[top, up] + 0.5 * (self.m[top] / self.rho[top]) ** (1.0 / self.dim))
+
+    def neighbour_lists(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Neighbour lists of the last evaluation: ``(offsets, neighbours, point_ids)`` in slot
+        numbering; slot k's neighbours are ``neighbours[offsets[k]:offsets[k+1]]`` and
+        ``point_ids[slot]`` is the point id (particle index < N, then ghosts, then walls)."""
+        s = self._sorted
+        counts = np.empty(len(s["sx"]), dtype=np.int64)
+        k.count_neighbours(s["sx"], s["cell_start"], s["fprm"], s["iprm"], counts)
+        offsets = np.zeros(len(counts) + 1, dtype=np.int64)
+        np.cumsum(counts, out=offsets[1:])
+        out = np.empty(offsets[-1], dtype=np.int64)
+        k.fill_neighbours(s["sx"], s["cell_start"], s["fprm"], s["iprm"], offsets, out)
+        return offsets, out, s["perm"]
+
+    def memory_bytes(self) -> int:
+        """Bytes held by the per-particle arrays and the last evaluation's point set."""
+        total = sum(a.nbytes for a in vars(self).values() if isinstance(a, np.ndarray))
+        if self._sorted is not None:
+            total += sum(a.nbytes for a in self._sorted.values() if isinstance(a, np.ndarray))
+        return int(total)
