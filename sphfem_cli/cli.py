@@ -125,7 +125,8 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
 @click.argument("decks", nargs=-1, type=click.Path(exists=True, dir_okay=False))
 @click.option("--update-refs", is_flag=True, help="Rewrite the reference files from this run.")
 @click.option("--end-time-fraction", type=click.FloatRange(0.0, 1.0, min_open=True), default=None,
-              help="Run each deck to this fraction of its end_time (default: the reference's end time, else 0.1).")
+              help="Run each deck to this fraction of its end_time (default: the reference's end time, "
+                   "else 0.1); a reference made at another end time fails unless --update-refs.")
 @click.option("--references", type=click.Path(file_okay=False), default=None,
               help="Reference folder. Default: tests/regression/references of the project.")
 @click.option("--failures-only", is_flag=True, help="List only the quantities that failed.")

@@ -1,0 +1,73 @@
+"""Every shipped deck: `sphfem check` passes and a short run matches its stored reference.
+
+The decks are found by globbing decks/*.yaml, so a new deck is picked up here at once, and fails
+until its reference exists (``sphfem regress --update-refs decks/<new>.yaml``).
+References: tests/regression/references/<deck stem>.json (see sphfem_cli/regress.py).
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from sphfem_cli import regress
+from sphfem_cli.cli import main
+
+ROOT = Path(__file__).resolve().parents[2]
+DECKS = sorted((ROOT / "decks").glob("*.yaml"))
+REFERENCES = Path(__file__).resolve().parent / "references"
+
+
+def test_decks_are_shipped():
+    assert DECKS, f"no decks under {ROOT / 'decks'}"
+
+
+@pytest.mark.parametrize("deck", DECKS, ids=lambda p: p.stem)
+def test_check(deck):
+    result = CliRunner().invoke(main, ["check", str(deck)])
+    assert result.exit_code == 0, result.output
+
+
+@pytest.mark.parametrize("deck", DECKS, ids=lambda p: p.stem)
+def test_regression(deck, tmp_path):
+    result = regress.regress_deck(deck, REFERENCES, workdir=tmp_path)
+    assert result.passed, "\n" + regress.format_table([result], failures_only=True)
+
+
+def test_missing_reference_fails(tmp_path):
+    """A deck without a reference is a failure (reported, not run)."""
+    deck = tmp_path / "new_deck.yaml"
+    deck.write_text(DECKS[0].read_text())
+    result = regress.regress_deck(deck, tmp_path / "references")
+    assert not result.passed
+    assert "no reference" in result.rows[0].status
+
+
+def test_moved_value_fails(tmp_path):
+    """A value moved by more than the tolerance fails; the table names it."""
+    reference = json.loads((REFERENCES / "elastic_bar_wave.json").read_text())
+    measured = {"glstat": json.loads(json.dumps(reference["glstat"])),
+                "histories": {n: {"times": h["times"], "last_time": h["last_time"],
+                                  "columns": json.loads(json.dumps(h["columns"]))}
+                              for n, h in reference["histories"].items()}}
+    tol = reference["tolerance"]
+    kinetic = measured["glstat"]["kinetic"]
+    kinetic["value"] += 2.0 * tol * reference["glstat"]["kinetic"]["scale"]
+    internal = measured["glstat"]["internal"]
+    internal["value"] += 0.5 * tol * reference["glstat"]["internal"]["scale"]
+    rows = {r.quantity: r for r in regress.compare("bar", reference, measured)}
+    assert rows["glstat.kinetic"].status == "FAIL"
+    assert rows["glstat.internal"].status == "PASS"
+    assert sum(not r.passed for r in rows.values()) == 1
+    assert "glstat.kinetic" in regress.format_table([regress.DeckResult("bar", list(rows.values()))])
+
+
+def test_regress_command_exit_status(tmp_path):
+    """`sphfem regress` exits non-zero when a deck has no reference."""
+    deck = tmp_path / "orphan.yaml"
+    deck.write_text(DECKS[0].read_text())
+    result = CliRunner().invoke(main, ["regress", str(deck), "--references", str(tmp_path)])
+    assert result.exit_code != 0
+    assert "no reference" in result.output
