@@ -1,0 +1,73 @@
+"""Shared test helpers: build a model or a simulation straight from a deck given as text or a dict.
+
+The deck goes through the whole input path (YAML loader, schema validation, model builder), as it
+would from the command line: it is written to a temporary file and read with ``cli.load_model``.
+"""
+from __future__ import annotations
+
+import itertools
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+_counter = itertools.count()
+
+
+def load_deck(directory: Path, deck: str | dict, name: str | None = None):
+    """Write `deck` (YAML text or a dict) into `directory` and build it; returns the Model."""
+    from sphfem_cli.cli import load_model
+
+    text = deck if isinstance(deck, str) else yaml.safe_dump(deck, sort_keys=False)
+    path = Path(directory) / (name or f"deck_{next(_counter)}.yaml")
+    path.write_text(text)
+    return load_model(str(path)).model
+
+
+def make_simulation(directory: Path, deck: str | dict):
+    """A `Simulation` of the deck (see `load_deck`)."""
+    from sphfem_cli.solver.explicit import Simulation
+
+    return Simulation(load_deck(directory, deck))
+
+
+@pytest.fixture
+def single_thread():
+    """Run numba kernels on one thread for the test, then restore the previous count.
+
+    The verification models are tiny (tens to hundreds of elements), where a parallel launch costs
+    far more than the work, the more so on a loaded machine; results do not depend on the count.
+    """
+    import sphfem_cli  # noqa: F401  (sets NUMBA_CACHE_DIR before numba is imported)
+    import numba
+
+    before = numba.get_num_threads()
+    numba.set_num_threads(1)
+    yield
+    numba.set_num_threads(before)
+
+
+@pytest.fixture
+def model_from_deck(tmp_path):
+    """`model_from_deck(deck)` -> Model, the deck (text or dict) written under tmp_path."""
+    return lambda deck: load_deck(tmp_path, deck)
+
+
+@pytest.fixture
+def sim_from_deck(tmp_path):
+    """`sim_from_deck(deck)` -> Simulation, the deck (text or dict) written under tmp_path."""
+    return lambda deck: make_simulation(tmp_path, deck)
+
+
+def crossing_times(t: np.ndarray, y: np.ndarray, level: float = 0.0, rising: bool | None = None) -> np.ndarray:
+    """Times at which the sampled signal y(t) crosses `level`, by linear interpolation.
+
+    rising=True keeps upward crossings only, False downward only, None both.
+    """
+    s = np.asarray(y, dtype=float) - level
+    i = np.flatnonzero((s[:-1] < 0.0) != (s[1:] < 0.0))
+    if rising is not None:
+        i = i[(s[i + 1] > s[i]) == rising]
+    frac = s[i] / (s[i] - s[i + 1])
+    return t[i] + frac * (t[i + 1] - t[i])
