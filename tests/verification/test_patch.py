@@ -126,6 +126,10 @@ def test_linear_field_gives_exact_uniform_stress(dim, n, hg):
     stress, f_elem, hg_force, hg_energy = element_pass(x, v, conn, dt, s0, *hg)
     expected = exact_stress(L, dt, s0)
     scale = np.abs(expected).max()
+    f = nodal(f_elem, conn, len(x))
+    print(f"\n{dim}D patch: stress error {np.abs(stress - expected).max() / scale:.1e}, interior force "
+          f"{np.linalg.norm(f[interior], axis=1).max() / np.linalg.norm(f[~interior], axis=1).max():.1e} "
+          f"of the boundary forces")
     # Every element, however distorted, has the exact stress.
     assert np.abs(stress - expected).max() <= RTOL * scale
 

@@ -82,6 +82,8 @@ def test_rigid_rotation_builds_no_stress(dim, sim_from_deck):
     sim = sim_from_deck(deck(dim))
     rotate_block(sim, dim, np.zeros(6))
     st = sim.state
+    print(f"\n{dim}D rigid rotation 90 deg: largest stress {np.abs(st.stress).max() / E:.1e} E, "
+          f"hourglass energy {abs(st.hg_energy.sum()):.1e} J")
     # criterion: below 1e-6 of E times a unit strain
     assert np.abs(st.stress).max() <= 1e-6 * E
     assert np.abs(st.hg_force).max() <= 1e-6 * E * sim.model.volume0.max() ** ((dim - 1) / dim)
@@ -99,6 +101,8 @@ def test_pre_stress_rotates_with_the_body(dim, sim_from_deck):
     R3[:dim, :dim] = R
     expected = R3 @ as_tensor(s0) @ R3.T
     scale = np.abs(s0).max()
+    err = max(np.abs(as_tensor(s) - expected).max() for s in sim.state.stress) / scale
+    print(f"\n{dim}D pre-stressed rotation: |sigma - R sigma0 R^T| = {err:.1e} of |sigma0|")
     for s in sim.state.stress:
         assert np.abs(as_tensor(s) - expected).max() <= 1e-10 * scale
     # The stress did rotate (not a vacuous check): xx and yy swap in 2D.
