@@ -31,7 +31,10 @@ Constructor arguments:
   "relax" (pressure relaxation) or "equal_strain" for mixed elements, with ``relax_alpha``
   (0..1, fraction of the pressure difference removed per step) and ``relax_beta`` (largest
   relative volume loss of one material per step); ``advect_every`` remap every N steps (the
-  mesh moves with the material in between); ``ke_fix`` return the kinetic energy lost by the
+  mesh moves with the material in between); ``mesh_motion`` "eulerian" (the remap returns the
+  mesh to its start) or "smooth" (interior nodes relaxed by ``smooth_weight`` towards the mean of
+  their neighbours, then ``eulerian_pull`` back towards their start; boundary nodes Eulerian);
+  ``ke_fix`` return the kinetic energy lost by the
   momentum remap to the internal energy (total energy conserved).
 
 Boundaries (node index arrays): ``set_slip(nodes, normal)`` normal velocity zero,
@@ -172,7 +175,8 @@ class AleSystem:
     def __init__(self, nodes, conn, materials: Sequence, fractions, density, energy=None, pressure=None,
                  velocity=None, q1: float = 1.5, q2: float = 0.06, hourglass: float = 0.1, order: int = 2,
                  interface: str = "slic", closure: str = "relax", relax_alpha: float = 0.5,
-                 relax_beta: float = 0.5, advect_every: int = 1, ke_fix: bool = True, phi_eps: float = 1e-9):
+                 relax_beta: float = 0.5, advect_every: int = 1, ke_fix: bool = True, phi_eps: float = 1e-9,
+                 mesh_motion: str = "eulerian", smooth_weight: float = 0.5, eulerian_pull: float = 0.2):
         self.x0 = np.ascontiguousarray(nodes, dtype=np.float64)
         if self.x0.ndim != 2 or self.x0.shape[1] != 2:
             raise ValueError("AleSystem is 2D: nodes must be (N, 2)")
@@ -208,6 +212,19 @@ class AleSystem:
         self.phi_eps = float(phi_eps)
 
         self.topo = build_topology(self.conn, n_nodes)
+        if mesh_motion not in ("eulerian", "smooth"):
+            raise ValueError("mesh_motion must be 'eulerian' or 'smooth'")
+        self.mesh_motion = mesh_motion
+        self.smooth_weight = float(smooth_weight)
+        self.eulerian_pull = float(eulerian_pull)
+        fn = self.topo["face_nodes"]
+        self._nbr_a = np.concatenate([fn[:, 0], fn[:, 1]])
+        self._nbr_b = np.concatenate([fn[:, 1], fn[:, 0]])
+        self._degree = np.bincount(self._nbr_a, minlength=n_nodes).astype(float)
+        on_boundary = np.zeros(n_nodes, dtype=bool)
+        bf = fn[self.topo["face_elem"][:, 1] < 0]
+        on_boundary[bf.ravel()] = True
+        self._interior = ~on_boundary
         x = self.x0[self.conn]
         self.vol0 = 0.5 * ((x[:, 2, 0] - x[:, 0, 0]) * (x[:, 3, 1] - x[:, 1, 1])
                            - (x[:, 2, 1] - x[:, 0, 1]) * (x[:, 3, 0] - x[:, 1, 0]))
@@ -350,14 +367,35 @@ class AleSystem:
         x_lag = self.x + dt * self.velocity
         self._since_remap += 1
         if self._since_remap >= self.advect_every:
-            self._remap(x_lag, self.x0)
-            self.x = self.x0.copy()
+            x_new = self._mesh_target(x_lag)
+            self._remap(x_lag, x_new)
+            self.x = x_new
             self._since_remap = 0
         else:
             self.x = x_lag
         self.time += dt
         self.n_steps += 1
         self._fresh = False
+
+    def _mesh_target(self, x_lag: np.ndarray) -> np.ndarray:
+        """Where the remap puts the mesh: its start (Eulerian), or a smoothed Lagrangian mesh.
+
+        "smooth": interior nodes move from x_lag a fraction smooth_weight towards the mean of
+        their edge neighbours (simple averaging, Benson 1992 sec. 3), then a fraction
+        eulerian_pull back towards their start (which bounds the drift of a mesh in a steady
+        stream); boundary nodes go back to their start.
+        """
+        if self.mesh_motion == "eulerian":
+            return self.x0.copy()
+        mean = np.zeros_like(x_lag)
+        np.add.at(mean, self._nbr_a, x_lag[self._nbr_b])
+        mean /= self._degree[:, None]
+        x_new = self.x0.copy()
+        w = self.smooth_weight
+        inner = self._interior
+        smoothed = x_lag[inner] + w * (mean[inner] - x_lag[inner])
+        x_new[inner] = smoothed + self.eulerian_pull * (self.x0[inner] - smoothed)
+        return x_new
 
     def _remap(self, x_lag: np.ndarray, x_new: np.ndarray) -> None:
         topo = self.topo
