@@ -49,7 +49,7 @@ class Control(DeckModel):
 
     end_time: PositiveFloat = Field(description="Simulated time at which the run ends [time].")
     timestep_scale: Annotated[float, Field(gt=0, le=10)] = Field(
-        0.9, description="Fraction of the stable time step used (LS-DYNA TSSFAC). Default 0.9."
+        0.9, description="Fraction of the element time step l/c used (LS-DYNA TSSFAC), l = volume over largest face. Default 0.9, stable for meshes several elements thick; parts one element thick or isolated elements need about 0.7 (an isolated hex8 goes unstable above 0.73)."
     )
     dt_min: NonNegativeFloat = Field(
         0.0, description="The run stops with a diagnosis if the step falls below this [time]. Default 0 (off)."
