@@ -217,13 +217,13 @@ def count_ghosts(x, active, walls, valid, reach, counts):
 
 
 @njit(cache=True, parallel=True)
-def fill_ghosts(x, v, rho, active, walls, valid, reach, offsets, gravity, hydrostatic, gpos, gvel, gsrc, gdp):
+def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hydrostatic, gpos, gvel, gsrc, gdp, gdr):
     """Ghost positions, velocities, source particles and pressure offsets (see ``count_ghosts``).
 
     Position mirrored through each wall of the subset; velocity: normal component reversed on a
     slip wall, whole vector reversed on a no-slip wall (zero wall velocity). The ghost carries
-    its source's density and pressure; with ``hydrostatic`` its pressure gets
-    rho_i g.(x_ghost - x_i) added (``gdp``), otherwise 0.
+    its source's density and pressure; with ``hydrostatic`` they get the hydrostatic increments
+    dp = rho_i g.(x_ghost - x_i) (``gdp``) and drho = dp / c_i^2 (``gdr``), otherwise 0.
     """
     dim = x.shape[1]
     for i in prange(x.shape[0]):
@@ -264,9 +264,12 @@ def fill_ghosts(x, v, rho, active, walls, valid, reach, offsets, gravity, hydros
             gvel[k, 0], gvel[k, 1], gvel[k, 2] = u0, u1, u2
             gsrc[k] = i
             if hydrostatic:
-                gdp[k] = rho[i] * (gravity[0] * (p0 - x0) + gravity[1] * (p1 - x1) + gravity[2] * (p2 - x2))
+                dp = rho[i] * (gravity[0] * (p0 - x0) + gravity[1] * (p1 - x1) + gravity[2] * (p2 - x2))
+                gdp[k] = dp
+                gdr[k] = dp / (c[i] * c[i]) if c[i] > 0.0 else 0.0
             else:
                 gdp[k] = 0.0
+                gdr[k] = 0.0
             k += 1
 
 
@@ -365,7 +368,7 @@ def bin_points(x, h, active, gpos, gsrc, wpos, wh, max_cells_per_point):
 
 
 @njit(cache=True, parallel=True)
-def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp,
+def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr,
                   wpos, wvel, wrho, wm, wh, wmat, sx, sd):
     """Copy every point's data into cell order (``sx``, ``sd``; layout in the module docstring).
 
@@ -398,7 +401,7 @@ def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp,
             sx[k, 0], sx[k, 1], sx[k, 2] = gpos[g, 0], gpos[g, 1], gpos[g, 2]
             sx[k, 3] = h[i]
             sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ] = gvel[g, 0], gvel[g, 1], gvel[g, 2]
-            r = rho[i]
+            r = rho[i] + gdr[g]
             sd[k, D_RHO] = r
             sd[k, D_M] = m[i]
             sd[k, D_PR] = (p[i] + gdp[g]) / (r * r)

@@ -70,10 +70,17 @@ def polygon(vertices: Sequence[Sequence[float]], dx: float) -> np.ndarray:
     return pts[inside_polygon(pts, v)]
 
 
-def lattice_particles(points: np.ndarray, dx: float, density: float) -> tuple[np.ndarray, np.ndarray]:
-    """``(mass, density)`` arrays for lattice points of spacing dx: m = density dx^dim."""
+def lattice_particles(points: np.ndarray, dx: float, density) -> tuple[np.ndarray, np.ndarray]:
+    """``(mass, density)`` arrays for lattice points of spacing dx: m_i = rho_i dx^dim.
+
+    ``density`` is a scalar or one value per point (e.g. ``hydrostatic_density``): giving each
+    particle the mass of its own lattice cell at its own density makes the SPH sums of the
+    initial state consistent (summation density = particle density), so a hydrostatic start is
+    close to a discrete equilibrium.
+    """
     n, dim = points.shape
-    return np.full(n, density * dx**dim), np.full(n, float(density))
+    rho = np.broadcast_to(np.asarray(density, dtype=np.float64), (n,)).copy()
+    return rho * dx**dim, rho
 
 
 def hydrostatic_density(points: np.ndarray, params: np.ndarray, material: np.ndarray, gravity: Sequence[float],

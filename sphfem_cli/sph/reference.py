@@ -46,17 +46,17 @@ def neighbour_pairs(x: np.ndarray, h: np.ndarray) -> set[tuple[int, int]]:
     return set(zip(*map(lambda a: a.tolist(), np.nonzero(close))))
 
 
-def ghosts(x, v, rho, p, walls, reach, gravity=None, hydrostatic=False):
+def ghosts(x, v, rho, p, c, walls, reach, gravity=None, hydrostatic=False):
     """Mirror particles: one per subset (one wall per axis) of the walls within ``reach``.
 
-    Returns (positions (G, 3), velocities (G, 3), source index (G,), pressure (G,)).
+    Returns (positions (G, 3), velocities (G, 3), source index (G,), pressure (G,), density (G,)).
     """
     n, dim = x.shape
     x3 = np.zeros((n, 3))
     v3 = np.zeros((n, 3))
     x3[:, :dim], v3[:, :dim] = x, v
     g = np.zeros(3) if gravity is None else np.asarray(gravity, float)
-    out_x, out_v, src, pg = [], [], [], []
+    out_x, out_v, src, pg, rg = [], [], [], [], []
     for i in range(n):
         near = [w for w in walls if 0.0 <= w.side * (x3[i, w.axis] - w.position) < reach]
         for size in range(1, len(near) + 1):
@@ -73,9 +73,11 @@ def ghosts(x, v, rho, p, walls, reach, gravity=None, hydrostatic=False):
                 out_x.append(xg)
                 out_v.append(vg)
                 src.append(i)
-                pg.append(p[i] + (rho[i] * g @ (xg - x3[i]) if hydrostatic else 0.0))
+                dp = rho[i] * g @ (xg - x3[i]) if hydrostatic else 0.0
+                pg.append(p[i] + dp)
+                rg.append(rho[i] + dp / c[i] ** 2)
     return (np.array(out_x).reshape(-1, 3), np.array(out_v).reshape(-1, 3), np.array(src, dtype=int),
-            np.array(pg))
+            np.array(pg), np.array(rg))
 
 
 def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
@@ -105,10 +107,10 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
     R, M, P, C, H, MAT, KIND = [rho], [m], [p], [c], [h], [mat], [np.zeros(n, int)]
     if opt.walls:
         wr = max(hmax, opt.smoothing_ratio * wall[1]) if wall is not None else hmax
-        gx, gv, gs, gp = ghosts(x, v, rho, p, list(opt.walls), 2.0 * wr, g, opt.ghost_hydrostatic)
+        gx, gv, gs, gp, gr = ghosts(x, v, rho, p, c, list(opt.walls), 2.0 * wr, g, opt.ghost_hydrostatic)
         X.append(gx)
         V.append(gv)
-        R.append(rho[gs])
+        R.append(gr)
         M.append(m[gs])
         P.append(gp)
         C.append(c[gs])

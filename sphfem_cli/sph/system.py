@@ -69,8 +69,9 @@ class SPHOptions:
     coefficient, 0 = off [0.0]; delta_hydrostatic: subtract the hydrostatic density difference
     in the diffusion (Fourtakas-type, linearised) [False]; xsph: XSPH coefficient, 0 = off [0.0];
     pressure_min: pressure cut-off (cavitation) [-inf]; dilatational_viscosity mu' [0.0];
-    walls: ghost-particle walls [()]; ghost_hydrostatic: add rho g.(x_ghost - x) to the ghost
-    pressure [False, the paper's plain mirror]; domain: (lo, hi) box outside which particles are
+    walls: ghost-particle walls [()]; ghost_hydrostatic: add the hydrostatic increments
+    dp = rho g.(x_ghost - x) and drho = dp/c^2 to the ghost's pressure and density [False, the
+    paper's plain mirror]; domain: (lo, hi) box outside which particles are
     deactivated [None]; gravity: body acceleration [zero]; cfl, force_factor, viscous_factor:
     time-step constants [0.25, 0.25, 0.125]; reorder_every: evaluations between reorderings of
     the particle arrays, 0 = never [20]; max_cells_per_point: cell-grid size limit [4].
@@ -286,18 +287,19 @@ class ParticleSystem:
             gvel = np.empty((ng, 3))
             gsrc = np.empty(ng, dtype=np.int64)
             gdp = np.empty(ng)
-            k.fill_ghosts(self.x, self.v, self.rho, self.active, self.walls, self._valid, reach, offsets,
-                          self.gravity, opt.ghost_hydrostatic, gpos, gvel, gsrc, gdp)
+            gdr = np.empty(ng)
+            k.fill_ghosts(self.x, self.v, self.rho, self.c, self.active, self.walls, self._valid, reach, offsets,
+                          self.gravity, opt.ghost_hydrostatic, gpos, gvel, gsrc, gdp, gdr)
         else:
             gpos, gvel = np.zeros((0, 3)), np.zeros((0, 3))
-            gsrc, gdp = np.zeros(0, dtype=np.int64), np.zeros(0)
+            gsrc, gdp, gdr = np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0)
         perm, cell_start, ox, oy, oz, cell, nx, ny, nz, hmax = k.bin_points(
             self.x, self.h, self.active, gpos, gsrc, self.wall_x, self.wall_h, opt.max_cells_per_point)
         npts = len(perm)
         sx = np.empty((npts, 4))
         sd = np.empty((npts, k.ND))
         k.gather_points(perm, self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat,
-                        gpos, gvel, gsrc, gdp, self.wall_x, self.wall_v, self.wall_rho, self.wall_m,
+                        gpos, gvel, gsrc, gdp, gdr, self.wall_x, self.wall_v, self.wall_rho, self.wall_m,
                         self.wall_h, self.wall_mat, sx, sd)
         self.fprm[[k.F_HMAX, k.F_CELL, k.F_OX, k.F_OY, k.F_OZ]] = [hmax, cell, ox, oy, oz]
         self.iprm[[k.I_NX, k.I_NY, k.I_NZ]] = [nx, ny, nz]

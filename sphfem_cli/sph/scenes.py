@@ -1,0 +1,113 @@
+"""Ready-made SPH scenes: the verification and benchmark cases as ``ParticleSystem`` builders.
+
+Each builder takes the geometry and resolution and any ``SPHOptions`` field as a keyword to
+override its defaults. Materials are packed from the deck schema models (``materials.tables``).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from pydantic import TypeAdapter
+
+from ..deck.schema.materials import EquationOfState, Material
+from . import lattice
+from .system import ParticleSystem, SPHOptions, box_walls, material_table
+
+_MAT = TypeAdapter(Material)
+_EOS = TypeAdapter(EquationOfState)
+
+
+def water(c0: float, rho0: float = 1000.0, viscosity: float = 0.0, gamma: float = 7.0):
+    """Material table of one Tait liquid (weakly compressible water)."""
+    mat = _MAT.validate_python({"type": "fluid", "density": rho0, "viscosity": viscosity, "eos": "water"})
+    eos = _EOS.validate_python({"type": "tait", "reference_density": rho0, "sound_speed": c0, "gamma": gamma})
+    return material_table([(mat, eos)])
+
+
+def ideal_gas(gamma: float = 1.4, rho0: float = 1.0):
+    """Material table of one ideal gas."""
+    mat = _MAT.validate_python({"type": "fluid", "density": rho0, "eos": "gas"})
+    eos = _EOS.validate_python({"type": "ideal_gas", "gamma": gamma})
+    return material_table([(mat, eos)])
+
+
+def _options(defaults: dict, overrides: dict) -> SPHOptions:
+    return SPHOptions(**{**defaults, **overrides})
+
+
+def still_water(depth: float = 1.0, width: float = 1.0, dx: float = 0.025, g: float = 9.81,
+                c0: float | None = None, **options) -> ParticleSystem:
+    """2D tank [0, width] x [0, depth] full of water at rest, hydrostatic density, ghost walls on
+    the left, right and bottom (slip); c0 = 10 sqrt(g depth) unless given."""
+    c0 = 10.0 * math.sqrt(g * depth) if c0 is None else c0
+    mats = water(c0)
+    x = lattice.box([0.0, 0.0], [width, depth], dx)
+    mat = np.zeros(len(x), dtype=np.int64)
+    rho = lattice.hydrostatic_density(x, mats[1], mat, [0.0, -g], [0.0, depth])
+    mass, rho = lattice.lattice_particles(x, dx, rho)
+    walls = box_walls([0.0, 0.0], [width, depth], ["left", "right", "bottom"])
+    opt = _options({"alpha": 0.02, "delta": 0.1, "gravity": [0.0, -g], "walls": walls}, options)
+    return ParticleSystem(x, np.zeros_like(x), mass, rho, mat, mats, opt)
+
+
+def dam_break(a: float = 1.0, dx: float = 0.025, tank_length: float | None = None, dim: int = 2,
+              depth: float | None = None, g: float = 9.81, c0: float | None = None, condition: str = "slip",
+              viscosity: float = 0.0, **options) -> ParticleSystem:
+    """Water column a wide and 2a high at the left end of a dry tank (Martin & Moyce 1952).
+
+    Tank [0, tank_length] (default 5a) with ghost walls (``condition`` slip or no_slip) left,
+    right and bottom; water of dynamic ``viscosity`` (default inviscid); in 3D the
+    tank is ``depth`` (default a) wide in z with walls at both sides. Hydrostatic start;
+    c0 = 10 sqrt(2 g 2a) (ten times the largest free-fall speed) unless given.
+    """
+    tank_length = 5.0 * a if tank_length is None else tank_length
+    c0 = 10.0 * math.sqrt(2.0 * g * 2.0 * a) if c0 is None else c0
+    mats = water(c0, viscosity=viscosity)
+    if dim == 2:
+        lo, hi = [0.0, 0.0], [a, 2.0 * a]
+        tank_hi = [tank_length, 4.0 * a]
+        sides = ["left", "right", "bottom"]
+    else:
+        depth = a if depth is None else depth
+        lo, hi = [0.0, 0.0, 0.0], [a, 2.0 * a, depth]
+        tank_hi = [tank_length, 4.0 * a, depth]
+        sides = ["left", "right", "bottom", "back", "front"]
+    x = lattice.box(lo, hi, dx)
+    mat = np.zeros(len(x), dtype=np.int64)
+    gvec = [0.0, -g] + [0.0] * (dim - 2)
+    rho = lattice.hydrostatic_density(x, mats[1], mat, gvec, [0.0, 2.0 * a] + [0.0] * (dim - 2))
+    mass, rho = lattice.lattice_particles(x, dx, rho)
+    walls = box_walls([0.0] * dim, tank_hi, sides, condition)
+    domain = ([-a] * dim, [tank_length + a, 8.0 * a] + [tank_hi[-1] + a] * (dim - 2))
+    opt = _options({"alpha": 0.1, "delta": 0.1, "gravity": gvec, "walls": walls, "domain": domain}, options)
+    return ParticleSystem(x, np.zeros_like(x), mass, rho, mat, mats, opt)
+
+
+SOD_LEFT = (1.0, 1.0)  # (rho, p)
+SOD_RIGHT = (0.125, 0.1)
+
+
+def sod_tube(n_left: int = 400, gamma: float = 1.4, **options) -> ParticleSystem:
+    """1D Sod shock tube on [0, 1], diaphragm at 0.5, equal-mass particles (the right state is 8
+    times coarser), reflecting ghost walls at both ends; Monaghan viscosity alpha = 1, beta = 2."""
+    (rl, pl), (rr, pr) = SOD_LEFT, SOD_RIGHT
+    m = 0.5 * rl / n_left
+    dxl, dxr = m / rl, m / rr
+    xl = (np.arange(n_left) + 0.5) * dxl
+    n_right = int(round(0.5 / dxr))
+    xr = 0.5 + (np.arange(n_right) + 0.5) * dxr
+    x = np.concatenate([xl, xr])[:, None]
+    rho = np.where(x[:, 0] < 0.5, rl, rr)
+    p = np.where(x[:, 0] < 0.5, pl, pr)
+    e = p / ((gamma - 1.0) * rho)
+    mats = ideal_gas(gamma)
+    walls = box_walls([0.0], [1.0], ["left", "right"])
+    opt = _options({"alpha": 1.0, "beta": 2.0, "walls": walls}, options)
+    return ParticleSystem(x, np.zeros_like(x), np.full(len(x), m), rho, np.zeros(len(x), dtype=np.int64),
+                          mats, opt, energy=e)
+
+
+SOD_STAR = {"p": 0.303130, "u": 0.927453, "rho_left": 0.426319, "rho_right": 0.265574,
+            "head": 0.26336, "tail": 0.48595, "contact": 0.68549, "shock": 0.85043}
+"""Exact Sod solution at t = 0.2 (../shared/reference/README.md)."""
