@@ -62,7 +62,23 @@ def load_model(deck_path: str) -> Loaded:
     return Loaded(deck, model, Path(deck_path))
 
 
-@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+class _Commands(click.Group):
+    """The command group; an unexpected exception becomes one line and exit 1, never a traceback."""
+
+    def invoke(self, ctx):
+        try:
+            return super().invoke(ctx)
+        except (click.exceptions.Exit, click.ClickException, click.Abort, SystemExit):
+            raise
+        except KeyboardInterrupt:
+            click.echo("interrupted", err=True)
+            sys.exit(EXIT_INTERRUPTED)
+        except Exception as err:  # noqa: BLE001 - the CLI's last line of defence
+            click.echo(f"internal error: {type(err).__name__}: {err} (please report it)", err=True)
+            sys.exit(EXIT_INTERNAL)
+
+
+@click.group(cls=_Commands, context_settings={"help_option_names": ["-h", "--help"]})
 @click.version_option(__version__, prog_name="sphfem")
 def main() -> None:
     """sphfem: explicit-dynamics fluid-structure interaction from a YAML deck."""
@@ -81,9 +97,15 @@ def check(deck: str) -> None:
     click.echo(f"{d.title or Path(deck).name}")
     click.echo(f"  units: {d.units.length}-{d.units.mass}-{d.units.time} "
                f"(force {force}, pressure {pressure}, density {density}); dimension {d.dimension}")
-    click.echo(f"  {model.n_nodes} nodes, {model.n_elements} elements, {len(model.parts)} part(s)")
+    n_particles = model.particles.n if model.particles is not None else 0
+    click.echo(f"  {model.n_nodes} nodes, {model.n_elements} elements, {n_particles} particles, "
+               f"{len(model.parts)} part(s)")
     for p in model.parts:
         kind = "rigid" if p.rigid else d.parts[p.name].section
+        if p.kind == "sph":
+            click.echo(f"    {p.name}: {p.particles.stop - p.particles.start} particles, "
+                       f"material {model.material_names[p.material]}, {kind}")
+            continue
         click.echo(f"    {p.name}: {p.nodes.stop - p.nodes.start} nodes, {p.elements.stop - p.elements.start} "
                    f"elements, material {model.material_names[p.material]}, {kind}")
     for name, m in d.materials.items():
@@ -92,7 +114,7 @@ def check(deck: str) -> None:
         sim = Simulation(model)
     except RunStopped as err:
         raise DeckProblem(f"{deck}:1:1: model: {err}") from None
-    dt = sim.state.dt
+    dt = sim.stable_dt()
     click.echo(f"  stable time step {dt:.4e} (timestep_scale {d.control.timestep_scale}), "
                f"about {int(d.control.end_time / dt) + 1} steps to end_time {d.control.end_time:g}")
     click.echo(f"  memory estimate {model.memory_bytes() / 2**20:.1f} MiB")
@@ -113,7 +135,8 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
     import numba
 
     if threads is None:
-        threads = max(1, loaded.model.n_elements // ELEMENTS_PER_THREAD)
+        work = loaded.model.n_elements + (loaded.model.particles.n if loaded.model.particles is not None else 0)
+        threads = max(1, work // ELEMENTS_PER_THREAD)
     numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     out = Path(outdir) if outdir else Path.cwd() / f"{Path(deck).stem}_results"
     out.mkdir(parents=True, exist_ok=True)
@@ -251,7 +274,7 @@ class _Progress:
         now = time.perf_counter()
         if now - self._last > 0.2:
             self._last = now
-            self.bar.update(self.task, completed=st.time, t=st.time, step=st.step, dt=st.dt)
+            self.bar.update(self.task, completed=st.time, t=st.time, step=st.step, dt=st.dt_prev)
 
     def echo(self, line: str) -> None:
         """A line on stderr that does not break the bar."""

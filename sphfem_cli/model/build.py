@@ -32,7 +32,7 @@ class ModelError(Exception):
 
 @dataclass
 class PartInfo:
-    """One part's slices into the global node and element arrays."""
+    """One part's slices into the global node and element arrays (solid) or particle arrays (sph)."""
 
     name: str
     nodes: slice
@@ -40,6 +40,30 @@ class PartInfo:
     material: int
     section: int
     rigid: bool
+    kind: str = "solid"
+    particles: slice = field(default_factory=lambda: slice(0, 0))
+
+
+@dataclass
+class ParticleSet:
+    """The SPH particles of every SPH part, as one particle system.
+
+    `material` indexes the fluid sub-table (`material_type`, `material_param`) and `fluid_names`.
+    """
+
+    x: np.ndarray  # (P, dim)
+    mass: np.ndarray
+    density: np.ndarray
+    material: np.ndarray
+    part: np.ndarray  # index into Model.parts
+    spacing: np.ndarray  # per particle
+    material_type: np.ndarray
+    material_param: np.ndarray
+    section: str
+
+    @property
+    def n(self) -> int:
+        return len(self.x)
 
 
 @dataclass
@@ -76,6 +100,7 @@ class Model:
     node_sets: dict[str, np.ndarray] = field(default_factory=dict)
     segment_sets: dict[str, np.ndarray] = field(default_factory=dict)
     rigid_bodies: list[RigidBody] = field(default_factory=list)
+    particles: ParticleSet | None = None
 
     @property
     def n_nodes(self) -> int:
@@ -109,7 +134,9 @@ class Model:
         n, e, dim, npe = self.n_nodes, self.n_elements, self.dim, self.nodes_per_element
         per_node = 8 * dim * 6 + 8 * 3
         per_elem = 8 * (npe + 6 + NHIST + 8 + npe * dim + 4 * dim) + 8 * npe * 2
-        return n * per_node + e * per_elem
+        per_particle = 8 * (8 * dim + 16)  # state, rates, half-step copies, cell-sorted copy
+        particles = self.particles.n * per_particle if self.particles is not None else 0
+        return n * per_node + e * per_elem + particles
 
 
 def build_model(deck: Deck, deck_path: Path) -> Model:
@@ -126,6 +153,8 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     section_names = list(deck.sections)
     section_param = np.zeros((len(section_names), NSEC))
     for i, s in enumerate(deck.sections.values()):
+        if s.type != "solid":
+            continue
         section_param[i, SEC_HG_TYPE] = HG_STIFFNESS if s.hourglass.type == "stiffness" else HG_VISCOUS
         section_param[i, SEC_HG_COEF] = s.hourglass.coefficient
         section_param[i, SEC_Q1] = s.bulk_viscosity.q1
@@ -134,6 +163,11 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     coords, conns, parts, file_sets = [], [], [], {}
     n_nodes = n_elems = 0
     for name, part in deck.parts.items():
+        if deck.sections[part.section].type == "sph":
+            parts.append(PartInfo(name, slice(n_nodes, n_nodes), slice(n_elems, n_elems),
+                                  material_names.index(part.material), section_names.index(part.section),
+                                  False, kind="sph"))
+            continue
         mesh = _mesh_part(name, part, dim, deck_path)
         conns.append(mesh.elements + n_nodes)
         coords.append(mesh.nodes)
@@ -147,9 +181,11 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
         n_nodes += mesh.n_nodes
         n_elems += mesh.n_elements
 
-    coordinates = np.vstack(coords)
-    connectivity = np.vstack(conns).astype(np.int64)
-    element_part = np.concatenate([np.full(p.elements.stop - p.elements.start, i) for i, p in enumerate(parts)])
+    npe = 4 if dim == 2 else 8
+    coordinates = np.vstack(coords) if coords else np.zeros((0, dim))
+    connectivity = np.vstack(conns).astype(np.int64) if conns else np.zeros((0, npe), dtype=np.int64)
+    element_part = np.concatenate([np.full(p.elements.stop - p.elements.start, i, dtype=np.int64)
+                                   for i, p in enumerate(parts)])
     element_material = np.array([parts[i].material for i in element_part], dtype=np.int64)
     element_section = np.array([parts[i].section for i in element_part], dtype=np.int64)
     element_active = np.array([not parts[i].rigid for i in element_part])
@@ -157,7 +193,6 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     volume0 = meshgen.element_jacobian_sign_check(coordinates, connectivity)
     if dim == 3:
         volume0 = _hex_volumes(coordinates, connectivity)
-    npe = connectivity.shape[1]
     mass = np.zeros(len(coordinates))
     np.add.at(mass, connectivity, (material_param[element_material, 0] * volume0 / npe)[:, None])
 
@@ -172,7 +207,60 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     model.node_sets.update(file_sets)
     _resolve_sets(model, deck)
     model.rigid_bodies = [_rigid_body(model, i) for i, p in enumerate(parts) if p.rigid]
+    if any(p.kind == "sph" for p in parts):
+        model.particles = _particles(model, deck)
     return model
+
+
+def _particles(model: Model, deck: Deck) -> ParticleSet:
+    """Fill every SPH part with lattice particles; one fluid sub-table for the particle system."""
+    from ..deck.schema.model import Gravity
+    from ..sph import lattice
+
+    sph = [(i, p) for i, p in enumerate(model.parts) if p.kind == "sph"]
+    used = sorted({p.material for _, p in sph})
+    xs, rho, mat, owner, dx_of = [], [], [], [], []
+    start = 0
+    for i, p in sph:
+        part = deck.parts[p.name]
+        dx, g = part.spacing, part.geometry
+        if g.box is not None:
+            pts = lattice.box(g.box.min, g.box.max, dx)
+        elif g.ball is not None:
+            pts = (lattice.circle if model.dim == 2 else lattice.sphere)(g.ball.center, g.ball.radius, dx)
+        else:
+            pts = lattice.polygon(g.polygon.vertices, dx)
+        if len(pts) == 0:
+            raise ModelError(f"parts.{p.name}.spacing", f"spacing {dx:g} leaves no particle in the part's geometry")
+        local = used.index(p.material)
+        density = np.full(len(pts), model.material_param[p.material, 0])
+        if part.hydrostatic:
+            gravity = sum((np.array(l.acceleration) for l in deck.loads
+                           if isinstance(l, Gravity) and (l.parts is None or p.name in l.parts)),
+                          np.zeros(model.dim))
+            if not np.any(gravity):
+                raise ModelError(f"parts.{p.name}.hydrostatic", "a hydrostatic start needs a gravity load")
+            up = -gravity / np.linalg.norm(gravity)
+            surface = pts[np.argmax(pts @ up)] + 0.5 * dx * up
+            density = lattice.hydrostatic_density(pts, model.material_param[used], np.full(len(pts), local),
+                                                  gravity, surface)
+        model.parts[i].particles = slice(start, start + len(pts))
+        start += len(pts)
+        xs.append(pts)
+        rho.append(density)
+        mat.append(np.full(len(pts), local, dtype=np.int64))
+        owner.append(np.full(len(pts), i, dtype=np.int64))
+        dx_of.append(np.full(len(pts), dx))
+    x = np.vstack(xs)
+    spacing = np.concatenate(dx_of)
+    density = np.concatenate(rho)
+    volume = spacing ** model.dim
+    return ParticleSet(
+        x=x, mass=model.material_param[np.array(used)[np.concatenate(mat)], 0] * volume, density=density,
+        material=np.concatenate(mat), part=np.concatenate(owner), spacing=spacing,
+        material_type=model.material_type[used], material_param=model.material_param[used],
+        section=deck.parts[sph[0][1].name].section,
+    )
 
 
 def _mesh_part(name, part, dim, deck_path: Path) -> meshgen.MeshData:

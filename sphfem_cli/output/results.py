@@ -11,11 +11,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ..deck.schema.model import FIELD_NAMES
 from ..solver.explicit import EnergyRow, Simulation
 from .history import HistoryWriter
 from .xdmf import GridStep, XdmfWriter
 
 TOPOLOGY = {4: "Quadrilateral", 8: "Hexahedron"}
+_PROBE_COLUMN = {"pressure": "pressure", "surface_height": "height", "front": "front"}
 
 
 def von_mises(stress: np.ndarray) -> np.ndarray:
@@ -41,6 +43,9 @@ class RunOutput:
         (self.directory / "histories").mkdir(parents=True, exist_ok=True)
         self.xdmf = XdmfWriter(self.directory, "results")
         for p in model.parts:
+            if p.kind == "sph":
+                self.xdmf.add_grid(p.name, "Polyvertex", None, p.particles.stop - p.particles.start)
+                continue
             conn = model.connectivity[p.elements] - p.nodes.start
             self.xdmf.add_grid(p.name, TOPOLOGY[model.nodes_per_element], conn, p.nodes.stop - p.nodes.start)
         group = self.xdmf.h5.require_group("histories")
@@ -49,6 +54,8 @@ class RunOutput:
         part_cols = ["time"] + [f"{p.name}_{k}" for p in model.parts for k in ("kinetic", "internal", "hourglass")]
         self.matsum = HistoryWriter(hist_dir, "matsum", part_cols, h5=group)
         self.requests = [_HistoryProbe(sim, h, hist_dir, group) for h in out.histories]
+        self.probes = [(probe, HistoryWriter(hist_dir, probe.name, ["time", _PROBE_COLUMN[probe.type]], h5=group))
+                       for probe in out.probes]
         self._next_field = 0.0
         self._next_history = 0.0
         self.last_energy: EnergyRow | None = None
@@ -75,6 +82,8 @@ class RunOutput:
         self.matsum.append([row.time, *self.sim.part_energies().ravel()])
         for probe in self.requests:
             probe.append()
+        for probe, writer in self.probes:
+            writer.append([row.time, self.sim.particles.probe(probe)])
 
     def write_fields(self) -> None:
         sim, model, st = self.sim, self.sim.model, self.sim.state
@@ -83,7 +92,13 @@ class RunOutput:
         pressure = -st.stress[:, :3].mean(axis=1)
         density = model.material_param[model.element_material, 0] * model.volume0 / st.volume
         data = {}
-        for p in model.parts:
+        order = sim.particles.original_order() if sim.particles is not None else None
+        for i, p in enumerate(model.parts):
+            if p.kind == "sph":
+                coords, point = sim.particles.part_fields(i, order)
+                data[p.name] = GridStep(coordinates=coords, point_data={
+                    k: val for k, val in point.items() if k in self.fields or k not in FIELD_NAMES})
+                continue
             n, e = p.nodes, p.elements
             point = {
                 "displacement": st.x[n] - model.coordinates[n],
@@ -105,7 +120,7 @@ class RunOutput:
         self.xdmf.write_step(st.time, data)
 
     def close(self) -> None:
-        for writer in (self.glstat, self.matsum, *(p.writer for p in self.requests)):
+        for writer in (self.glstat, self.matsum, *(p.writer for p in self.requests), *(w for _, w in self.probes)):
             writer.close()
         self.xdmf.close()
 

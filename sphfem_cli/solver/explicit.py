@@ -82,6 +82,12 @@ class Simulation:
         self.inv_mass = 1.0 / model.mass
         self._f_elem = np.zeros((model.n_elements, model.nodes_per_element, model.dim))
         self._dt_elem = np.zeros(model.n_elements)
+        self.has_solids = model.n_nodes > 0
+        self.particles = None
+        if model.particles is not None:
+            from .particles import Particles
+
+            self.particles = Particles(model)
         self.state = self._initial_state()
         self._dt_start = self.state.dt
 
@@ -105,10 +111,14 @@ class Simulation:
             volume=m.volume0.copy(), q_visc=np.zeros(e), node_power=np.zeros(n),
         )
         # Stable step and forces of the initial configuration (zero-length step).
-        self._element_pass(st, 0.0)
-        self.loads.compute(0.0, st.x, st.f_ext)
-        st.dt = self._next_dt(st)
+        if self.has_solids:
+            self._element_pass(st, 0.0)
+            self.loads.compute(0.0, st.x, st.f_ext)
+        st.dt = self._solid_dt(st)
         st.initial_energy = self.kinetic_energy(st) + float(np.sum(st.energy))
+        if self.particles is not None:
+            ke, ie, _, _ = self.particles.energies()
+            st.initial_energy += ke + ie
         return st
 
     # ---------------------------------------------------------------------------------- loop
@@ -124,29 +134,68 @@ class Simulation:
         fem.gather_nodal_forces(self._f_elem, m.node_elem_ptr, m.node_elem_idx, st.f_int)
         self._check_elements(st)
 
-    def _next_dt(self, st: State) -> float:
-        dt = self.control.timestep_scale * float(self._dt_elem.min()) if self.model.n_elements else np.inf
+    def _solid_dt(self, st: State) -> float:
+        """timestep_scale times the smallest element step; +inf without deformable elements."""
+        if not np.any(self.model.element_active):
+            return np.inf
+        dt = self.control.timestep_scale * float(self._dt_elem.min())
+        if np.isnan(dt):
+            raise RunStopped(self._where_not_finite(st))
+        return dt
+
+    def _step_size(self, st: State) -> float:
+        """The step this step takes: the smallest over solids and particles, bounded by dt_max."""
+        dt, limiter = st.dt, "solid"
+        if self.particles is not None:
+            dt_sph = self.particles.stable_dt(self.control.timestep_scale)
+            if not dt_sph == dt_sph:  # NaN
+                raise RunStopped(f"non-finite SPH state at t = {st.time:.6e}, step {st.step} "
+                                 "(remedies: lower timestep_scale, check the equation of state and units)")
+            if dt_sph < dt:
+                dt, limiter = dt_sph, "sph"
         if self.control.dt_max is not None:
             dt = min(dt, self.control.dt_max)
         if not np.isfinite(dt):
-            if np.all(~self.model.element_active):
-                return self.control.dt_max or self.control.end_time / 1000.0
-            raise RunStopped(self._where_not_finite(st))
+            return self.control.end_time / 1000.0  # nothing deformable limits the step
         if dt < self.control.dt_min:
-            e = int(np.argmin(self._dt_elem))
+            if limiter == "solid":
+                e = int(np.argmin(self._dt_elem))
+                where = f"element {e} of part '{self._part_of(e)}'"
+            else:
+                where = "the SPH particles"
             raise RunStopped(
                 f"time step {dt:.3e} fell below dt_min {self.control.dt_min:.3e} at t = {st.time:.6e}, "
-                f"step {st.step}, controlled by element {e} of part '{self._part_of(e)}' "
-                "(remedies: refine less there, check for a collapsing element, lower dt_min)"
+                f"step {st.step}, controlled by {where} "
+                "(remedies: refine less there, check for a collapsing element or a violent impact, lower dt_min)"
             )
         return dt
+
+    def stable_dt(self) -> float:
+        """The step the next step would take (as `sphfem check` reports it)."""
+        return self._step_size(self.state)
 
     def step(self, stop: float | None = None) -> None:
         """Advance one step, shortened if needed to land exactly on time `stop` (default end_time)."""
         st = self.state
         stop = self.control.end_time if stop is None else stop
-        dt = min(st.dt, max(stop - st.time, 1e-6 * st.dt))
+        dt = self._step_size(st)
+        dt = min(dt, max(stop - st.time, 1e-6 * dt))
         dt_avg = 0.5 * dt if st.step == 0 else 0.5 * (st.dt_prev + dt)
+        if self.has_solids:
+            self._solid_step(st, dt, dt_avg)
+        st.time += dt
+        st.step += 1
+        st.dt_prev = dt
+        if self.has_solids:
+            self._element_pass(st, dt)
+            if self.loads.active:
+                self.loads.compute(st.time, st.x, st.f_ext)
+        if self.particles is not None:
+            self.particles.step(dt)
+        st.dt = self._solid_dt(st)
+
+    def _solid_step(self, st: State, dt: float, dt_avg: float) -> None:
+        """Nodes and rigid bodies from n to n+1 with the forces of step n."""
         t_mid = st.time + 0.5 * dt
         self.constraints.update(t_mid)
         if self.rigid.bodies:
@@ -158,13 +207,6 @@ class Simulation:
         st.external_work += float(np.sum(st.node_power))
         if self.rigid.bodies:
             self.rigid.drift(dt, st.x)
-        st.time += dt
-        st.step += 1
-        st.dt_prev = dt
-        self._element_pass(st, dt)
-        if self.loads.active:
-            self.loads.compute(st.time, st.x, st.f_ext)
-        st.dt = self._next_dt(st)
 
     def run(self, on_step: Callable[[State], None] | None = None, until: float | None = None,
             next_stop: Callable[[], float] | None = None) -> None:
@@ -191,10 +233,15 @@ class Simulation:
         ke = self.kinetic_energy()
         ie = float(np.sum(st.energy))
         hg = float(np.sum(st.hg_energy))
+        work = st.external_work
+        lost = 0.0
+        if self.particles is not None:
+            ke_p, ie_p, work_p, lost = self.particles.energies()
+            ke, ie, work = ke + ke_p, ie + ie_p, work + work_p
         total = ke + ie + hg
-        reference = st.initial_energy + st.external_work
+        reference = st.initial_energy + work - lost
         ratio = total / reference if abs(reference) > 1e-300 else 1.0
-        return EnergyRow(st.time, ke, ie, hg, st.external_work, total, ratio, st.dt)
+        return EnergyRow(st.time, ke, ie, hg, work, total, ratio, st.dt_prev)
 
     def part_energies(self) -> np.ndarray:
         """(parts, 3): kinetic, internal, hourglass per part (LS-DYNA matsum)."""
@@ -202,6 +249,9 @@ class Simulation:
         node_ke = 0.5 * m.mass * np.sum(st.v * st.v, axis=1)
         out = np.zeros((len(m.parts), 3))
         for i, p in enumerate(m.parts):
+            if p.kind == "sph":
+                out[i, :2] = self.particles.part_sums(i)
+                continue
             out[i, 0] = node_ke[p.nodes].sum()
             out[i, 1] = st.energy[p.elements].sum()
             out[i, 2] = st.hg_energy[p.elements].sum()

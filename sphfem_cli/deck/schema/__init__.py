@@ -12,6 +12,8 @@ from pydantic import Field, model_validator
 from .base import DeckModel, check_vector_lengths
 from .materials import EquationOfState, Material
 from .model import (
+    MESH_KINDS,
+    PARTICLE_KINDS,
     Boundary,
     Control,
     Curve,
@@ -26,6 +28,7 @@ from .model import (
     SegmentSet,
     SetDef,
     Units,
+    WallBoundary,
 )
 
 __all__ = ["Deck"]
@@ -68,10 +71,38 @@ def _check_references(deck: Deck) -> None:
     for mname, mat in deck.materials.items():
         _ref(getattr(mat, "eos", None), deck.equations_of_state, f"materials.{mname}.eos", "equation of state")
 
+    sph_parts = set()
     for pname, part in deck.parts.items():
         _ref(part.material, deck.materials, f"parts.{pname}.material", "material")
         _ref(part.section, deck.sections, f"parts.{pname}.section", "section")
         kind = part.geometry.kind
+        where = f"parts.{pname}"
+        if deck.sections[part.section].type == "sph":
+            sph_parts.add(pname)
+            if deck.materials[part.material].type != "fluid":
+                raise ValueError(f"@{where}.material: an SPH part needs a material of type fluid, "
+                                 f"'{part.material}' is {deck.materials[part.material].type}")
+            if part.spacing is None:
+                raise ValueError(f"@{where}: an SPH part needs 'spacing' (the particle spacing)")
+            if kind not in PARTICLE_KINDS:
+                raise ValueError(f"@{where}.geometry.{kind}: SPH parts are filled from box, ball or polygon")
+            if kind == "box" and (part.geometry.box.divisions or part.geometry.box.element_size):
+                raise ValueError(f"@{where}.geometry.box: an SPH box takes its resolution from the part's spacing")
+            if part.rigid:
+                raise ValueError(f"@{where}.rigid: an SPH part cannot be rigid")
+        else:
+            if kind not in MESH_KINDS:
+                raise ValueError(f"@{where}.geometry.{kind}: solid parts are meshed from box, ring, cylinder or file")
+            if kind == "box" and not (part.geometry.box.divisions or part.geometry.box.element_size):
+                raise ValueError(f"@{where}.geometry.box: give 'divisions' or 'element_size'")
+            if part.spacing is not None or part.hydrostatic:
+                key = "spacing" if part.spacing is not None else "hydrostatic"
+                raise ValueError(f"@{where}.{key}: only SPH parts take '{key}'")
+        if pname in sph_parts and part.section != deck.parts[min(sph_parts)].section:
+            raise ValueError(f"@{where}.section: every SPH part must use the same sph section "
+                             "(they form one particle system)")
+        if kind == "polygon" and deck.dimension != 2:
+            raise ValueError(f"@{where}.geometry.polygon: polygons are 2D (use box or ball in 3D)")
         if kind == "ring" and deck.dimension != 2:
             raise ValueError(f"@parts.{pname}.geometry.ring: ring meshes are 2D (use cylinder in 3D)")
         if kind == "cylinder" and deck.dimension != 3:
@@ -79,6 +110,8 @@ def _check_references(deck: Deck) -> None:
 
     for sname, s in deck.sets.items():
         _ref(s.part, deck.parts, f"sets.{sname}.part", "part")
+        if s.part in sph_parts:
+            raise ValueError(f"@sets.{sname}.part: sets select nodes of solid parts, '{s.part}' is SPH")
         if s.sphere is not None and s.radius is None:
             raise ValueError(f"@sets.{sname}.sphere: a sphere selection needs 'radius'")
         if s.side in ("back", "front") and deck.dimension == 2:
@@ -91,6 +124,14 @@ def _check_references(deck: Deck) -> None:
 
     for i, bc in enumerate(deck.boundaries):
         check_target(bc, f"boundaries.{i}")
+        if isinstance(bc, WallBoundary):
+            if not sph_parts:
+                raise ValueError(f"@boundaries.{i}: walls act on SPH parts and this deck has none")
+            if deck.dimension == 2 and ({"back", "front"} & set(bc.sides)):
+                raise ValueError(f"@boundaries.{i}.sides: back and front walls exist only in 3D")
+            continue
+        if getattr(bc, "part", None) in sph_parts:
+            raise ValueError(f"@boundaries.{i}.part: '{bc.part}' is an SPH part: use a wall boundary")
         directions = getattr(bc, "directions", None) or [getattr(bc, "normal", "x")]
         if deck.dimension == 2 and "z" in directions:
             key = "directions" if hasattr(bc, "directions") else "normal"
@@ -104,14 +145,28 @@ def _check_references(deck: Deck) -> None:
         if isinstance(load, Gravity):
             for name in load.parts or []:
                 _ref(name, deck.parts, f"loads.{i}.parts", "part")
+            acts_on_sph = sph_parts & set(load.parts or deck.parts)
+            if load.curve is not None and acts_on_sph:
+                raise ValueError(f"@loads.{i}.curve: gravity on SPH parts is constant (no curve)")
         if isinstance(load, PressureLoad) and not isinstance(deck.sets[load.set], SegmentSet):
             raise ValueError(f"@loads.{i}.set: pressure needs a segment set, '{load.set}' is a node set")
         if isinstance(load, NodalForce) and isinstance(deck.sets[load.set], SegmentSet):
             raise ValueError(f"@loads.{i}.set: nodal_force needs a node set, '{load.set}' is a segment set")
 
     names = set()
+    for i, probe in enumerate(deck.output.probes):
+        if not sph_parts:
+            raise ValueError(f"@output.probes.{i}: probes measure SPH parts and this deck has none")
+        if probe.part is not None and probe.part not in sph_parts:
+            raise ValueError(f"@output.probes.{i}.part: '{probe.part}' is not an SPH part "
+                             f"(SPH parts: {', '.join(sorted(sph_parts))})")
+        if probe.name in names:
+            raise ValueError(f"@output.probes.{i}.name: duplicate history name '{probe.name}'")
+        names.add(probe.name)
     for i, h in enumerate(deck.output.histories):
         check_target(h, f"output.histories.{i}")
+        if h.part in sph_parts:
+            raise ValueError(f"@output.histories.{i}.part: '{h.part}' is an SPH part: use output.probes")
         if h.name in names:
             raise ValueError(f"@output.histories.{i}.name: duplicate history name '{h.name}'")
         names.add(h.name)

@@ -102,7 +102,38 @@ class SolidSection(DeckModel):
     bulk_viscosity: BulkViscosity = Field(default_factory=BulkViscosity, description="Shock viscosity.")
 
 
-Section = Annotated[Union[SolidSection], Field(discriminator="type")]
+class ArtificialViscosity(DeckModel):
+    """Monaghan artificial viscosity Pi_ij = (-alpha c mu_ij + beta mu_ij^2)/rho for approaching pairs."""
+
+    alpha: NonNegativeFloat = Field(0.1, description="Linear coefficient alpha. Default 0.1.")
+    beta: NonNegativeFloat = Field(0.0, description="Quadratic coefficient beta. Default 0.")
+    epsilon: PositiveFloat = Field(0.01, description="Singularity guard eps in mu_ij = h v.r/(r^2 + eps h^2). Default 0.01.")
+
+
+class SphSection(DeckModel):
+    """Smoothed particle hydrodynamics: the part is filled with particles at `spacing` (see parts)."""
+
+    type: Literal["sph"] = Field(description="Section selector: SPH particles.")
+    kernel: Literal["cubic_spline", "wendland_c2"] = Field("cubic_spline", description="Smoothing kernel. Default cubic_spline.")
+    smoothing_ratio: Annotated[float, Field(gt=0.5, le=3.0)] = Field(
+        1.2, description="Smoothing length over particle spacing, h/dx. Default 1.2."
+    )
+    artificial_viscosity: ArtificialViscosity = Field(
+        default_factory=ArtificialViscosity, description="Monaghan artificial viscosity."
+    )
+    density_diffusion: NonNegativeFloat = Field(
+        0.1, description="delta-SPH density diffusion coefficient (Molteni & Colagrossi 2009); 0 turns it off. Default 0.1."
+    )
+    xsph: NonNegativeFloat = Field(0.0, description="XSPH velocity smoothing coefficient; 0 turns it off. Default 0.")
+    pressure_cutoff: float | None = Field(
+        None, description="Lowest pressure a particle may carry (cavitation) [pressure]. Default none."
+    )
+    domain: dict[Literal["min", "max"], Vector] | None = Field(
+        None, description="{min, max}: particles leaving this box are deactivated and counted. Default none."
+    )
+
+
+Section = Annotated[Union[SolidSection, SphSection], Field(discriminator="type")]
 
 
 # ------------------------------------------------------------------------------------------- parts
@@ -114,7 +145,7 @@ class BoxGeometry(DeckModel):
     min: Vector = Field(description="Lower corner [length].")
     max: Vector = Field(description="Upper corner [length].")
     divisions: list[Annotated[int, Field(ge=1)]] | None = Field(
-        None, description="Elements per direction; or give element_size."
+        None, description="Elements per direction; or give element_size (solid parts; SPH parts use the part's spacing)."
     )
     element_size: PositiveFloat | None = Field(
         None, description="Target element edge length [length]; or give divisions."
@@ -122,8 +153,8 @@ class BoxGeometry(DeckModel):
 
     @model_validator(mode="after")
     def _one_resolution(self) -> "BoxGeometry":
-        if (self.divisions is None) == (self.element_size is None):
-            raise ValueError("@divisions: give exactly one of 'divisions' or 'element_size'")
+        if self.divisions is not None and self.element_size is not None:
+            raise ValueError("@divisions: give only one of 'divisions' or 'element_size'")
         if any(hi <= lo for lo, hi in zip(self.min, self.max)):
             raise ValueError("@max: every component of max must exceed min")
         return self
@@ -154,26 +185,46 @@ class FileGeometry(DeckModel):
     scale: PositiveFloat = Field(1.0, description="Multiplies every coordinate. Default 1.")
 
 
-class Geometry(DeckModel):
-    """Exactly one of box, ring, cylinder or file."""
+class BallGeometry(DeckModel):
+    """A disc (2D) or ball (3D) filled with particles."""
 
-    box: BoxGeometry | None = Field(None, description="A structured block of elements (2D or 3D).")
+    center: Vector = Field(description="Centre [length].")
+    radius: PositiveFloat = Field(description="Radius [length].")
+
+
+class PolygonGeometry(DeckModel):
+    """A closed 2D polygon filled with particles (even-odd rule)."""
+
+    vertices: list[Annotated[list[float], Field(min_length=2, max_length=2)]] = Field(
+        min_length=3, description="[[x0, y0], [x1, y1], ...] in order [length]."
+    )
+
+
+GEOMETRY_KINDS = ("box", "ring", "cylinder", "file", "ball", "polygon")
+MESH_KINDS = ("box", "ring", "cylinder", "file")
+PARTICLE_KINDS = ("box", "ball", "polygon")
+
+
+class Geometry(DeckModel):
+    """Exactly one shape: box, ring, cylinder or file for solid parts; box, ball or polygon for SPH parts."""
+
+    box: BoxGeometry | None = Field(None, description="A block: structured elements, or particles (2D or 3D).")
     ring: RingGeometry | None = Field(None, description="A 2D annulus or disc of quad4.")
     cylinder: CylinderGeometry | None = Field(None, description="A 3D tube or solid cylinder of hex8.")
     file: FileGeometry | None = Field(None, description="A mesh read from a file.")
+    ball: BallGeometry | None = Field(None, description="A disc (2D) or ball (3D) of particles.")
+    polygon: PolygonGeometry | None = Field(None, description="A 2D polygon of particles.")
 
     @model_validator(mode="after")
     def _exactly_one(self) -> "Geometry":
-        given = [k for k in ("box", "ring", "cylinder", "file") if getattr(self, k) is not None]
+        given = [k for k in GEOMETRY_KINDS if getattr(self, k) is not None]
         if len(given) != 1:
-            raise ValueError(
-                f"@: give exactly one geometry (box, ring, cylinder or file), got {len(given)}"
-            )
+            raise ValueError(f"@: give exactly one geometry ({', '.join(GEOMETRY_KINDS)}), got {len(given)}")
         return self
 
     @property
     def kind(self) -> str:
-        return next(k for k in ("box", "ring", "cylinder", "file") if getattr(self, k) is not None)
+        return next(k for k in GEOMETRY_KINDS if getattr(self, k) is not None)
 
 
 class Part(DeckModel):
@@ -184,6 +235,12 @@ class Part(DeckModel):
     geometry: Geometry = Field(description="How the part is meshed.")
     rigid: bool = Field(
         False, description="Move as one rigid body (also implied by a material of type rigid). Default false."
+    )
+    spacing: PositiveFloat | None = Field(
+        None, description="SPH parts: particle spacing dx on a square/cubic lattice [length]; mass = density dx^dimension."
+    )
+    hydrostatic: bool = Field(
+        False, description="SPH parts: start at the hydrostatic density under the deck's gravity, free surface at the part's top. Default false."
     )
 
 
@@ -274,8 +331,24 @@ class PrescribedVelocity(Target):
     curve: str | None = Field(None, description="Curve scaling the velocity in time. Default constant.")
 
 
+class WallBoundary(DeckModel):
+    """Planar walls on sides of a box for SPH particles, modelled by ghost (mirror) particles.
+
+    Ghosts carry the mirrored particle's density and pressure (the paper's method); "slip" mirrors
+    the normal velocity, "no_slip" the whole velocity.
+    """
+
+    type: Literal["wall"] = Field(description="Boundary selector: SPH ghost-particle walls.")
+    min: Vector = Field(description="Lower corner of the box whose sides are walls [length].")
+    max: Vector = Field(description="Upper corner [length].")
+    sides: list[Literal["left", "right", "bottom", "top", "back", "front"]] = Field(
+        min_length=1, description="Which sides are walls: left/right (x), bottom/top (y), back/front (z)."
+    )
+    condition: Literal["slip", "no_slip"] = Field("slip", description="Tangential condition. Default slip.")
+
+
 Boundary = Annotated[
-    Union[FixedBoundary, SymmetryBoundary, PrescribedVelocity], Field(discriminator="type")
+    Union[FixedBoundary, SymmetryBoundary, PrescribedVelocity, WallBoundary], Field(discriminator="type")
 ]
 
 
@@ -348,6 +421,28 @@ class HistoryRequest(DeckModel):
         return self
 
 
+class Probe(DeckModel):
+    """An SPH measurement written as a history (histories/<name>.csv)."""
+
+    name: str = Field(description="Name of the CSV table written.")
+    type: Literal["pressure", "surface_height", "front"] = Field(
+        description="pressure: kernel-interpolated at `point`; surface_height: free-surface height at the "
+        "gauge position `gauge` along `axis`; front: the furthest particle of `part` (all SPH parts by default) along `axis`."
+    )
+    point: Vector | None = Field(None, description="pressure: where [length].")
+    gauge: float | None = Field(None, description="surface_height: gauge position along `axis` [length].")
+    axis: Literal["x", "y", "z"] = Field("x", description="surface_height and front: the horizontal axis. Default x.")
+    part: str | None = Field(None, description="front: an SPH part. Default all SPH parts.")
+
+    @model_validator(mode="after")
+    def _needs(self) -> "Probe":
+        if self.type == "pressure" and self.point is None:
+            raise ValueError("@point: a pressure probe needs 'point'")
+        if self.type == "surface_height" and self.gauge is None:
+            raise ValueError("@gauge: a surface_height probe needs 'gauge'")
+        return self
+
+
 class Output(DeckModel):
     """What is written, and how often."""
 
@@ -361,3 +456,4 @@ class Output(DeckModel):
         default_factory=lambda: list(FIELD_NAMES), description="Fields written to XDMF. Default all."
     )
     histories: list[HistoryRequest] = Field(default_factory=list, description="Requested time histories.")
+    probes: list[Probe] = Field(default_factory=list, description="SPH probes, written as histories.")
