@@ -106,10 +106,16 @@ def check(deck: str) -> None:
             click.echo(f"    {p.name}: {p.particles.stop - p.particles.start} particles, "
                        f"material {model.material_names[p.material]}, {kind}")
             continue
+        if p.kind == "ale":
+            names = ", ".join(model.material_names[m] for m in model.ale.materials)
+            click.echo(f"    {p.name}: {len(model.ale.nodes)} nodes, {len(model.ale.elements)} ALE elements, "
+                       f"materials {names}, {kind}")
+            continue
         click.echo(f"    {p.name}: {p.nodes.stop - p.nodes.start} nodes, {p.elements.stop - p.elements.start} "
                    f"elements, material {model.material_names[p.material]}, {kind}")
     for name, m in d.materials.items():
-        click.echo(f"  material {name}: {m.type}, density {m.density:g}")
+        density = f", density {m.density:g}" if hasattr(m, "density") else ""
+        click.echo(f"  material {name}: {m.type}{density}")
     try:
         sim = Simulation(model)
     except RunStopped as err:

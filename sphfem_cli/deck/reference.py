@@ -415,6 +415,7 @@ class _Writer:
     def __init__(self) -> None:
         self.lines: list[str] = []
         self.anchors: set[str] = set()
+        self.models: dict[str, type[BaseModel]] = {}
 
     def add(self, *lines: str) -> None:
         self.lines.extend(lines)
@@ -474,7 +475,11 @@ def _nested_path(child: str, ann: Any) -> tuple[str, type[BaseModel] | None, lis
 
 def _render_model(w: _Writer, model: type[BaseModel], path: str, level: int, title: str | None = None,
                   anchor: str | None = None) -> None:
-    w.heading(level, title or f"`{path}`", anchor or _anchor(path))
+    anchor = anchor or _anchor(path)
+    if anchor in w.anchors and w.models.get(anchor) is model:
+        return  # the same model at the same path under another variant: documented once, linked from both
+    w.models[anchor] = model
+    w.heading(level, title or f"`{path}`", anchor)
     w.paragraph(_prose(_docstring(model)))
     for child, ann in _table(w, model, path):
         _render_nested(w, child, ann, level + 1)

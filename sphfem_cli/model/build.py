@@ -12,7 +12,9 @@ import numpy as np
 from ..deck.schema import Deck
 from ..deck.schema.model import SegmentSet
 from ..fem.kernels import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2
-from ..materials.kernels import NHIST, RIGID
+from ..materials.kernels import NHIST, NPARAM, RIGID
+
+VOID = -1  # material type id of void (ALE only; no row in the kernels)
 from ..materials.tables import pack_material
 from . import mesh as meshgen
 from . import sets as selection
@@ -78,6 +80,24 @@ class RigidBody:
 
 
 @dataclass
+class AleMesh:
+    """The ALE part's mesh and initial material layout.
+
+    `materials` are indices into the model's material table; `fractions`, `density`, `pressure`
+    are (E, len(materials)); `velocity` (N, 2) nodal.
+    """
+
+    part: int
+    nodes: np.ndarray
+    elements: np.ndarray
+    materials: list[int]
+    fractions: np.ndarray
+    density: np.ndarray
+    pressure: np.ndarray
+    velocity: np.ndarray
+
+
+@dataclass
 class Model:
     deck: Deck
     deck_path: Path
@@ -101,6 +121,7 @@ class Model:
     segment_sets: dict[str, np.ndarray] = field(default_factory=dict)
     rigid_bodies: list[RigidBody] = field(default_factory=list)
     particles: ParticleSet | None = None
+    ale: "AleMesh | None" = None
 
     @property
     def n_nodes(self) -> int:
@@ -144,7 +165,8 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     dim = deck.dimension
     material_names = list(deck.materials)
     rows = [
-        pack_material(m, deck.equations_of_state.get(getattr(m, "eos", None) or "", None))
+        (VOID, np.zeros(NPARAM)) if m.type == "void"
+        else pack_material(m, deck.equations_of_state.get(getattr(m, "eos", None) or "", None))
         for m in deck.materials.values()
     ]
     material_type = np.array([r[0] for r in rows], dtype=np.int64)
@@ -163,10 +185,11 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     coords, conns, parts, file_sets = [], [], [], {}
     n_nodes = n_elems = 0
     for name, part in deck.parts.items():
-        if deck.sections[part.section].type == "sph":
+        fluid_kind = {"sph": "sph", "ale_multi_material": "ale"}.get(deck.sections[part.section].type)
+        if fluid_kind is not None:
             parts.append(PartInfo(name, slice(n_nodes, n_nodes), slice(n_elems, n_elems),
                                   material_names.index(part.material), section_names.index(part.section),
-                                  False, kind="sph"))
+                                  False, kind=fluid_kind))
             continue
         mesh = _mesh_part(name, part, dim, deck_path)
         conns.append(mesh.elements + n_nodes)
@@ -209,7 +232,70 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     model.rigid_bodies = [_rigid_body(model, i) for i, p in enumerate(parts) if p.rigid]
     if any(p.kind == "sph" for p in parts):
         model.particles = _particles(model, deck)
+    if any(p.kind == "ale" for p in parts):
+        model.ale = _ale_mesh(model, deck, deck_path)
     return model
+
+
+def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
+    """Mesh the ALE part and lay out its materials: the part's material, then each fill in order."""
+    from ..ale.system import fill_fractions
+    from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, eos_pressure
+    index = next(i for i, p in enumerate(model.parts) if p.kind == "ale")
+    name = model.parts[index].name
+    part = deck.parts[name]
+    mesh = _mesh_part(name, part, model.dim, deck_path)
+    nodes, conn = mesh.nodes, mesh.elements
+    names = [part.material] + [f.material for f in part.fill if f.material != part.material]
+    names = list(dict.fromkeys(names))
+    mats = [model.material_names.index(n) for n in names]
+    n_elem, n_mat = len(conn), len(mats)
+    rho0 = np.array([model.material_param[m, 0] for m in mats])
+
+    def state(m: int, density: float) -> float:
+        row = model.material_param[m]
+        if model.material_type[m] == VOID:
+            return 0.0
+        return float(eos_pressure(int(row[P_EOS_TYPE]), row[EOS_OFFSET:], density / row[0], row[EOS_OFFSET + 1]))
+
+    fractions = np.zeros((n_elem, n_mat))
+    fractions[:, 0] = 1.0
+    density = np.tile(rho0, (n_elem, 1))
+    pressure = np.array([[state(m, rho0[j]) for j, m in enumerate(mats)]] * n_elem)
+    velocity = np.zeros((len(nodes), 2))
+    for j, fill in enumerate(part.fill):
+        inside = _region(fill)
+        try:
+            f = fill_fractions(nodes, conn, inside)
+        except ValueError as exc:
+            raise ModelError(f"parts.{name}.fill.{j}", str(exc)) from None
+        k = names.index(fill.material)
+        fractions *= (1.0 - f)[:, None]
+        fractions[:, k] += f
+        hit = f > 0
+        rho = fill.density if fill.density is not None else rho0[k]
+        density[hit, k] = rho
+        pressure[hit, k] = fill.pressure if fill.pressure is not None else state(mats[k], rho)
+        if fill.velocity is not None:
+            velocity[inside(nodes[:, 0], nodes[:, 1])] = fill.velocity
+    return AleMesh(index, nodes, conn, mats, fractions, density, pressure, velocity)
+
+
+def _region(fill):
+    """inside(x, y) -> bool array for a fill's region."""
+    if fill.box is not None:
+        (x0, y0), (x1, y1) = fill.box["min"], fill.box["max"]
+        return lambda x, y: (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1)
+    if fill.ball is not None:
+        (cx, cy), r = fill.ball.center, fill.ball.radius
+        return lambda x, y: (x - cx) ** 2 + (y - cy) ** 2 <= r * r
+    if fill.polygon is not None:
+        from ..sph.lattice import inside_polygon
+
+        vertices = np.array(fill.polygon.vertices, dtype=float)
+        return lambda x, y: inside_polygon(np.stack([np.ravel(x), np.ravel(y)], axis=1), vertices).reshape(np.shape(x))
+    (px, py), (nx, ny) = fill.half_space.point, fill.half_space.normal
+    return lambda x, y: (x - px) * nx + (y - py) * ny <= 0.0
 
 
 def _particles(model: Model, deck: Deck) -> ParticleSet:

@@ -46,6 +46,9 @@ class RunOutput:
             if p.kind == "sph":
                 self.xdmf.add_grid(p.name, "Polyvertex", None, p.particles.stop - p.particles.start)
                 continue
+            if p.kind == "ale":
+                self.xdmf.add_grid(p.name, "Quadrilateral", model.ale.elements, len(model.ale.nodes))
+                continue
             conn = model.connectivity[p.elements] - p.nodes.start
             self.xdmf.add_grid(p.name, TOPOLOGY[model.nodes_per_element], conn, p.nodes.stop - p.nodes.start)
         group = self.xdmf.h5.require_group("histories")
@@ -94,6 +97,10 @@ class RunOutput:
         data = {}
         order = sim.particles.original_order() if sim.particles is not None else None
         for i, p in enumerate(model.parts):
+            if p.kind == "ale":
+                coords, point, cell = sim.ale.fields()
+                data[p.name] = GridStep(coordinates=coords, point_data=point, cell_data=cell)
+                continue
             if p.kind == "sph":
                 coords, point = sim.particles.part_fields(i, order)
                 data[p.name] = GridStep(coordinates=coords, point_data={

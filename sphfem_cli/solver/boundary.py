@@ -6,7 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..deck.schema.model import (
-    FixedBoundary, Gravity, NodalForce, PrescribedVelocity, PressureLoad, SymmetryBoundary, WallBoundary,
+    AleBoundary, FixedBoundary, Gravity, NodalForce, PrescribedVelocity, PressureLoad, SymmetryBoundary, WallBoundary,
 )
 from ..model.build import Model, RigidBody
 
@@ -48,8 +48,8 @@ class Constraints:
         self.rigid_held: set[int] = set()  # rigid parts fixed in every direction: no spin either
         rigid_parts = {b.part: b for b in model.rigid_bodies}
         for bc in model.deck.boundaries:
-            if isinstance(bc, WallBoundary):
-                continue  # SPH walls: the particle system's ghosts
+            if isinstance(bc, (WallBoundary, AleBoundary)):
+                continue  # fluid walls: SPH ghosts, ALE mesh conditions
             rigid = bc.part is not None and model.part_index(bc.part) in rigid_parts
             if isinstance(bc, FixedBoundary):
                 comps = [(AXES[d], 0.0) for d in (bc.directions or "xyz"[:model.dim])]

@@ -88,6 +88,11 @@ class Simulation:
             from .particles import Particles
 
             self.particles = Particles(model)
+        self.ale = None
+        if model.ale is not None:
+            from .ale_domain import AleDomain
+
+            self.ale = AleDomain(model)
         self.state = self._initial_state()
         self._dt_start = self.state.dt
 
@@ -119,6 +124,8 @@ class Simulation:
         if self.particles is not None:
             ke, ie, _, _ = self.particles.energies()
             st.initial_energy += ke + ie
+        if self.ale is not None:
+            st.initial_energy += sum(self.ale.energies())
         return st
 
     # ---------------------------------------------------------------------------------- loop
@@ -153,6 +160,13 @@ class Simulation:
                                  "(remedies: lower timestep_scale, check the equation of state and units)")
             if dt_sph < dt:
                 dt, limiter = dt_sph, "sph"
+        if self.ale is not None:
+            dt_ale = self.ale.stable_dt()
+            if not dt_ale == dt_ale:
+                raise RunStopped(f"non-finite ALE state at t = {st.time:.6e}, step {st.step} "
+                                 "(remedies: lower the section's courant, check the equations of state and units)")
+            if dt_ale < dt:
+                dt, limiter = dt_ale, "ale"
         if self.control.dt_max is not None:
             dt = min(dt, self.control.dt_max)
         if not np.isfinite(dt):
@@ -162,7 +176,7 @@ class Simulation:
                 e = int(np.argmin(self._dt_elem))
                 where = f"element {e} of part '{self._part_of(e)}'"
             else:
-                where = "the SPH particles"
+                where = "the SPH particles" if limiter == "sph" else "the ALE mesh"
             raise RunStopped(
                 f"time step {dt:.3e} fell below dt_min {self.control.dt_min:.3e} at t = {st.time:.6e}, "
                 f"step {st.step}, controlled by {where} "
@@ -192,6 +206,8 @@ class Simulation:
                 self.loads.compute(st.time, st.x, st.f_ext)
         if self.particles is not None:
             self.particles.step(dt)
+        if self.ale is not None:
+            self.ale.step(dt)
         st.dt = self._solid_dt(st)
 
     def _solid_step(self, st: State, dt: float, dt_avg: float) -> None:
@@ -238,6 +254,9 @@ class Simulation:
         if self.particles is not None:
             ke_p, ie_p, work_p, lost = self.particles.energies()
             ke, ie, work = ke + ke_p, ie + ie_p, work + work_p
+        if self.ale is not None:
+            ke_a, ie_a = self.ale.energies()
+            ke, ie = ke + ke_a, ie + ie_a
         total = ke + ie + hg
         reference = st.initial_energy + work - lost
         ratio = total / reference if abs(reference) > 1e-300 else 1.0
@@ -251,6 +270,9 @@ class Simulation:
         for i, p in enumerate(m.parts):
             if p.kind == "sph":
                 out[i, :2] = self.particles.part_sums(i)
+                continue
+            if p.kind == "ale":
+                out[i, :2] = self.ale.energies()
                 continue
             out[i, 0] = node_ke[p.nodes].sum()
             out[i, 1] = st.energy[p.elements].sum()

@@ -27,6 +27,7 @@ from .model import (
     Section,
     SegmentSet,
     SetDef,
+    AleBoundary,
     Units,
     WallBoundary,
 )
@@ -71,7 +72,7 @@ def _check_references(deck: Deck) -> None:
     for mname, mat in deck.materials.items():
         _ref(getattr(mat, "eos", None), deck.equations_of_state, f"materials.{mname}.eos", "equation of state")
 
-    sph_parts = set()
+    sph_parts, ale_parts = set(), set()
     for pname, part in deck.parts.items():
         _ref(part.material, deck.materials, f"parts.{pname}.material", "material")
         _ref(part.section, deck.sections, f"parts.{pname}.section", "section")
@@ -90,6 +91,9 @@ def _check_references(deck: Deck) -> None:
                 raise ValueError(f"@{where}.geometry.box: an SPH box takes its resolution from the part's spacing")
             if part.rigid:
                 raise ValueError(f"@{where}.rigid: an SPH part cannot be rigid")
+        elif deck.sections[part.section].type == "ale_multi_material":
+            ale_parts.add(pname)
+            _check_ale_part(deck, pname, part)
         else:
             if kind not in MESH_KINDS:
                 raise ValueError(f"@{where}.geometry.{kind}: solid parts are meshed from box, ring, cylinder or file")
@@ -98,6 +102,10 @@ def _check_references(deck: Deck) -> None:
             if part.spacing is not None or part.hydrostatic:
                 key = "spacing" if part.spacing is not None else "hydrostatic"
                 raise ValueError(f"@{where}.{key}: only SPH parts take '{key}'")
+            if deck.materials[part.material].type == "void":
+                raise ValueError(f"@{where}.material: void fills ALE parts only")
+        if part.fill and pname not in ale_parts:
+            raise ValueError(f"@{where}.fill: only ALE parts take 'fill'")
         if pname in sph_parts and part.section != deck.parts[min(sph_parts)].section:
             raise ValueError(f"@{where}.section: every SPH part must use the same sph section "
                              "(they form one particle system)")
@@ -110,8 +118,8 @@ def _check_references(deck: Deck) -> None:
 
     for sname, s in deck.sets.items():
         _ref(s.part, deck.parts, f"sets.{sname}.part", "part")
-        if s.part in sph_parts:
-            raise ValueError(f"@sets.{sname}.part: sets select nodes of solid parts, '{s.part}' is SPH")
+        if s.part in sph_parts | ale_parts:
+            raise ValueError(f"@sets.{sname}.part: sets select nodes of solid parts, '{s.part}' is a fluid part")
         if s.sphere is not None and s.radius is None:
             raise ValueError(f"@sets.{sname}.sphere: a sphere selection needs 'radius'")
         if s.side in ("back", "front") and deck.dimension == 2:
@@ -130,8 +138,13 @@ def _check_references(deck: Deck) -> None:
             if deck.dimension == 2 and ({"back", "front"} & set(bc.sides)):
                 raise ValueError(f"@boundaries.{i}.sides: back and front walls exist only in 3D")
             continue
-        if getattr(bc, "part", None) in sph_parts:
-            raise ValueError(f"@boundaries.{i}.part: '{bc.part}' is an SPH part: use a wall boundary")
+        if isinstance(bc, AleBoundary):
+            if bc.part not in ale_parts:
+                raise ValueError(f"@boundaries.{i}.part: '{bc.part}' is not an ALE part")
+            continue
+        if getattr(bc, "part", None) in sph_parts | ale_parts:
+            kind = "wall" if bc.part in sph_parts else "ale_boundary"
+            raise ValueError(f"@boundaries.{i}.part: '{bc.part}' is a fluid part: use a {kind} boundary")
         directions = getattr(bc, "directions", None) or [getattr(bc, "normal", "x")]
         if deck.dimension == 2 and "z" in directions:
             key = "directions" if hasattr(bc, "directions") else "normal"
@@ -145,6 +158,9 @@ def _check_references(deck: Deck) -> None:
         if isinstance(load, Gravity):
             for name in load.parts or []:
                 _ref(name, deck.parts, f"loads.{i}.parts", "part")
+            if ale_parts & set(load.parts or deck.parts):
+                raise ValueError(f"@loads.{i}: gravity on ALE parts is not supported yet "
+                                 f"(list the other parts in 'parts')")
             acts_on_sph = sph_parts & set(load.parts or deck.parts)
             if load.curve is not None and acts_on_sph:
                 raise ValueError(f"@loads.{i}.curve: gravity on SPH parts is constant (no curve)")
@@ -165,8 +181,29 @@ def _check_references(deck: Deck) -> None:
         names.add(probe.name)
     for i, h in enumerate(deck.output.histories):
         check_target(h, f"output.histories.{i}")
-        if h.part in sph_parts:
-            raise ValueError(f"@output.histories.{i}.part: '{h.part}' is an SPH part: use output.probes")
+        if h.part in sph_parts | ale_parts:
+            raise ValueError(f"@output.histories.{i}.part: '{h.part}' is a fluid part: use output.probes or fields")
+    if len(ale_parts) > 1:
+        raise ValueError(f"@parts.{sorted(ale_parts)[1]}: one ALE part per deck (several material groups fill it)")
         if h.name in names:
             raise ValueError(f"@output.histories.{i}.name: duplicate history name '{h.name}'")
         names.add(h.name)
+
+
+def _check_ale_part(deck: Deck, pname: str, part) -> None:
+    where = f"parts.{pname}"
+    if deck.dimension != 2:
+        raise ValueError(f"@{where}.section: the ALE solver is 2D so far")
+    kind = part.geometry.kind
+    if kind not in ("box", "file"):
+        raise ValueError(f"@{where}.geometry.{kind}: ALE parts are meshed from box or file")
+    if kind == "box" and not (part.geometry.box.divisions or part.geometry.box.element_size):
+        raise ValueError(f"@{where}.geometry.box: give 'divisions' or 'element_size'")
+    if part.spacing is not None or part.hydrostatic or part.rigid:
+        raise ValueError(f"@{where}: ALE parts take no spacing, hydrostatic or rigid")
+    for j, name in enumerate([part.material] + [f.material for f in part.fill]):
+        key = "material" if j == 0 else f"fill.{j - 1}.material"
+        _ref(name, deck.materials, f"{where}.{key}", "material")
+        if deck.materials[name].type not in ("fluid", "void"):
+            raise ValueError(f"@{where}.{key}: ALE materials are fluid or void, '{name}' is "
+                             f"{deck.materials[name].type}")

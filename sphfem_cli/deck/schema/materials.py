@@ -118,8 +118,14 @@ class Fluid(DeckModel):
     eos: str = Field(min_length=1, description="Name of the equation of state giving the pressure.")
 
 
+class Void(DeckModel):
+    """Empty space in an ALE mesh: no mass, no pressure (LS-DYNA *MAT_VACUUM)."""
+
+    type: Literal["void"] = Field(description="Model selector: void (ALE multi-material groups only).")
+
+
 Material = Annotated[
-    Union[Elastic, ElasticPlastic, JohnsonCook, Rigid, Fluid], Field(discriminator="type")
+    Union[Elastic, ElasticPlastic, JohnsonCook, Rigid, Fluid, Void], Field(discriminator="type")
 ]
 """One entry of the ``materials`` mapping, selected by its ``type``."""
 

@@ -133,7 +133,32 @@ class SphSection(DeckModel):
     )
 
 
-Section = Annotated[Union[SolidSection, SphSection], Field(discriminator="type")]
+class AleSection(DeckModel):
+    """Multi-material ALE (2D): a Lagrangian phase on the mesh, then a remap back (Eulerian) or to a
+    smoothed mesh, moving each material's volume, mass and energy across element faces."""
+
+    type: Literal["ale_multi_material"] = Field(description="Section selector: multi-material ALE.")
+    advection: Literal["donor_cell", "van_leer"] = Field(
+        "van_leer", description="donor_cell (first order) or van_leer (second-order MUSCL). Default van_leer."
+    )
+    mesh_motion: Literal["eulerian", "smoothed"] = Field(
+        "eulerian", description="eulerian: the mesh returns to its start; smoothed: interior nodes relaxed towards their neighbours' mean. Default eulerian."
+    )
+    advect_every: Annotated[int, Field(ge=1)] = Field(1, description="Remap every N steps. Default 1.")
+    interface: Literal["slic", "donor"] = Field(
+        "slic", description="Material-volume fluxes: slic (sharp interfaces, directional SLIC) or donor. Default slic."
+    )
+    closure: Literal["relax", "equal_strain"] = Field(
+        "relax", description="Mixed elements: relax (pressure relaxation between materials) or equal_strain. Default relax."
+    )
+    hourglass: Annotated[float, Field(ge=0, le=0.12)] = Field(0.1, description="Viscous hourglass coefficient. Default 0.1.")
+    courant: Annotated[float, Field(gt=0, le=1.0)] = Field(
+        0.5, description="Fraction of the ALE element step l/(c + |v|) used (the remap needs it below 1). Default 0.5, as verified on the shock tubes."
+    )
+    bulk_viscosity: BulkViscosity = Field(default_factory=BulkViscosity, description="Shock viscosity.")
+
+
+Section = Annotated[Union[SolidSection, SphSection, AleSection], Field(discriminator="type")]
 
 
 # ------------------------------------------------------------------------------------------- parts
@@ -227,6 +252,33 @@ class Geometry(DeckModel):
         return next(k for k in GEOMETRY_KINDS if getattr(self, k) is not None)
 
 
+class HalfSpace(DeckModel):
+    """The side of a plane the normal points away from: (x - point) . normal <= 0."""
+
+    point: Vector = Field(description="A point on the plane [length].")
+    normal: Vector = Field(description="Outward normal of the filled side [-].")
+
+
+class Fill(DeckModel):
+    """A region of an ALE part holding one material, at a given state."""
+
+    material: str = Field(description="Name of a fluid or void material.")
+    box: dict[Literal["min", "max"], Vector] | None = Field(None, description="{min, max} box.")
+    ball: BallGeometry | None = Field(None, description="A disc (2D).")
+    polygon: PolygonGeometry | None = Field(None, description="A 2D polygon.")
+    half_space: HalfSpace | None = Field(None, description="A half-space.")
+    density: PositiveFloat | None = Field(None, description="Initial density [mass/length^3]. Default the material's.")
+    pressure: float | None = Field(None, description="Initial pressure [pressure]; the energy follows from the EOS. Default the EOS's e0.")
+    velocity: Vector | None = Field(None, description="Initial velocity of the region's nodes [length/time]. Default 0.")
+
+    @model_validator(mode="after")
+    def _one_region(self) -> "Fill":
+        given = [k for k in ("box", "ball", "polygon", "half_space") if getattr(self, k) is not None]
+        if len(given) != 1:
+            raise ValueError(f"@: give exactly one region (box, ball, polygon or half_space), got {len(given)}")
+        return self
+
+
 class Part(DeckModel):
     """A meshed body with one material and one section."""
 
@@ -241,6 +293,10 @@ class Part(DeckModel):
     )
     hydrostatic: bool = Field(
         False, description="SPH parts: start at the hydrostatic density under the deck's gravity, free surface at the part's top. Default false."
+    )
+    fill: list[Fill] = Field(
+        default_factory=list,
+        description="ALE parts: regions filled with other materials, in order (later ones win); the part's material fills the rest.",
     )
 
 
@@ -347,8 +403,17 @@ class WallBoundary(DeckModel):
     condition: Literal["slip", "no_slip"] = Field("slip", description="Tangential condition. Default slip.")
 
 
+class AleBoundary(DeckModel):
+    """A condition on sides of an ALE part's mesh: slip wall, fixed (no-slip) wall, or transmitting outflow."""
+
+    type: Literal["ale_boundary"] = Field(description="Boundary selector: sides of an ALE mesh.")
+    part: str = Field(description="An ALE part.")
+    sides: list[Literal["left", "right", "bottom", "top"]] = Field(min_length=1, description="Sides of the part's mesh.")
+    condition: Literal["slip", "fixed", "transmit"] = Field("slip", description="slip, fixed or transmit (open). Default slip.")
+
+
 Boundary = Annotated[
-    Union[FixedBoundary, SymmetryBoundary, PrescribedVelocity, WallBoundary], Field(discriminator="type")
+    Union[FixedBoundary, SymmetryBoundary, PrescribedVelocity, WallBoundary, AleBoundary], Field(discriminator="type")
 ]
 
 

@@ -1,0 +1,67 @@
+"""An ALE part through the deck and the explicit loop, checked against the exact water-air star state."""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+from click.testing import CliRunner
+
+from sphfem_cli.cli import main
+
+DECK = Path(__file__).parents[2] / "decks" / "water_air_shock_tube.yaml"
+
+
+def test_water_air_shock_tube_deck(tmp_path):
+    """Saurel & Abgrall (1999) star state (../shared/reference/README.md): p* = 1.4190e7 Pa,
+    u* = 482.61 m/s at 240 us; tolerance 2 % as issue 4 states, observed about 0.1 %."""
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, ["run", str(DECK), "-o", str(out), "-q"])
+    assert result.exit_code == 0, result.output
+    with h5py.File(out / "results.h5", "r") as h5:
+        grid = h5["tube"]
+        last = sorted(k for k in grid if k.startswith("step_"))[-1]
+        assert h5["times"][-1] == pytest.approx(2.4e-4, rel=1e-9)
+        x = grid[f"{last}/coordinates"][:, 0]
+        centres = x[grid["connectivity"][:]].mean(axis=1)
+        pressure = grid[f"{last}/cell/pressure"][:]
+        velocity = grid[f"{last}/point/velocity"][:, 0]
+        assert {"fraction_water", "fraction_air", "density_water", "pressure_air"} <= set(grid[f"{last}/cell"])
+    star = (centres > 0.78) & (centres < 0.81)
+    assert pressure[star].mean() == pytest.approx(1.4190e7, rel=0.02)
+    assert velocity[(x > 0.78) & (x < 0.81)].mean() == pytest.approx(482.61, rel=0.02)
+    glstat = np.genfromtxt(out / "histories" / "glstat.csv", delimiter=",", names=True)
+    assert abs(glstat["energy_ratio"][-1] - 1.0) < 1e-6
+
+
+def test_ale_scene_compiles_no_fem_or_sph():
+    script = f"""
+import json, sys
+from sphfem_cli.cli import load_model
+from sphfem_cli.solver.explicit import Simulation
+sim = Simulation(load_model({str(DECK)!r}).model)
+sim.step()
+from sphfem_cli.fem import kernels as fem
+print(json.dumps([\"sphfem_cli.sph.kernels\" in sys.modules, bool(fem.solid_element_forces.signatures)]))
+"""
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
+    assert json.loads(out.stdout.strip().splitlines()[-1]) == [False, False]
+
+
+@pytest.mark.parametrize("change, message", [
+    (("  water: {type: fluid, density: 1000.0, eos: water}",
+      "  water: {type: elastic, density: 1000.0, youngs_modulus: 1.0e9, poisson_ratio: 0.3}"),
+     "parts.tube.fill[1].material: ALE materials are fluid or void, 'water' is elastic"),
+    (("output:", "loads:\n  - {type: gravity, acceleration: [0, -9.81]}\noutput:"),
+     "loads[0]: gravity on ALE parts is not supported yet"),
+])
+def test_bad_ale_decks(tmp_path, change, message):
+    deck = tmp_path / "bad.yaml"
+    deck.write_text(DECK.read_text().replace(*change))
+    result = CliRunner().invoke(main, ["check", str(deck)])
+    assert result.exit_code == 65, result.output
+    assert message in result.output and len(result.output.strip().splitlines()) == 1
