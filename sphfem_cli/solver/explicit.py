@@ -20,6 +20,9 @@ from ..model.build import Model
 from .boundary import Constraints, Curves, Loads, RigidBodies
 
 
+DT_COLLAPSE = 1e-3  # a step below this fraction of the first one means the model is collapsing
+
+
 class RunStopped(Exception):
     """A guard stopped the run; the message says where, when and what, and what to try."""
 
@@ -93,8 +96,8 @@ class Simulation:
             from .ale_domain import AleDomain
 
             self.ale = AleDomain(model)
+        self._dt_first: float | None = None
         self.state = self._initial_state()
-        self._dt_start = self.state.dt
 
     # ------------------------------------------------------------------------------- set-up
 
@@ -171,14 +174,19 @@ class Simulation:
             dt = min(dt, self.control.dt_max)
         if not np.isfinite(dt):
             return self.control.end_time / 1000.0  # nothing deformable limits the step
-        if dt < self.control.dt_min:
+        if self._dt_first is None:
+            self._dt_first = dt
+        collapsed = dt < DT_COLLAPSE * self._dt_first
+        if dt < self.control.dt_min or collapsed:
             if limiter == "solid":
                 e = int(np.argmin(self._dt_elem))
                 where = f"element {e} of part '{self._part_of(e)}'"
             else:
                 where = "the SPH particles" if limiter == "sph" else "the ALE mesh"
+            floor = (f"1/{1 / DT_COLLAPSE:.0f} of the first step {self._dt_first:.3e}" if collapsed
+                     else f"dt_min {self.control.dt_min:.3e}")
             raise RunStopped(
-                f"time step {dt:.3e} fell below dt_min {self.control.dt_min:.3e} at t = {st.time:.6e}, "
+                f"time step {dt:.3e} fell below {floor} at t = {st.time:.6e}, "
                 f"step {st.step}, controlled by {where} "
                 "(remedies: refine less there, check for a collapsing element or a violent impact, lower dt_min)"
             )

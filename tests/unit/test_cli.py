@@ -141,3 +141,14 @@ def test_empty_selection_is_a_deck_error(tmp_path):
     result = run_cli(["check", str(deck)])
     assert result.exit_code == 65
     assert re.match(rf"^{re.escape(str(deck))}:\d+:\d+: sets\.base: the selection matches no node", result.output)
+
+
+def test_dt_min_guard_names_the_controlling_element(tmp_path):
+    deck = tmp_path / "dtmin.yaml"
+    deck.write_text(TWO_PARTS.replace("control: {end_time: 2.0e-5}", "control: {end_time: 2.0e-5, dt_min: 1.0e-3}"))
+    out = tmp_path / "out"
+    result = run_cli(["run", str(deck), "-o", str(out), "-q"])
+    assert result.exit_code == 3, result.output
+    message = (out / "diagnostics.txt").read_text()
+    assert re.search(r"time step \S+ fell below dt_min 1\.000e-03 at t = \S+, step 0, controlled by element \d+ "
+                     r"of part 'block'", message), message
