@@ -12,7 +12,7 @@ wall particles (``n + ng + w``). Every point carries a kind (``KIND_FLUID``, ``K
 Layout of an evaluation, all in cell order (slot ``k`` holds point ``perm[k]``):
 
 * ``sx`` (npts, 4): x, y, z, h (coordinates padded with 0 above the dimension);
-* ``sd`` (npts, ND): vx, vy, vz, rho, m, p/rho^2, c, mat*4+kind;
+* ``sd`` (npts, ND): vx, vy, vz, rho, V = m/rho, p/rho^2, c, mat*4+kind;
 * ``stau`` (npts, 6): viscous stress tau (xx, yy, zz, xy, yz, zx), only when a material has
   viscosity (otherwise a (1, 6) dummy);
 * ``cell_start`` (ncell + 1): slots of cell ``key`` are ``cell_start[key]:cell_start[key+1]`` with
@@ -40,7 +40,7 @@ KIND_GHOST = 1
 KIND_WALL = 2
 
 # columns of the sorted data array sd
-D_VX, D_VY, D_VZ, D_RHO, D_M, D_PR, D_C, D_MK = 0, 1, 2, 3, 4, 5, 6, 7
+D_VX, D_VY, D_VZ, D_RHO, D_VOL, D_PR, D_C, D_MK = 0, 1, 2, 3, 4, 5, 6, 7
 ND = 8
 
 # slots of the float parameter vector fprm
@@ -123,16 +123,17 @@ def kernel_f(kernel, dim, r, h):
 # ------------------------------------------------------------------------------- state update
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def update_particle_state(rho, e, m, mat, active, params, eta, dim, pmin, p, c, h):
     """Pressure, sound speed and smoothing length of every active particle.
 
     p = max(p_eos(rho/rho0, rho0 e), pmin), c = c_eos (``eos_pressure`` and ``eos_sound_speed``
     of the materials module, evaluated through their common ``_eos_state`` so that the EOS is
     computed once), h = eta (m/rho)^(1/dim). ``e`` is the specific internal energy (per unit
-    mass), so the EOS's energy per reference volume is rho0 e.
+    mass), so the EOS's energy per reference volume is rho0 e. Returns the largest h.
     """
-    for i in prange(rho.shape[0]):
+    hmax = 0.0
+    for i in range(rho.shape[0]):
         if not active[i]:
             continue
         k = mat[i]
@@ -146,11 +147,14 @@ def update_particle_state(rho, e, m, mat, active, params, eta, dim, pmin, p, c, 
         c[i] = math.sqrt(c2) if c2 > 0.0 else 0.0
         vol = m[i] / rho[i]
         if dim == 2:
-            h[i] = eta * math.sqrt(vol)
+            hi = eta * math.sqrt(vol)
         elif dim == 1:
-            h[i] = eta * vol
+            hi = eta * vol
         else:
-            h[i] = eta * np.cbrt(vol)
+            hi = eta * np.cbrt(vol)
+        h[i] = hi
+        hmax = max(hmax, hi)
+    return hmax
 
 
 @njit(cache=True)
@@ -174,10 +178,10 @@ def density_from_pressure(eos, q, rho0, p_target, ee, rho_guess):
     return rho
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def densities_from_pressures(pressure, mat, params, out):
     """``out[i]`` = density of material ``mat[i]`` at pressure ``pressure[i]`` and its initial energy."""
-    for i in prange(pressure.shape[0]):
+    for i in range(pressure.shape[0]):
         k = mat[i]
         rho0 = params[k, P_RHO0]
         q = params[k, EOS_OFFSET:]
@@ -197,7 +201,7 @@ def _near_mask(x, i, walls, reach):
     return mask
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def count_ghosts(x, active, walls, valid, reach, counts):
     """Number of mirror images of each particle: one per valid subset of the walls it is near.
 
@@ -205,7 +209,7 @@ def count_ghosts(x, active, walls, valid, reach, counts):
     no-slip flag. ``valid[s]`` is true for wall subsets ``s`` (bit masks) with at most one wall
     per axis (a corner image is the mirror through both walls of the corner).
     """
-    for i in prange(x.shape[0]):
+    for i in range(x.shape[0]):
         cnt = 0
         if active[i]:
             mask = _near_mask(x, i, walls, reach)
@@ -216,7 +220,7 @@ def count_ghosts(x, active, walls, valid, reach, counts):
         counts[i] = cnt
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hydrostatic, gpos, gvel, gsrc, gdp, gdr):
     """Ghost positions, velocities, source particles and pressure offsets (see ``count_ghosts``).
 
@@ -226,7 +230,7 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
     dp = rho_i g.(x_ghost - x_i) (``gdp``) and drho = dp / c_i^2 (``gdr``), otherwise 0.
     """
     dim = x.shape[1]
-    for i in prange(x.shape[0]):
+    for i in range(x.shape[0]):
         k = offsets[i]
         if offsets[i + 1] == k:
             continue
@@ -271,6 +275,25 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
                 gdp[k] = 0.0
                 gdr[k] = 0.0
             k += 1
+
+
+@njit(cache=True)
+def make_ghosts(x, v, rho, c, active, walls, valid, reach, gravity, hydrostatic):
+    """Ghost particles of the planar walls: ``(gpos, gvel, gsrc, gdp, gdr)`` (see ``fill_ghosts``)."""
+    n = x.shape[0]
+    counts = np.empty(n, dtype=np.int64)
+    count_ghosts(x, active, walls, valid, reach, counts)
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    for i in range(n):
+        offsets[i + 1] = offsets[i] + counts[i]
+    ng = offsets[n]
+    gpos = np.empty((ng, 3))
+    gvel = np.empty((ng, 3))
+    gsrc = np.empty(ng, dtype=np.int64)
+    gdp = np.empty(ng)
+    gdr = np.empty(ng)
+    fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hydrostatic, gpos, gvel, gsrc, gdp, gdr)
+    return gpos, gvel, gsrc, gdp, gdr
 
 
 # ------------------------------------------------------------------------- cell-linked list
@@ -367,7 +390,7 @@ def bin_points(x, h, active, gpos, gsrc, wpos, wh, max_cells_per_point):
     return perm, cell_start, lo[0], lo[1], lo[2], cell, nx, ny, nz, hmax
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr,
                   wpos, wvel, wrho, wm, wh, wmat, sx, sd):
     """Copy every point's data into cell order (``sx``, ``sd``; layout in the module docstring).
@@ -378,7 +401,7 @@ def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr,
     n = x.shape[0]
     dim = x.shape[1]
     ng = gpos.shape[0]
-    for k in prange(perm.shape[0]):
+    for k in range(perm.shape[0]):
         pid = perm[k]
         if pid < n:
             i = pid
@@ -391,7 +414,7 @@ def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr,
             sd[k, D_VZ] = v[i, 2] if dim > 2 else 0.0
             r = rho[i]
             sd[k, D_RHO] = r
-            sd[k, D_M] = m[i]
+            sd[k, D_VOL] = m[i] / r
             sd[k, D_PR] = p[i] / (r * r)
             sd[k, D_C] = c[i]
             sd[k, D_MK] = mat[i] * 4 + KIND_FLUID
@@ -403,7 +426,7 @@ def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr,
             sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ] = gvel[g, 0], gvel[g, 1], gvel[g, 2]
             r = rho[i] + gdr[g]
             sd[k, D_RHO] = r
-            sd[k, D_M] = m[i]
+            sd[k, D_VOL] = m[i] / r
             sd[k, D_PR] = (p[i] + gdp[g]) / (r * r)
             sd[k, D_C] = c[i]
             sd[k, D_MK] = mat[i] * 4 + KIND_GHOST
@@ -417,10 +440,46 @@ def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr,
             sd[k, D_VY] = wvel[w, 1] if dim > 1 else 0.0
             sd[k, D_VZ] = wvel[w, 2] if dim > 2 else 0.0
             sd[k, D_RHO] = wrho[w]
-            sd[k, D_M] = wm[w]
+            sd[k, D_VOL] = wm[w] / wrho[w]
             sd[k, D_PR] = 0.0
             sd[k, D_C] = 0.0
             sd[k, D_MK] = wmat[w] * 4 + KIND_WALL
+
+
+@njit(cache=True)
+def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
+                wpos, wvel, wrho, wm, wh, wmat, max_cells_per_point, fprm, iprm):
+    """Cell-sort all points (``bin_points``) and copy their data into cell order (``gather_points``).
+
+    Returns ``(perm, cell_start, sx, sd)``; ``sx`` and ``sd`` have one extra last row, the
+    sentinel: a point far from everything (1e30 in every coordinate) with zero volume and kind
+    wall, whose every pair term is exactly 0; neighbour lists are padded with it. Writes the grid (hmax, cell, origin, nx, ny, nz) into
+    ``fprm`` and ``iprm``.
+    """
+    perm, cell_start, ox, oy, oz, cell, nx, ny, nz, hmax = bin_points(x, h, active, gpos, gsrc, wpos, wh,
+                                                                      max_cells_per_point)
+    npts = perm.shape[0]
+    sx = np.empty((npts + 1, 4))
+    sd = np.empty((npts + 1, ND))
+    gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr, wpos, wvel, wrho, wm, wh, wmat, sx, sd)
+    sx[npts, 0] = 1e30
+    sx[npts, 1] = 1e30
+    sx[npts, 2] = 1e30
+    sx[npts, 3] = 1.0
+    sd[npts, :] = 0.0
+    sd[npts, D_RHO] = 1.0
+    sd[npts, D_C] = 1.0
+    sd[npts, D_MK] = KIND_WALL
+    fprm[F_HMAX] = hmax
+    fprm[F_CELL] = cell
+    fprm[F_OX] = ox
+    fprm[F_OY] = oy
+    fprm[F_OZ] = oz
+    iprm[I_NX] = nx
+    iprm[I_NY] = ny
+    iprm[I_NZ] = nz
+    iprm[I_NREAL] = x.shape[0]
+    return perm, cell_start, sx, sd
 
 
 @njit(cache=True)
@@ -453,7 +512,7 @@ def wall_pressure(sx, sd, cell_start, fprm, iprm, params):
     pmin = fprm[F_PMIN]
     inv_cell = 1.0 / cell
     sig = kernel_sigma(kernel, dim)
-    for k in prange(sx.shape[0]):
+    for k in prange(cell_start[-1]):
         mk = int(sd[k, D_MK])
         if (mk & 3) != KIND_WALL:
             continue
@@ -499,6 +558,7 @@ def wall_pressure(sx, sd, cell_start, fprm, iprm, params):
         if pw < pmin:
             pw = pmin
         rw = density_from_pressure(eos, q, rho0, pw, q[1], sd[k, D_RHO])
+        sd[k, D_VOL] *= sd[k, D_RHO] / rw  # same mass at the new density
         sd[k, D_RHO] = rw
         sd[k, D_PR] = pw / (rw * rw)
         sd[k, D_C] = eos_sound_speed(eos, q, rw / rho0, q[1])
@@ -519,7 +579,7 @@ def viscous_stress(sx, sd, cell_start, fprm, iprm, params, stau):
     mu_dil = fprm[F_MU_DIL]
     inv_cell = 1.0 / cell
     sig = kernel_sigma(kernel, dim)
-    for k in prange(sx.shape[0]):
+    for k in prange(cell_start[-1]):
         mat = int(sd[k, D_MK]) >> 2
         mu = params[mat, P_VISCOSITY]
         if mu == 0.0 and mu_dil == 0.0:
@@ -546,7 +606,7 @@ def viscous_stress(sx, sd, cell_start, fprm, iprm, params, stau):
                         continue
                     inv = 1.0 / hij
                     f = sig * _inv_pow(inv, dim) * inv * inv * _theta(kernel, dim, math.sqrt(r2) * inv)[1]
-                    vol = sd[j, D_M] / sd[j, D_RHO] * f
+                    vol = sd[j, D_VOL] * f
                     gx, gy, gz = vol * dx, vol * dy, vol * dz
                     du = sd[j, D_VX] - ui
                     dv = sd[j, D_VY] - vi
@@ -570,76 +630,33 @@ def viscous_stress(sx, sd, cell_start, fprm, iprm, params, stau):
         stau[k, 5] = mu * (l20 + l02)
 
 
-@njit(cache=True)
-def _collect(k, sx, cell_start, fprm, iprm, nbj, start):
-    """Append the neighbours j != k of slot k (|r| < 2 h_kj), in slot order, to ``nbj[start:]``.
-
-    ``nbj`` is grown (keeping its first ``start`` entries) when the candidates might not fit.
-    The candidates of the cell rows are filtered without branches (the index is always written,
-    the count advances only for a neighbour), which avoids the mispredictions of an if-filter.
-    Returns (count, nbj).
-    """
-    nx, ny, nz = iprm[I_NX], iprm[I_NY], iprm[I_NZ]
-    inv_cell = 1.0 / fprm[F_CELL]
-    xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
-    reach = hi + fprm[F_HMAX]
-    x0, x1 = _cell_range(xi, reach, fprm[F_OX], inv_cell, nx)
-    y0, y1 = _cell_range(yi, reach, fprm[F_OY], inv_cell, ny)
-    z0, z1 = _cell_range(zi, reach, fprm[F_OZ], inv_cell, nz)
-    total = 0
-    for cz in range(z0, z1 + 1):
-        for cy in range(y0, y1 + 1):
-            base = (cz * ny + cy) * nx
-            total += cell_start[base + x1 + 1] - cell_start[base + x0]
-    if start + total > nbj.shape[0]:
-        grown = np.empty(2 * (start + total), dtype=np.int64)
-        grown[:start] = nbj[:start]
-        nbj = grown
-    cnt = start
-    for cz in range(z0, z1 + 1):
-        for cy in range(y0, y1 + 1):
-            base = (cz * ny + cy) * nx
-            for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
-                dx = xi - sx[j, 0]
-                dy = yi - sx[j, 1]
-                dz = zi - sx[j, 2]
-                hs = hi + sx[j, 3]  # 2 h_ij
-                r2 = dx * dx + dy * dy + dz * dz
-                nbj[cnt] = j
-                cnt += (r2 < hs * hs) & (j != k)
-    return cnt - start, nbj
-
-
 _BLOCK = 32
-_PAD = 4  # pair lists are padded to a multiple of the vector width with neutral entries
-
-# rows of the per-particle pair scratch array of fluid_rates
-_B_DX, _B_DY, _B_DZ, _B_H, _B_DU, _B_DV, _B_DW, _B_RHO, _B_VOL, _B_PR, _B_C, _B_SAME, _B_NOTWALL = range(13)
-_NB = 13
+_PAD = 4  # pair lists are padded to a multiple of the vector width with the sentinel slot
 
 _FMV = {"nsz", "arcp", "contract", "reassoc"}  # reassoc: LLVM may vectorise the pair sums
 
 
 @njit(cache=True, fastmath=_FMV, error_model="numpy")
-def _pair_sums(buf, cnt, kernel, dim, sig, hi, rhoi, pri, ci, alpha, beta, eps, gx, gy, gz, dhydro):
-    """Branch-free pair sums over the gathered neighbours of one particle (LLVM vectorises it).
+def _pair_sums(nbj, cnt, sx, sd, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mati,
+               alpha, beta, eps, gx, gy, gz, dhydro):
+    """Branch-free sums over the neighbour slots ``nbj[:cnt]`` of one particle (LLVM vectorises it).
 
     Returns (ax, ay, az, cont, work, diff, sxu, sxv, sxw): the pressure + artificial-viscosity
     acceleration -sum m_j S grad W (S = p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij), sum V_j v_ij.grad W,
     sum m_j S v_ij.grad W, the delta-SPH sum sum h c psi F V (same material, no wall) and the
-    XSPH sums sum (m_j/rho_ij) W (v_j - v_i) (no wall). Padding entries (q >= 2) add zero.
+    XSPH sums sum (m_j/rho_ij) W (v_j - v_i) (no wall). Sentinel entries add exactly zero.
     """
     ax = ay = az = 0.0
     cont = work = diff = 0.0
     sxu = sxv = sxw = 0.0
     wend = kernel == WENDLAND_C2
     one_d = dim == 1
-    hyd = 1.0 if dhydro else 0.0
     for t in range(cnt):
-        dx = buf[_B_DX, t]
-        dy = buf[_B_DY, t]
-        dz = buf[_B_DZ, t]
-        hij = 0.5 * (hi + buf[_B_H, t])
+        j = nbj[t]
+        dx = xi - sx[j, 0]
+        dy = yi - sx[j, 1]
+        dz = zi - sx[j, 2]
+        hij = 0.5 * (hi + sx[j, 3])
         r2 = dx * dx + dy * dy + dz * dz
         r = math.sqrt(r2)
         a = 1.0 / (hij * r)
@@ -662,32 +679,36 @@ def _pair_sums(buf, cnt, kernel, dim, sig, hi, rhoi, pri, ci, alpha, beta, eps, 
         wgx = f * dx
         wgy = f * dy
         wgz = f * dz
-        du = buf[_B_DU, t]
-        dv = buf[_B_DV, t]
-        dw = buf[_B_DW, t]
-        rhoj = buf[_B_RHO, t]
-        vol = buf[_B_VOL, t]
+        du = ui - sd[j, D_VX]
+        dv = vi - sd[j, D_VY]
+        dw = wi - sd[j, D_VZ]
+        rhoj = sd[j, D_RHO]
+        vol = sd[j, D_VOL]
         mj = vol * rhoj
         vdotg = du * wgx + dv * wgy + dw * wgz
         cont += vol * vdotg
         vdotr = min(du * dx + dv * dy + dw * dz, 0.0)
-        cij = 0.5 * (ci + buf[_B_C, t])
+        cj = sd[j, D_C]
+        cij = 0.5 * (ci + cj)
         rij = 0.5 * (rhoi + rhoj)
         dd = r2 + eps * hij * hij
         rcp = 1.0 / (dd * dd * rij)
         hv = hij * vdotr
         # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
         pi_ij = hv * (beta * hv - alpha * cij * dd) * rcp
-        coef = mj * (pri + buf[_B_PR, t] + pi_ij)
+        coef = mj * (pri + sd[j, D_PR] + pi_ij)
         ax -= coef * wgx
         ay -= coef * wgy
         az -= coef * wgz
         work += coef * vdotg
+        mk = int(sd[j, D_MK])
+        notwall = 1.0 if (mk & 3) != KIND_WALL else 0.0
+        same = notwall if (mk >> 2) == mati else 0.0
         psi = rhoj - rhoi
         if dhydro:
             psi += rij * (gx * dx + gy * dy + gz * dz) / (cij * cij)
-        diff += buf[_B_SAME, t] * hij * cij * psi * f * vol
-        wr = buf[_B_NOTWALL, t] * norm * th * mj * (dd * dd * rcp)
+        diff += same * hij * cij * psi * f * vol
+        wr = notwall * norm * th * mj * (dd * dd * rcp)
         sxu -= wr * du
         sxv -= wr * dv
         sxw -= wr * dw
@@ -710,81 +731,75 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph)
     with sigma = -p I + tau, psi_ij = (rho_j - rho_i) [- rho_ij g.(x_j - x_i)/c_ij^2 with the
     hydrostatic correction]. ``acc`` excludes gravity and external forces.
 
-    Per particle: collect the neighbours (``_collect``), gather their data into a scratch array
-    padded to a multiple of ``_PAD`` with entries beyond the kernel support, and sum the pair
-    terms in one branch-free loop (``_pair_sums``); the viscous-stress terms, when present, are
-    a second loop. Slots are taken in blocks of ``_BLOCK`` per parallel task (one scratch array
-    per block). Each particle's sums depend only on its own neighbour list, so the result does
-    not depend on the thread count. Equations and references: docs/theory/sph.md.
+    Per particle: the candidates of the cell rows within reach (each row of cells along x is one
+    contiguous slot range) are filtered into a neighbour list without branches (the index is
+    always written, the count advances only for a neighbour); the list is padded to a
+    multiple of ``_PAD`` with the sentinel slot (the last row of ``sx``/``sd``, ``sort_points``) and summed by
+    ``_pair_sums``; the viscous-stress terms, when present, are a second loop. Slots are taken
+    in blocks of ``_BLOCK`` per parallel task. Each particle's sums depend only on its own
+    neighbour list, so the result does not depend on the thread count. Equations and
+    references: docs/theory/sph.md.
     """
     kernel, dim = iprm[I_KERNEL], iprm[I_DIM]
+    nx, ny, nz = iprm[I_NX], iprm[I_NY], iprm[I_NZ]
     viscous = iprm[I_VISCOUS] != 0
     dhydro = iprm[I_DELTA_HYDRO] != 0
     alpha, beta, eps = fprm[F_ALPHA], fprm[F_BETA], fprm[F_EPS]
     delta, exsph = fprm[F_DELTA], fprm[F_XSPH]
     gx, gy, gz = fprm[F_GX], fprm[F_GY], fprm[F_GZ]
+    hmax, cell = fprm[F_HMAX], fprm[F_CELL]
+    ox, oy, oz = fprm[F_OX], fprm[F_OY], fprm[F_OZ]
+    inv_cell = 1.0 / cell
     sig = kernel_sigma(kernel, dim)
-    npts = sx.shape[0]
+    npts = cell_start[-1]
+    sentinel = sx.shape[0] - 1
     for b in prange((npts + _BLOCK - 1) // _BLOCK):
-        nbj = np.empty(256, dtype=np.int64)
-        buf = np.empty((_NB, 256))
+        nbj = np.empty(512, dtype=np.int64)
         for k in range(b * _BLOCK, min(npts, (b + 1) * _BLOCK)):
             mki = int(sd[k, D_MK])
             if (mki & 3) != KIND_FLUID:
                 continue
-            mati = mki >> 2
-            cnt, nbj = _collect(k, sx, cell_start, fprm, iprm, nbj, 0)
-            npad = (cnt + _PAD - 1) // _PAD * _PAD
-            if buf.shape[1] < npad:
-                buf = np.empty((_NB, nbj.shape[0] + _PAD))
             xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
+            reach = hi + hmax  # largest 2 h_ij
+            x0, x1 = _cell_range(xi, reach, ox, inv_cell, nx)
+            y0, y1 = _cell_range(yi, reach, oy, inv_cell, ny)
+            z0, z1 = _cell_range(zi, reach, oz, inv_cell, nz)
+            cnt = 0
+            for cz in range(z0, z1 + 1):
+                for cy in range(y0, y1 + 1):
+                    base = (cz * ny + cy) * nx
+                    j0 = cell_start[base + x0]
+                    j1 = cell_start[base + x1 + 1]
+                    if cnt + (j1 - j0) + _PAD > nbj.shape[0]:
+                        grown = np.empty(2 * (cnt + (j1 - j0) + _PAD), dtype=np.int64)
+                        grown[:cnt] = nbj[:cnt]
+                        nbj = grown
+                    for j in range(j0, j1):
+                        dx = xi - sx[j, 0]
+                        dy = yi - sx[j, 1]
+                        dz = zi - sx[j, 2]
+                        hs = hi + sx[j, 3]  # 2 h_ij
+                        nbj[cnt] = j
+                        cnt += (dx * dx + dy * dy + dz * dz < hs * hs) & (j != k)
+            npad = (cnt + _PAD - 1) // _PAD * _PAD
+            for t in range(cnt, npad):
+                nbj[t] = sentinel
             ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
             rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]
-            for t in range(cnt):
-                j = nbj[t]
-                buf[_B_DX, t] = xi - sx[j, 0]
-                buf[_B_DY, t] = yi - sx[j, 1]
-                buf[_B_DZ, t] = zi - sx[j, 2]
-                buf[_B_H, t] = sx[j, 3]
-                buf[_B_DU, t] = ui - sd[j, D_VX]
-                buf[_B_DV, t] = vi - sd[j, D_VY]
-                buf[_B_DW, t] = wi - sd[j, D_VZ]
-                rhoj = sd[j, D_RHO]
-                buf[_B_RHO, t] = rhoj
-                buf[_B_VOL, t] = sd[j, D_M] / rhoj
-                buf[_B_PR, t] = sd[j, D_PR]
-                buf[_B_C, t] = sd[j, D_C]
-                mkj = int(sd[j, D_MK])
-                notwall = 1.0 if (mkj & 3) != KIND_WALL else 0.0
-                buf[_B_NOTWALL, t] = notwall
-                buf[_B_SAME, t] = notwall if (mkj >> 2) == mati else 0.0
-            for t in range(cnt, npad):  # neutral padding: q = 4, zero velocity difference
-                buf[_B_DX, t] = 4.0 * hi
-                buf[_B_DY, t] = 0.0
-                buf[_B_DZ, t] = 0.0
-                buf[_B_H, t] = hi
-                buf[_B_DU, t] = 0.0
-                buf[_B_DV, t] = 0.0
-                buf[_B_DW, t] = 0.0
-                buf[_B_RHO, t] = rhoi
-                buf[_B_VOL, t] = 0.0
-                buf[_B_PR, t] = pri
-                buf[_B_C, t] = ci
-                buf[_B_NOTWALL, t] = 0.0
-                buf[_B_SAME, t] = 0.0
             ax, ay, az, cont, work, diff, sxu, sxv, sxw = _pair_sums(
-                buf, npad, kernel, dim, sig, hi, rhoi, pri, ci, alpha, beta, eps, gx, gy, gz, dhydro)
+                nbj, npad, sx, sd, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
+                alpha, beta, eps, gx, gy, gz, dhydro)
             if viscous:
                 irho2 = 1.0 / (rhoi * rhoi)
                 t0i, t1i, t2i = stau[k, 0] * irho2, stau[k, 1] * irho2, stau[k, 2] * irho2
                 t3i, t4i, t5i = stau[k, 3] * irho2, stau[k, 4] * irho2, stau[k, 5] * irho2
                 for t in range(cnt):
                     j = nbj[t]
-                    dx, dy, dz = buf[_B_DX, t], buf[_B_DY, t], buf[_B_DZ, t]
-                    f = kernel_f(kernel, dim, math.sqrt(dx * dx + dy * dy + dz * dz), 0.5 * (hi + buf[_B_H, t]))
+                    dx, dy, dz = xi - sx[j, 0], yi - sx[j, 1], zi - sx[j, 2]
+                    f = kernel_f(kernel, dim, math.sqrt(dx * dx + dy * dy + dz * dz), 0.5 * (hi + sx[j, 3]))
                     wgx, wgy, wgz = f * dx, f * dy, f * dz
-                    rhoj = buf[_B_RHO, t]
-                    mj = buf[_B_VOL, t] * rhoj
+                    rhoj = sd[j, D_RHO]
+                    mj = sd[j, D_VOL] * rhoj
                     irj = 1.0 / (rhoj * rhoj)
                     s0 = mj * (t0i + stau[j, 0] * irj)
                     s1 = mj * (t1i + stau[j, 1] * irj)
@@ -798,7 +813,7 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph)
                     ax += tx
                     ay += ty
                     az += tz
-                    work -= buf[_B_DU, t] * tx + buf[_B_DV, t] * ty + buf[_B_DW, t] * tz
+                    work -= (ui - sd[j, D_VX]) * tx + (vi - sd[j, D_VY]) * ty + (wi - sd[j, D_VZ]) * tz
             i = perm[k]
             acc[i, 0] = ax
             if dim > 1:
@@ -817,13 +832,13 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph)
 # ------------------------------------------------------------------------------- search utils
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def count_neighbours(sx, cell_start, fprm, iprm, counts):
     """Number of points j != k with |x_k - x_j| < 2 h_kj, for every slot k (cell search)."""
     nx, ny, nz = iprm[I_NX], iprm[I_NY], iprm[I_NZ]
     hmax, inv_cell = fprm[F_HMAX], 1.0 / fprm[F_CELL]
     ox, oy, oz = fprm[F_OX], fprm[F_OY], fprm[F_OZ]
-    for k in prange(sx.shape[0]):
+    for k in range(cell_start[-1]):
         xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
         reach = hi + hmax
         x0, x1 = _cell_range(xi, reach, ox, inv_cell, nx)
@@ -843,13 +858,13 @@ def count_neighbours(sx, cell_start, fprm, iprm, counts):
         counts[k] = cnt
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def fill_neighbours(sx, cell_start, fprm, iprm, offsets, out):
     """CSR neighbour lists in slot numbering (``offsets`` from ``count_neighbours``)."""
     nx, ny, nz = iprm[I_NX], iprm[I_NY], iprm[I_NZ]
     hmax, inv_cell = fprm[F_HMAX], 1.0 / fprm[F_CELL]
     ox, oy, oz = fprm[F_OX], fprm[F_OY], fprm[F_OZ]
-    for k in prange(sx.shape[0]):
+    for k in range(cell_start[-1]):
         xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
         reach = hi + hmax
         x0, x1 = _cell_range(xi, reach, ox, inv_cell, nx)
@@ -901,7 +916,7 @@ def interpolate_points(points, sx, sd, cell_start, fprm, iprm, column, include_w
                     wv = kernel_w(kernel, dim, r, sx[j, 3])
                     if wv == 0.0:
                         continue
-                    vw = sd[j, D_M] / sd[j, D_RHO] * wv
+                    vw = sd[j, D_VOL] * wv
                     if column < 0:
                         val = sd[j, D_PR] * sd[j, D_RHO] * sd[j, D_RHO]
                     else:
@@ -915,7 +930,7 @@ def interpolate_points(points, sx, sd, cell_start, fprm, iprm, column, include_w
 # ------------------------------------------------------------------------- time integration
 
 
-@njit(cache=True, parallel=True)
+@njit(cache=True)
 def kick_drift(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsph, f_ext, m, active,
                gravity, dt, dt_prev, power):
     """One leapfrog step (kick-drift-kick, one rate evaluation per step).
@@ -932,7 +947,7 @@ def kick_drift(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsph, f_ex
     dim = x.shape[1]
     hp = 0.5 * dt_prev
     hn = 0.5 * dt
-    for i in prange(x.shape[0]):
+    for i in range(x.shape[0]):
         if not active[i]:
             power[i] = 0.0
             continue
@@ -955,6 +970,44 @@ def kick_drift(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsph, f_ex
         eh = en + hn * de[i]
         e_half[i] = eh
         e[i] = eh + hn * de[i]
+
+
+@njit(cache=True)
+def advance_particles(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsph, f_ext, m, active,
+                      gravity, dt, dt_prev, walls, lo, hi, use_domain):
+    """``kick_drift`` then ``enforce_bounds``; zeroes the rates of particles just deactivated.
+
+    Returns (external power sum f_ext . v^{n+1/2}, number reflected at walls, number
+    deactivated, their mass, their kinetic + internal energy).
+    """
+    n = x.shape[0]
+    power = np.empty(n)
+    kick_drift(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsph, f_ext, m, active, gravity, dt,
+               dt_prev, power)
+    ptot = 0.0
+    for i in range(n):
+        ptot += power[i]
+    crossed = np.zeros(n, dtype=np.int64)
+    lost = np.zeros(n, dtype=np.int64)
+    nref, nlost = 0, 0
+    lost_mass = 0.0
+    lost_energy = 0.0
+    if walls.shape[0] > 0 or use_domain:
+        nref, nlost = enforce_bounds(x, v, v_half, active, walls, lo, hi, use_domain, crossed, lost)
+        if nlost:
+            dim = x.shape[1]
+            for i in range(n):
+                if lost[i]:
+                    ke = 0.0
+                    for d in range(dim):
+                        ke += v[i, d] * v[i, d]
+                        acc[i, d] = 0.0
+                        xsph[i, d] = 0.0
+                    lost_mass += m[i]
+                    lost_energy += m[i] * (0.5 * ke + e[i])
+                    drho[i] = 0.0
+                    de[i] = 0.0
+    return ptot, nref, nlost, lost_mass, lost_energy
 
 
 @njit(cache=True)

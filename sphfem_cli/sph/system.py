@@ -182,9 +182,6 @@ class ParticleSystem:
         self.v_half = self.v.copy()
         self.rho_half = self.rho.copy()
         self.e_half = self.e.copy()
-        self._power = np.zeros(n)
-        self._crossed = np.zeros(n, dtype=np.int64)
-        self._lost = np.zeros(n, dtype=np.int64)
 
         self.gravity = np.zeros(3)
         if opt.gravity is not None:
@@ -222,6 +219,9 @@ class ParticleSystem:
             self.wall_rho = self.wall_m = self.wall_h = np.zeros(0)
             self.wall_mat = np.zeros(0, dtype=np.int64)
 
+        self._wall_hmax = float(self.wall_h.max()) if len(self.wall_h) else 0.0
+        self._no_ghosts = (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0))
+        self._no_stress = np.zeros((1, 6))
         self.viscous = bool(np.any(self.params[:, k.P_VISCOSITY] > 0.0) or opt.dilatational_viscosity > 0.0)
         self.fprm = np.zeros(k.NF)
         self.fprm[[k.F_ALPHA, k.F_BETA, k.F_EPS, k.F_DELTA, k.F_XSPH]] = [
@@ -250,10 +250,11 @@ class ParticleSystem:
 
     # ------------------------------------------------------------------ evaluation
 
-    def _update_state(self) -> None:
-        k.update_particle_state(self.rho, self.e, self.m, self.mat, self.active, self.params,
-                                self.options.smoothing_ratio, self.dim, self.options.pressure_min,
-                                self.p, self.c, self.h)
+    def _update_state(self) -> float:
+        """p, c, h of the active particles; returns the largest h."""
+        return k.update_particle_state(self.rho, self.e, self.m, self.mat, self.active, self.params,
+                                       self.options.smoothing_ratio, self.dim, self.options.pressure_min,
+                                       self.p, self.c, self.h)
 
     def _reorder(self) -> None:
         """Permute every per-particle array into the cell order of the last evaluation."""
@@ -266,44 +267,24 @@ class ParticleSystem:
         if np.array_equal(order, np.arange(self.n)):
             return
         for name in ("x", "v", "v_half", "m", "rho", "rho_half", "e", "e_half", "mat", "active", "ids",
-                     "h", "p", "c", "acc", "drho", "de", "xsph", "f_ext", "_power"):
+                     "h", "p", "c", "acc", "drho", "de", "xsph", "f_ext"):
             arr = getattr(self, name)
             arr[...] = arr[order]  # in place: references held by callers stay valid
 
-    def _build_points(self) -> dict:
+    def _build_points(self, hmax: float) -> dict:
+        """Ghosts, cell sort and the sorted point set of one evaluation."""
         opt = self.options
-        n = self.n
-        hmax = float(np.max(self.h[self.active], initial=0.0))
         if len(self.wall_h):
-            hmax = max(hmax, float(self.wall_h.max()))
+            hmax = max(hmax, self._wall_hmax)
         if len(self.walls):
-            reach = 2.0 * hmax
-            counts = np.empty(n, dtype=np.int64)
-            k.count_ghosts(self.x, self.active, self.walls, self._valid, reach, counts)
-            offsets = np.zeros(n + 1, dtype=np.int64)
-            np.cumsum(counts, out=offsets[1:])
-            ng = int(offsets[-1])
-            gpos = np.empty((ng, 3))
-            gvel = np.empty((ng, 3))
-            gsrc = np.empty(ng, dtype=np.int64)
-            gdp = np.empty(ng)
-            gdr = np.empty(ng)
-            k.fill_ghosts(self.x, self.v, self.rho, self.c, self.active, self.walls, self._valid, reach, offsets,
-                          self.gravity, opt.ghost_hydrostatic, gpos, gvel, gsrc, gdp, gdr)
+            gpos, gvel, gsrc, gdp, gdr = k.make_ghosts(self.x, self.v, self.rho, self.c, self.active, self.walls,
+                                                       self._valid, 2.0 * hmax, self.gravity, opt.ghost_hydrostatic)
         else:
-            gpos, gvel = np.zeros((0, 3)), np.zeros((0, 3))
-            gsrc, gdp, gdr = np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0)
-        perm, cell_start, ox, oy, oz, cell, nx, ny, nz, hmax = k.bin_points(
-            self.x, self.h, self.active, gpos, gsrc, self.wall_x, self.wall_h, opt.max_cells_per_point)
-        npts = len(perm)
-        sx = np.empty((npts, 4))
-        sd = np.empty((npts, k.ND))
-        k.gather_points(perm, self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat,
-                        gpos, gvel, gsrc, gdp, gdr, self.wall_x, self.wall_v, self.wall_rho, self.wall_m,
-                        self.wall_h, self.wall_mat, sx, sd)
-        self.fprm[[k.F_HMAX, k.F_CELL, k.F_OX, k.F_OY, k.F_OZ]] = [hmax, cell, ox, oy, oz]
-        self.iprm[[k.I_NX, k.I_NY, k.I_NZ]] = [nx, ny, nz]
-        self.iprm[k.I_NREAL] = n
+            gpos, gvel, gsrc, gdp, gdr = self._no_ghosts
+        perm, cell_start, sx, sd = k.sort_points(
+            self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat, self.active, gpos, gvel, gsrc,
+            gdp, gdr, self.wall_x, self.wall_v, self.wall_rho, self.wall_m, self.wall_h, self.wall_mat,
+            opt.max_cells_per_point, self.fprm, self.iprm)
         return {"perm": perm, "cell_start": cell_start, "sx": sx, "sd": sd, "n_ghost": len(gsrc),
                 "ghost_source": gsrc, "fprm": self.fprm.copy(), "iprm": self.iprm.copy()}
 
@@ -318,21 +299,16 @@ class ParticleSystem:
         opt = self.options
         if opt.reorder_every and self._sorted is not None and self._evaluations % opt.reorder_every == 0:
             self._reorder()
-        self._update_state()
-        pts = self._build_points()
+        pts = self._build_points(self._update_state())
         sx, sd, perm, cs = pts["sx"], pts["sd"], pts["perm"], pts["cell_start"]
         if len(self.wall_x):
             k.wall_pressure(sx, sd, cs, self.fprm, self.iprm, self.params)
-        stau = np.zeros((len(sx) if self.viscous else 1, 6))
         if self.viscous:
+            stau = np.zeros((len(sx), 6))
             k.viscous_stress(sx, sd, cs, self.fprm, self.iprm, self.params, stau)
+        else:
+            stau = self._no_stress
         pts["stau"] = stau
-        if not self.active.all():
-            inactive = ~self.active
-            self.acc[inactive] = 0.0
-            self.drho[inactive] = 0.0
-            self.de[inactive] = 0.0
-            self.xsph[inactive] = 0.0
         k.fluid_rates(sx, sd, stau, perm, cs, self.fprm, self.iprm, self.acc, self.drho, self.de, self.xsph)
         self._sorted = pts
         self._evaluations += 1
@@ -363,28 +339,20 @@ class ParticleSystem:
         """
         if not self._rates_valid:
             raise RuntimeError("step() needs the rates of the current state: call compute_rates() first")
-        k.kick_drift(self.x, self.v, self.v_half, self.rho, self.rho_half, self.e, self.e_half, self.acc,
-                     self.drho, self.de, self.xsph, self.f_ext, self.m, self.active, self.gravity, dt,
-                     self._dt_prev, self._power)
-        if self._f_ext_used():
-            self.external_work += dt * float(np.sum(self._power))
-        if len(self.walls) or self._use_domain:
-            nref, nlost = k.enforce_bounds(self.x, self.v, self.v_half, self.active, self.walls, self._dom_lo,
-                                           self._dom_hi, self._use_domain, self._crossed, self._lost)
-            self.wall_crossings += int(nref)
-            if nlost:
-                gone = self._lost.astype(bool)
-                self.lost += int(nlost)
-                self.lost_mass += float(self.m[gone].sum())
-                self.lost_energy += float(np.sum(self.m[gone] * (0.5 * np.sum(self.v[gone] ** 2, axis=1)
-                                                                 + self.e[gone])))
+        power, nref, nlost, lost_mass, lost_energy = k.advance_particles(
+            self.x, self.v, self.v_half, self.rho, self.rho_half, self.e, self.e_half, self.acc, self.drho,
+            self.de, self.xsph, self.f_ext, self.m, self.active, self.gravity, dt, self._dt_prev, self.walls,
+            self._dom_lo, self._dom_hi, self._use_domain)
+        self.external_work += dt * power
+        self.wall_crossings += nref
+        if nlost:
+            self.lost += nlost
+            self.lost_mass += lost_mass
+            self.lost_energy += lost_energy
         self._dt_prev = dt
         self.time += dt
         self.nsteps += 1
         self._rates_valid = False
-
-    def _f_ext_used(self) -> bool:
-        return bool(self.f_ext.any())
 
     def advance(self, scale: float = 1.0, dt_max: float | None = None) -> float:
         """``compute_rates()``, ``stable_dt(scale)`` (capped by dt_max), ``step(dt)``; returns dt."""
@@ -468,7 +436,7 @@ class ParticleSystem:
         numbering; slot k's neighbours are ``neighbours[offsets[k]:offsets[k+1]]`` and
         ``point_ids[slot]`` is the point id (particle index < N, then ghosts, then walls)."""
         s = self._sorted
-        counts = np.empty(len(s["sx"]), dtype=np.int64)
+        counts = np.empty(len(s["perm"]), dtype=np.int64)
         k.count_neighbours(s["sx"], s["cell_start"], s["fprm"], s["iprm"], counts)
         offsets = np.zeros(len(counts) + 1, dtype=np.int64)
         np.cumsum(counts, out=offsets[1:])
