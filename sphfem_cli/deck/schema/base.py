@@ -33,6 +33,15 @@ PositiveFloat = Annotated[float, Field(gt=0)]
 NonNegativeFloat = Annotated[float, Field(ge=0)]
 
 
+def exactly_one(model: BaseModel, names: tuple[str, ...], what: str, at: str = "") -> str:
+    """The one of `names` given on `model`; ValueError('@at: ...') unless exactly one is."""
+    given = [k for k in names if getattr(model, k) is not None]
+    if len(given) != 1:
+        options = ", ".join(f"'{k}'" for k in names)
+        raise ValueError(f"@{at}: give exactly one {what} ({options}), got {len(given)}")
+    return given[0]
+
+
 def check_vector_lengths(model: BaseModel, dimension: int, path: tuple = ()) -> None:
     """Raise ``ValueError('@path: ...')`` for the first vector field whose length is not `dimension`."""
     for name, field in type(model).model_fields.items():

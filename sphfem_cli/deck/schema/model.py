@@ -9,7 +9,7 @@ from typing import Annotated, Literal, Union
 
 from pydantic import Field, model_validator
 
-from .base import DeckModel, NonNegativeFloat, OptionalComponents, PositiveFloat, Vector
+from .base import DeckModel, exactly_one, NonNegativeFloat, OptionalComponents, PositiveFloat, Vector
 
 # Consistent unit systems, as LS-DYNA lists them: (length, mass, time) -> (force, pressure, density).
 UNIT_SYSTEMS: dict[tuple[str, str, str], tuple[str, str, str]] = {
@@ -242,9 +242,7 @@ class Geometry(DeckModel):
 
     @model_validator(mode="after")
     def _exactly_one(self) -> "Geometry":
-        given = [k for k in GEOMETRY_KINDS if getattr(self, k) is not None]
-        if len(given) != 1:
-            raise ValueError(f"@: give exactly one geometry ({', '.join(GEOMETRY_KINDS)}), got {len(given)}")
+        exactly_one(self, GEOMETRY_KINDS, "geometry")
         return self
 
     @property
@@ -273,9 +271,7 @@ class Fill(DeckModel):
 
     @model_validator(mode="after")
     def _one_region(self) -> "Fill":
-        given = [k for k in ("box", "ball", "polygon", "half_space") if getattr(self, k) is not None]
-        if len(given) != 1:
-            raise ValueError(f"@: give exactly one region (box, ball, polygon or half_space), got {len(given)}")
+        exactly_one(self, ("box", "ball", "polygon", "half_space"), "region")
         return self
 
 
@@ -349,8 +345,7 @@ class Target(DeckModel):
 
     @model_validator(mode="after")
     def _one_target(self) -> "Target":
-        if (self.part is None) == (self.set is None):
-            raise ValueError("@part: give exactly one of 'part' or 'set'")
+        exactly_one(self, ("part", "set"), "target", at="part")
         return self
 
 
@@ -480,9 +475,7 @@ class HistoryRequest(DeckModel):
 
     @model_validator(mode="after")
     def _one_target(self) -> "HistoryRequest":
-        given = [k for k in ("part", "set", "point") if getattr(self, k) is not None]
-        if len(given) != 1:
-            raise ValueError("@name: give exactly one of 'part', 'set' or 'point'")
+        exactly_one(self, ("part", "set", "point"), "target", at="name")
         return self
 
 
