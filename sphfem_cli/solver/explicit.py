@@ -5,11 +5,12 @@ Step n -> n+1, with forces F^n known:
   2. v^{n+1/2} = v^{n-1/2} + dt_avg F^n/m, x^{n+1} = x^n + dt v^{n+1/2} (fem.kernels);
   3. element kernels: stress^{n+1}, internal forces F_int^{n+1}, stable steps;
   4. loads F_ext^{n+1}; energy accounting; next dt = timestep_scale * min element dt.
+SPH particles (solver.particles) and the ALE mesh (solver.ale_domain), when the deck has them,
+advance with the same dt, the smallest stable step of all.
 """
 from __future__ import annotations
 
-import time as wallclock
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
@@ -29,7 +30,10 @@ class RunStopped(Exception):
 
 @dataclass
 class State:
-    """Everything that evolves. Arrays are (N, dim) for nodes, (E, ...) for elements."""
+    """Everything of the solids that evolves. Arrays are (N, dim) for nodes, (E, ...) for elements.
+
+    `dt` is the solids' stable step for the next step; `dt_prev` the step last taken.
+    """
 
     time: float
     step: int
@@ -45,10 +49,10 @@ class State:
     hg_force: np.ndarray
     volume: np.ndarray
     q_visc: np.ndarray
+    node_power: np.ndarray
     dt_prev: float = 0.0
     external_work: float = 0.0
     initial_energy: float = 0.0
-    node_power: np.ndarray = field(default=None)  # type: ignore[assignment]
 
 
 @dataclass
