@@ -253,7 +253,7 @@ class ParticleSystem:
     def _update_state(self) -> float:
         """p, c, h of the active particles; returns the largest h."""
         return k.update_particle_state(self.rho, self.e, self.m, self.mat, self.active, self.params,
-                                       self.options.smoothing_ratio, self.dim, self.options.pressure_min,
+                                       float(self.options.smoothing_ratio), self.dim, float(self.options.pressure_min),
                                        self.p, self.c, self.h)
 
     def _reorder(self) -> None:
@@ -278,13 +278,13 @@ class ParticleSystem:
             hmax = max(hmax, self._wall_hmax)
         if len(self.walls):
             gpos, gvel, gsrc, gdp, gdr = k.make_ghosts(self.x, self.v, self.rho, self.c, self.active, self.walls,
-                                                       self._valid, 2.0 * hmax, self.gravity, opt.ghost_hydrostatic)
+                                                       self._valid, 2.0 * hmax, self.gravity, bool(opt.ghost_hydrostatic))
         else:
             gpos, gvel, gsrc, gdp, gdr = self._no_ghosts
         perm, cell_start, sx, sd = k.sort_points(
             self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat, self.active, gpos, gvel, gsrc,
             gdp, gdr, self.wall_x, self.wall_v, self.wall_rho, self.wall_m, self.wall_h, self.wall_mat,
-            opt.max_cells_per_point, self.fprm, self.iprm)
+            int(opt.max_cells_per_point), self.fprm, self.iprm)
         return {"perm": perm, "cell_start": cell_start, "sx": sx, "sd": sd, "n_ghost": len(gsrc),
                 "ghost_source": gsrc, "fprm": self.fprm.copy(), "iprm": self.iprm.copy()}
 
@@ -321,8 +321,8 @@ class ParticleSystem:
         viscous_factor rho h^2/mu, with a = acc + g + f_ext/m (call after ``compute_rates``)."""
         opt = self.options
         dt = k.stable_time_step(self.h, self.c, self.v, self.acc, self.f_ext, self.m, self.rho, self.mat,
-                                self.active, self.params, self.gravity, opt.cfl, opt.force_factor,
-                                opt.viscous_factor)
+                                self.active, self.params, self.gravity, float(opt.cfl), float(opt.force_factor),
+                                float(opt.viscous_factor))
         return scale * float(dt)
 
     def step(self, dt: float) -> None:
@@ -339,6 +339,7 @@ class ParticleSystem:
         """
         if not self._rates_valid:
             raise RuntimeError("step() needs the rates of the current state: call compute_rates() first")
+        dt = float(dt)
         power, nref, nlost, lost_mass, lost_energy = k.advance_particles(
             self.x, self.v, self.v_half, self.rho, self.rho_half, self.e, self.e_half, self.acc, self.drho,
             self.de, self.xsph, self.f_ext, self.m, self.active, self.gravity, dt, self._dt_prev, self.walls,
