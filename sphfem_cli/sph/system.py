@@ -10,13 +10,16 @@ One step, as the explicit loop drives it (see ``step`` for the integrator)::
 Arrays are public and owned by the system: ``x``, ``v`` (N, dim); ``rho``, ``e`` (specific
 internal energy), ``m``, ``h``, ``p``, ``c`` (N,); ``mat`` (N,) material index into the table;
 ``active`` (N,) bool; rates ``acc`` (N, dim, without gravity and f_ext), ``drho``, ``de``,
-``xsph``; ``f_ext`` (N, dim). Every ``reorder_every`` evaluations ``compute_rates`` permutes all
-per-particle arrays into cell order for memory locality (``ids`` holds each slot's original
-particle number; ``reorder_every=0`` keeps the order fixed).
+``xsph``; ``f_ext`` (N, dim, force units, applied in the next ``step``; the system never clears
+it, so a coupling overwrites it every step). Every ``reorder_every`` evaluations ``compute_rates``
+permutes all per-particle arrays in place into cell order for memory locality (``ids`` holds each
+slot's original particle number; ``reorder_every=0`` keeps the order fixed). Counters: ``time``,
+``nsteps``, ``lost`` (deactivated particles), ``lost_mass``, ``lost_energy``, ``wall_crossings``,
+``external_work`` (work of ``f_ext``).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable, Sequence
 
 import numpy as np
