@@ -11,13 +11,17 @@ viscosity, the whole step: EOS, ghosts, cell sort, rates, time step, leapfrog):
 
 Each case is advanced a few steps first (compilation, cell order), then timed; the figure is
 particles x steps / wall time (the process CPU time is printed beside it: on a shared machine
-the wall time includes time the process spent waiting for a core). Bytes per particle counts
-the system's per-particle arrays and one evaluation's point set (``ParticleSystem.memory_bytes``).
+the wall time includes time the process spent waiting for a core). Bytes per particle: the
+system's per-particle arrays and one evaluation's point set (``ParticleSystem.memory_bytes``),
+and the growth of the peak resident memory while the case was built and first stepped
+(temporaries included; meaningful for the large cases, where it is not hidden by the
+interpreter and the compiler).
 Target (issue 3): >= 2.5 M particle-steps/s per thread in 2D, <= 1 KB per particle.
 """
 from __future__ import annotations
 
 import argparse
+import resource
 import time
 
 CASES = {
@@ -64,15 +68,18 @@ def main() -> None:
           f"{numba.config.NUMBA_NUM_THREADS} threads available")
     for name in args.cases.split(","):
         case = CASES[name]
+        rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
         t0 = time.perf_counter()
         ps = build(case["dim"], case["n"])
         for _ in range(3):
             ps.advance(0.9)
         setup = time.perf_counter() - t0
+        grown = (resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - rss0) * 1024.0
         steps = args.steps or case["steps"]
         print(f"\n{name}: {case['dim']}D dam break, {ps.n} particles "
               f"({ps._sorted['n_ghost']} ghosts), setup + 3 steps {setup:.1f} s, "
-              f"{ps.memory_bytes() / ps.n:.0f} bytes/particle")
+              f"{ps.memory_bytes() / ps.n:.0f} bytes/particle held"
+              + (f", peak resident memory grew {grown / ps.n:.0f} bytes/particle" if grown > 0 else ""))
         for t in threads:
             best_wall = best_cpu = 0.0
             for _ in range(args.repeat):
