@@ -34,6 +34,7 @@ class Particles:
             kernel=section.kernel, smoothing_ratio=section.smoothing_ratio,
             alpha=section.artificial_viscosity.alpha, beta=section.artificial_viscosity.beta,
             eps=section.artificial_viscosity.epsilon, delta=section.density_diffusion, xsph=section.xsph,
+            delta_hydrostatic=section.diffusion_hydrostatic, ghost_hydrostatic=section.ghost_hydrostatic,
             pressure_min=-np.inf if section.pressure_cutoff is None else section.pressure_cutoff,
             walls=tuple(walls), gravity=gravity,
             domain=None if section.domain is None else (section.domain["min"], section.domain["max"]),

@@ -124,6 +124,12 @@ class SphSection(DeckModel):
     density_diffusion: NonNegativeFloat = Field(
         0.1, description="delta-SPH density diffusion coefficient (Molteni & Colagrossi 2009); 0 turns it off. Default 0.1."
     )
+    diffusion_hydrostatic: bool = Field(
+        True, description="Subtract the hydrostatic density difference in the density diffusion (Fourtakas-type), so that it does not smear a liquid at rest under gravity. Default true."
+    )
+    ghost_hydrostatic: bool = Field(
+        True, description="Ghost particles carry the mirrored particle's pressure plus the hydrostatic increment rho g.(x_ghost - x); false is the paper's plain mirror, which leaves the rows next to a floor about 5 % low under gravity. Default true."
+    )
     xsph: NonNegativeFloat = Field(0.0, description="XSPH velocity smoothing coefficient; 0 turns it off. Default 0.")
     pressure_cutoff: float | None = Field(
         None, description="Lowest pressure a particle may carry (cavitation) [pressure]. Default none."
