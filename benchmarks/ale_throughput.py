@@ -8,7 +8,7 @@ walls. Prints element-steps/s on 1 and 2 threads (Lagrangian phase + remap, van 
 """
 from __future__ import annotations
 
-import sys
+import argparse
 import time
 
 import numba
@@ -60,8 +60,12 @@ def measure(n, steps, two, threads):
 
 
 def main():
-    n = int(sys.argv[1]) if len(sys.argv) > 1 else 480
-    steps = int(sys.argv[2]) if len(sys.argv) > 2 else 20
+    parser = argparse.ArgumentParser(description="ALE throughput: element-steps/s of a 2D Eulerian mesh, "
+                                                 "one and two materials, on 1 and 2 threads.")
+    parser.add_argument("n", nargs="?", type=int, default=480, help="elements per side (default 480)")
+    parser.add_argument("steps", nargs="?", type=int, default=20, help="timed steps (default 20)")
+    args = parser.parse_args()
+    n, steps = args.n, args.steps
     max_threads = numba.config.NUMBA_NUM_THREADS
     print(f"ALE throughput, {n} x {n} quad4 = {n * n} elements, {steps} steps, van Leer + SLIC")
     for two, name in ((False, "single-material gas"), (True, "two-material water/air")):
