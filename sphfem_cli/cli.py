@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import os
 import platform
+import signal
 import socket
 import sys
 import time
@@ -180,6 +181,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
         + yaml.safe_dump(loaded.deck.model_dump(mode="json"), sort_keys=False)
     )
     log = _RunLog(out / "run.log", loaded.path)
+    previous_term = signal.signal(signal.SIGTERM, _terminate)
     start = time.perf_counter()
     status, message = "completed", ""
     output = None
@@ -201,11 +203,12 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
     except RunStopped as err:
         status, message = "stopped by a guard", str(err)
     except KeyboardInterrupt:
-        status, message = "interrupted", "interrupted by the user; output so far is kept"
+        status, message = "interrupted", "interrupted; the output so far is kept and the last state written"
     except Exception as err:  # noqa: BLE001 - the CLI's last line of defence
         status, message = "internal error", f"{type(err).__name__}: {err}"
         log.write(traceback.format_exc())
     finally:
+        signal.signal(signal.SIGTERM, previous_term)
         if output is not None:
             try:
                 if status != "completed":
@@ -230,6 +233,11 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
         return EXIT_INTERRUPTED
     click.echo(f"internal error: {message} (details in {out / 'run.log'})", err=True)
     return EXIT_INTERNAL
+
+
+def _terminate(signum, frame):
+    """SIGTERM ends a run as Ctrl-C does: the last state is written and the files closed."""
+    raise KeyboardInterrupt
 
 
 class _RunLog:

@@ -152,3 +152,31 @@ def test_dt_min_guard_names_the_controlling_element(tmp_path):
     message = (out / "diagnostics.txt").read_text()
     assert re.search(r"time step \S+ fell below dt_min 1\.000e-03 at t = \S+, step 0, controlled by element \d+ "
                      r"of part 'block'", message), message
+
+
+def test_sigterm_keeps_output(tmp_path):
+    """A terminated run writes its last state, closes a valid XDMF, and exits 130."""
+    import signal
+    import subprocess
+    import sys
+    import time
+    import xml.etree.ElementTree as ET
+
+    deck = tmp_path / "long.yaml"
+    deck.write_text(TWO_PARTS.replace("end_time: 2.0e-5", "end_time: 10.0").replace("interval: 5.0e-6", "interval: 1.0"))
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "sphfem_cli.cli", "run", str(deck), "-o", str(out), "-q"],
+                            stderr=subprocess.PIPE, text=True)
+    for _ in range(600):  # wait until the run is stepping (its first history row is written)
+        if (out / "results.xdmf").exists():
+            break
+        time.sleep(0.1)
+    time.sleep(0.5)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err
+    root = ET.parse(out / "results.xdmf").getroot()
+    times = [float(t.get("Value")) for t in root.iter("Time")]
+    assert len(times) >= 2 and times[-1] > 0.0  # the state at the moment of the signal was written
+    assert "status: interrupted" in (out / "run.log").read_text()
