@@ -4,6 +4,7 @@ The model is plain numpy arrays; nothing here runs per step.
 """
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -151,17 +152,83 @@ class Model:
         return np.unique(self.segment_sets[set_name])
 
     def memory_bytes(self) -> int:
-        """Arrays of the model plus the per-step state the solver allocates."""
-        n, e, dim, npe = self.n_nodes, self.n_elements, self.dim, self.nodes_per_element
-        per_node = 8 * dim * 6 + 8 * 3
-        per_elem = 8 * (npe + 6 + NHIST + 8 + npe * dim + 4 * dim) + 8 * npe * 2
-        per_particle = 8 * (8 * dim + 16)  # state, rates, half-step copies, cell-sorted copy
-        particles = self.particles.n * per_particle if self.particles is not None else 0
-        return n * per_node + e * per_elem + particles
+        """Estimated bytes of a run of this model (the same figures `check_memory` uses)."""
+        particles = self.particles.n if self.particles is not None else 0
+        ale_nodes = len(self.ale.nodes) if self.ale is not None else 0
+        ale_elements = len(self.ale.elements) if self.ale is not None else 0
+        return ((self.n_nodes + ale_nodes) * BYTES_PER_NODE + (self.n_elements + ale_elements) * BYTES_PER_ELEMENT
+                + particles * BYTES_PER_PARTICLE)
+
+
+# Bytes a run holds per node, element and particle (model arrays, solver state, output buffers).
+BYTES_PER_NODE = 400
+BYTES_PER_ELEMENT = 900
+BYTES_PER_PARTICLE = 1000
+
+
+def estimate_counts(deck: Deck, name: str) -> tuple[int, int, int]:
+    """(nodes, elements, particles) a part will have, from the deck alone (0s for a mesh file)."""
+    part = deck.parts[name]
+    g = part.geometry
+    if part.spacing is not None:  # SPH: the lattice cells inside the shape's bounding box
+        if g.box is not None:
+            lengths = np.subtract(g.box.max, g.box.min)
+        elif g.ball is not None:
+            lengths = np.full(deck.dimension, 2.0 * g.ball.radius)
+        else:
+            lengths = np.ptp(np.array(g.polygon.vertices, dtype=float), axis=0)
+        return 0, 0, int(np.prod(np.maximum(np.rint(lengths / part.spacing), 1.0)))
+    if g.box is not None:
+        lengths = np.subtract(g.box.max, g.box.min)
+        div = (np.array(g.box.divisions, dtype=float) if g.box.divisions is not None
+               else np.maximum(np.rint(lengths / g.box.element_size), 1.0))
+        return int(np.prod(div + 1)), int(np.prod(div)), 0
+    if g.ring is not None or g.cylinder is not None:
+        r = g.ring or g.cylinder
+        layers = (g.cylinder.elements_along + 1) if g.cylinder is not None else 1
+        per_layer = r.elements_around * (r.elements_through + 1) + (r.elements_around // 4 + 1) ** 2
+        along = g.cylinder.elements_along if g.cylinder is not None else 1
+        return per_layer * layers, per_layer * along, 0
+    return 0, 0, 0
+
+
+def available_memory() -> int | None:
+    """Bytes of memory available to a new allocation (Linux MemAvailable), or None if unknown."""
+    try:
+        for line in Path("/proc/meminfo").read_text().splitlines():
+            if line.startswith("MemAvailable:"):
+                return int(line.split()[1]) * 1024
+    except OSError:
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (ValueError, OSError, AttributeError):
+        return None
+
+
+def check_memory(deck: Deck) -> None:
+    """Refuse, before allocating anything, a deck whose model would not fit in the available memory."""
+    available = available_memory()
+    if available is None:
+        return
+    total, largest, largest_name = 0, -1, ""
+    for name in deck.parts:
+        nodes, elements, particles = estimate_counts(deck, name)
+        need = nodes * BYTES_PER_NODE + elements * BYTES_PER_ELEMENT + particles * BYTES_PER_PARTICLE
+        total += need
+        if need > largest:
+            largest, largest_name = need, name
+    if total > available:
+        raise ModelError(
+            f"parts.{largest_name}.geometry",
+            f"the model needs about {total / 2**30:.1f} GiB, more than the {available / 2**30:.1f} GiB "
+            "available (coarsen the mesh or the particle spacing)",
+        )
 
 
 def build_model(deck: Deck, deck_path: Path) -> Model:
     """Mesh every part and pack every table of the deck into a :class:`Model`."""
+    check_memory(deck)
     dim = deck.dimension
     material_names = list(deck.materials)
     rows = [
@@ -192,6 +259,7 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
                                   False, kind=fluid_kind))
             continue
         mesh = _mesh_part(name, part, dim, deck_path)
+        _check_mesh(name, part, mesh)
         conns.append(mesh.elements + n_nodes)
         coords.append(mesh.nodes)
         mat = material_names.index(part.material)
@@ -284,7 +352,7 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
 def _region(fill):
     """inside(x, y) -> bool array for a fill's region."""
     if fill.box is not None:
-        (x0, y0), (x1, y1) = fill.box["min"], fill.box["max"]
+        (x0, y0), (x1, y1) = fill.box.min, fill.box.max
         return lambda x, y: (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1)
     if fill.ball is not None:
         (cx, cy), r = fill.ball.center, fill.ball.radius
@@ -370,6 +438,14 @@ def _mesh_part(name, part, dim, deck_path: Path) -> meshgen.MeshData:
         raise ModelError(where, str(exc).splitlines()[0]) from None
 
 
+def _check_mesh(name: str, part, mesh: meshgen.MeshData) -> None:
+    """A mesh the elements can work with: finite coordinates, every element of positive size."""
+    sizes = meshgen.element_jacobian_sign_check(mesh.nodes, mesh.elements)
+    if not (np.all(np.isfinite(mesh.nodes)) and np.all(np.isfinite(sizes)) and np.all(sizes > 0)):
+        raise ModelError(f"parts.{name}.geometry.{part.geometry.kind}",
+                         "the mesh has non-finite coordinates or elements of zero size (check the sizes and units)")
+
+
 def _hex_volumes(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
     """Exact trilinear hex8 volumes (the same ones the element kernel computes)."""
     from ..fem.kernels import hex8_gradient
@@ -403,15 +479,15 @@ def _resolve_sets(model: Model, deck: Deck) -> None:
             target = x[:, axis].max() if sign > 0 else x[:, axis].min()
             keep &= np.abs(x[:, axis] - target) <= tol
         if s.box is not None:
-            lo, hi = np.array(s.box["min"]), np.array(s.box["max"])
+            lo, hi = np.array(s.box.min), np.array(s.box.max)
             keep &= np.all((x >= lo - tol) & (x <= hi + tol), axis=1)
         if s.plane is not None:
-            normal = np.array(s.plane["normal"], dtype=float)
+            normal = np.array(s.plane.normal, dtype=float)
             normal /= np.linalg.norm(normal)
-            keep &= np.abs((x - np.array(s.plane["point"])) @ normal) <= tol
+            keep &= np.abs((x - np.array(s.plane.point)) @ normal) <= tol
         if s.sphere is not None:
-            dist = np.linalg.norm(x - np.array(s.sphere["center"]), axis=1)
-            keep &= np.abs(dist - s.radius) <= tol
+            dist = np.linalg.norm(x - np.array(s.sphere.center), axis=1)
+            keep &= np.abs(dist - s.sphere.radius) <= tol
         nodes = candidates[keep]
         if len(nodes) == 0:
             raise ModelError(f"sets.{name}", "the selection matches no node")

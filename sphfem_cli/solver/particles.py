@@ -37,7 +37,7 @@ class Particles:
             delta_hydrostatic=section.diffusion_hydrostatic, ghost_hydrostatic=section.ghost_hydrostatic,
             pressure_min=-np.inf if section.pressure_cutoff is None else section.pressure_cutoff,
             walls=tuple(walls), gravity=gravity,
-            domain=None if section.domain is None else (section.domain["min"], section.domain["max"]),
+            domain=None if section.domain is None else (section.domain.min, section.domain.max),
         )
         velocity = np.zeros_like(ps_model.x)
         for ic in deck.initial:

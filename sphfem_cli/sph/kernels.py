@@ -772,7 +772,8 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph)
                     j1 = cell_start[base + x1 + 1]
                     if cnt + (j1 - j0) + _PAD > nbj.shape[0]:
                         grown = np.empty(2 * (cnt + (j1 - j0) + _PAD), dtype=np.int64)
-                        grown[:cnt] = nbj[:cnt]
+                        for t in range(cnt):  # an explicit loop: slices inside prange trip numba's array analysis
+                            grown[t] = nbj[t]
                         nbj = grown
                     for j in range(j0, j1):
                         dx = xi - sx[j, 0]

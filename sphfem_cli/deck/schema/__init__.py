@@ -120,8 +120,6 @@ def _check_references(deck: Deck) -> None:
         _ref(s.part, deck.parts, f"sets.{sname}.part", "part")
         if s.part in sph_parts | ale_parts:
             raise ValueError(f"@sets.{sname}.part: sets select nodes of solid parts, '{s.part}' is a fluid part")
-        if s.sphere is not None and s.radius is None:
-            raise ValueError(f"@sets.{sname}.sphere: a sphere selection needs 'radius'")
         if s.side in ("back", "front") and deck.dimension == 2:
             raise ValueError(f"@sets.{sname}.side: side '{s.side}' exists only in 3D")
 

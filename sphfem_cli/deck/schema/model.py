@@ -44,6 +44,20 @@ class Units(DeckModel):
         return UNIT_SYSTEMS[(self.length, self.mass, self.time)]
 
 
+class Box(DeckModel):
+    """An axis-aligned box."""
+
+    min: Vector = Field(description="Lower corner [length].")
+    max: Vector = Field(description="Upper corner [length].")
+
+
+class Plane(DeckModel):
+    """A plane through a point."""
+
+    point: Vector = Field(description="A point on the plane [length].")
+    normal: Vector = Field(description="Normal direction [-].")
+
+
 class Control(DeckModel):
     """Run control."""
 
@@ -134,7 +148,7 @@ class SphSection(DeckModel):
     pressure_cutoff: float | None = Field(
         None, description="Lowest pressure a particle may carry (cavitation) [pressure]. Default none."
     )
-    domain: dict[Literal["min", "max"], Vector] | None = Field(
+    domain: Box | None = Field(
         None, description="{min, max}: particles leaving this box are deactivated and counted. Default none."
     )
 
@@ -267,7 +281,7 @@ class Fill(DeckModel):
     """A region of an ALE part holding one material, at a given state."""
 
     material: str = Field(description="Name of a fluid or void material.")
-    box: dict[Literal["min", "max"], Vector] | None = Field(None, description="{min, max} box.")
+    box: Box | None = Field(None, description="{min, max} box.")
     ball: BallGeometry | None = Field(None, description="A disc (2D).")
     polygon: PolygonGeometry | None = Field(None, description="A 2D polygon.")
     half_space: HalfSpace | None = Field(None, description="A half-space.")
@@ -312,14 +326,13 @@ class Selection(DeckModel):
     side: Literal["left", "right", "bottom", "top", "back", "front"] | None = Field(
         None, description="Nodes at the extreme x (left/right), y (bottom/top) or z (back/front) of the part."
     )
-    box: dict[Literal["min", "max"], Vector] | None = Field(None, description="{min: [...], max: [...]}.")
-    plane: dict[Literal["point", "normal"], Vector] | None = Field(
+    box: Box | None = Field(None, description="Nodes inside a box {min, max}.")
+    plane: Plane | None = Field(
         None, description="Nodes within tolerance of a plane {point, normal}."
     )
-    sphere: dict[Literal["center"], Vector] | None = Field(
-        None, description="{center: [...]} with radius: nodes within tolerance of a circle/sphere."
+    sphere: BallGeometry | None = Field(
+        None, description="Nodes within tolerance of a circle (2D) or sphere (3D) {center, radius}."
     )
-    radius: PositiveFloat | None = Field(None, description="Radius for sphere [length].")
     tolerance: NonNegativeFloat | None = Field(
         None, description="Distance tolerance [length]. Default 1e-6 of the model's size."
     )
