@@ -74,15 +74,13 @@ _HEX_FACES = np.array([
 
 @njit(cache=True)
 def quad4_gradient(x, b):
-    """Mean gradient b (2, 4) of a quad4 with corners x (4, 2); returns the area (b unset unless > 0).
+    """Mean gradient b (2, 4) of a quad4 with corners x (4, 2); returns the area (b is zero unless it is > 0).
 
     A = ((x2 - x0)(y3 - y1) + (x1 - x3)(y2 - y0)) / 2, b_xI = (y_{I+1} - y_{I-1}) / 2A,
     b_yI = (x_{I-1} - x_{I+1}) / 2A (the centre-point gradient, exact for the mean in 2D).
     """
     area = 0.5 * ((x[2, 0] - x[0, 0]) * (x[3, 1] - x[1, 1]) + (x[1, 0] - x[3, 0]) * (x[2, 1] - x[0, 1]))
-    if not area > 0.0:
-        return area  # inverted, collapsed or non-finite: b is not defined; the caller stops
-    inv = 0.5 / area
+    inv = 0.5 / area if area > 0.0 else 0.0  # inverted, collapsed or non-finite: the caller stops
     for i in range(4):
         nxt = (i + 1) % 4
         prv = (i + 3) % 4
@@ -93,7 +91,7 @@ def quad4_gradient(x, b):
 
 @njit(cache=True)
 def hex8_gradient(x, b):
-    """Mean gradient b (3, 8) = (1/V) dV/dx_I of a hex8 with corners x (8, 3); returns V (b unset unless > 0)."""
+    """Mean gradient b (3, 8) = (1/V) dV/dx_I of a hex8 with corners x (8, 3); returns V (b is zero unless V > 0)."""
     for k in range(3):
         for i in range(8):
             b[k, i] = 0.0
@@ -108,9 +106,7 @@ def hex8_gradient(x, b):
     volume = 0.0
     for i in range(8):
         volume += x[i, 0] * b[0, i]
-    if not volume > 0.0:
-        return volume  # inverted, collapsed or non-finite: b is not defined; the caller stops
-    inv = 1.0 / volume
+    inv = 1.0 / volume if volume > 0.0 else 0.0  # inverted, collapsed or non-finite: the caller stops
     for k in range(3):
         for i in range(8):
             b[k, i] *= inv
