@@ -94,13 +94,18 @@ def check(deck: str) -> None:
 
     model = loaded.model
     d = loaded.deck
+    try:
+        dt = Simulation(model).stable_dt()
+    except RunStopped as err:
+        raise DeckProblem(f"{deck}:1:1: model: {err}") from None
     force, pressure, density = d.units.derived
     click.echo(f"{d.title or Path(deck).name}")
     click.echo(f"  units: {d.units.length}-{d.units.mass}-{d.units.time} "
                f"(force {force}, pressure {pressure}, density {density}); dimension {d.dimension}")
     n_particles = model.particles.n if model.particles is not None else 0
-    click.echo(f"  {model.n_nodes} nodes, {model.n_elements} elements, {n_particles} particles, "
-               f"{len(model.parts)} part(s)")
+    n_nodes = model.n_nodes + (len(model.ale.nodes) if model.ale is not None else 0)
+    n_elements = model.n_elements + (len(model.ale.elements) if model.ale is not None else 0)
+    click.echo(f"  {n_nodes} nodes, {n_elements} elements, {n_particles} particles, {len(model.parts)} part(s)")
     for p in model.parts:
         kind = "rigid" if p.rigid else d.parts[p.name].section
         if p.kind == "sph":
@@ -117,13 +122,8 @@ def check(deck: str) -> None:
     for name, m in d.materials.items():
         density = f", density {m.density:g}" if hasattr(m, "density") else ""
         click.echo(f"  material {name}: {m.type}{density}")
-    try:
-        sim = Simulation(model)
-    except RunStopped as err:
-        raise DeckProblem(f"{deck}:1:1: model: {err}") from None
-    dt = sim.stable_dt()
     click.echo(f"  stable time step {dt:.4e} (timestep_scale {d.control.timestep_scale}), "
-               f"about {int(d.control.end_time / dt) + 1} steps to end_time {d.control.end_time:g}")
+               f"about {d.control.end_time / dt:.3g} steps to end_time {d.control.end_time:g}")
     click.echo(f"  memory estimate {model.memory_bytes() / 2**20:.1f} MiB")
 
 

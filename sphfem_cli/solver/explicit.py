@@ -178,6 +178,9 @@ class Simulation:
             dt = min(dt, self.control.dt_max)
         if not np.isfinite(dt):
             return self.control.end_time / 1000.0  # nothing deformable limits the step
+        if not dt > 0.0:
+            raise RunStopped(f"the stable time step of the {limiter} domain is {dt:g} at t = {st.time:.6e} "
+                             "(remedies: check the material and equation-of-state constants and the units)")
         if self._dt_first is None:
             self._dt_first = dt
         collapsed = dt < DT_COLLAPSE * self._dt_first
