@@ -447,9 +447,6 @@ class AleSystem:
     def mixture_density(self) -> np.ndarray:
         return self.mass_m.sum(axis=1) / self.vol_m.sum(axis=1)
 
-    def specific_energy(self) -> np.ndarray:
-        return np.where(self.mass_m > 0, self.ener_m / np.where(self.mass_m > 0, self.mass_m, 1.0), 0.0)
-
     def pressure(self, mixture: bool = False) -> np.ndarray:
         """Material pressures (E, N) from the EOS at the current state, or the mixture (E,) value."""
         self._forces()

@@ -396,12 +396,6 @@ class ParticleSystem:
         """Total linear momentum of the active particles."""
         return (self.m[self.active, None] * self.v[self.active]).sum(axis=0)
 
-    def accelerations(self) -> np.ndarray:
-        """Total acceleration acc + g + f_ext/m of every particle at the last evaluation."""
-        a = self.acc + self.gravity[: self.dim] + self.f_ext / self.m[:, None]
-        a[~self.active] = 0.0
-        return a
-
     def _pad(self, points) -> np.ndarray:
         pts = np.atleast_2d(np.asarray(points, dtype=np.float64))
         out = np.zeros((len(pts), 3))
