@@ -15,18 +15,8 @@ import numba
 import numpy as np
 
 from sphfem_cli.ale import AleSystem, fill_fractions
-from sphfem_cli.materials import kernels as mk
+from sphfem_cli.materials.tables import gas_row
 from sphfem_cli.model.mesh import box_mesh
-
-
-def gas_row(gamma, rho0, p_inf=0.0):
-    p = np.zeros(mk.NPARAM)
-    p[mk.P_RHO0] = rho0
-    p[mk.P_EOS_TYPE] = mk.EOS_IDEAL_GAS if p_inf == 0 else mk.EOS_STIFFENED_GAS
-    p[mk.EOS_OFFSET] = rho0
-    p[mk.EOS_OFFSET + 3] = gamma
-    p[mk.EOS_OFFSET + 4] = p_inf
-    return p
 
 
 def build(n, two):

@@ -127,3 +127,13 @@ def pack_material(material, eos=None) -> tuple[int, np.ndarray]:
     elif not isinstance(material, (sm.Elastic, sm.Rigid)):
         raise TypeError(f"not a material model: {type(material).__name__}")
     return MATERIAL_IDS[material.type], p
+
+
+def gas_row(gamma: float, density: float, p_inf: float = 0.0) -> np.ndarray:
+    """Parameter row of a fluid with an ideal-gas (p_inf = 0) or stiffened-gas EOS.
+
+    For scripts and tests that build an ALE or SPH system directly, without a deck.
+    """
+    eos = (sm.IdealGas(type="ideal_gas", gamma=gamma) if p_inf == 0.0
+           else sm.StiffenedGas(type="stiffened_gas", gamma=gamma, p_inf=p_inf))
+    return pack_material(sm.Fluid(type="fluid", density=density, eos="gas"), eos)[1]

@@ -9,17 +9,8 @@ from sphfem_cli.ale import AleSystem, build_topology, energy_from_pressure, fill
 from sphfem_cli.ale import kernels as K
 from sphfem_cli.ale import reference as R
 from sphfem_cli.materials import kernels as mk
+from sphfem_cli.materials.tables import gas_row as _gas
 from sphfem_cli.model.mesh import box_mesh
-
-
-def _gas(gamma, rho0, p_inf=0.0):
-    p = np.zeros(mk.NPARAM)
-    p[mk.P_RHO0] = rho0
-    p[mk.P_EOS_TYPE] = mk.EOS_IDEAL_GAS if p_inf == 0 else mk.EOS_STIFFENED_GAS
-    p[mk.EOS_OFFSET] = rho0
-    p[mk.EOS_OFFSET + 3] = gamma
-    p[mk.EOS_OFFSET + 4] = p_inf
-    return p
 
 
 def _system(nx=4, ny=3, seed=0, **kw):
