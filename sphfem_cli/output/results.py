@@ -66,13 +66,12 @@ class RunOutput:
     def __call__(self, force: bool = False) -> None:
         """Write whatever is due at the current state (everything when `force`)."""
         t = self.sim.state.time
-        eps = 1e-9 * self.history_interval
-        if force or t >= self._next_history - eps:
+        if force or _due(t, self._next_history, self.history_interval):
             self.write_histories()
-            self._next_history = (np.floor((t + eps) / self.history_interval) + 1) * self.history_interval
-        if force or t >= self._next_field - 1e-9 * self.field_interval:
+            self._next_history = _next_after(t, self.history_interval)
+        if force or _due(t, self._next_field, self.field_interval):
             self.write_fields()
-            self._next_field = (np.floor((t + 1e-9 * self.field_interval) / self.field_interval) + 1) * self.field_interval
+            self._next_field = _next_after(t, self.field_interval)
 
     def next_field_time(self) -> float:
         """The next field-output time; the solver lands on it exactly."""
@@ -132,6 +131,16 @@ class RunOutput:
         self.xdmf.close()
 
 
+def _due(t: float, next_time: float, interval: float) -> bool:
+    """t has reached next_time, within round-off of the interval."""
+    return t >= next_time - 1e-9 * interval
+
+
+def _next_after(t: float, interval: float) -> float:
+    """The first multiple of interval after t (t itself counting as reached within round-off)."""
+    return (np.floor((t + 1e-9 * interval) / interval) + 1) * interval
+
+
 class _HistoryProbe:
     """One requested history: mean over nodes of a part/set, or the node/element nearest a point."""
 
@@ -143,12 +152,12 @@ class _HistoryProbe:
             point = np.array(request.point)
             self.nodes = np.array([int(np.argmin(np.linalg.norm(model.coordinates - point, axis=1)))])
             centres = model.coordinates[model.connectivity].mean(axis=1)
-            self.element = int(np.argmin(np.linalg.norm(centres - point, axis=1)))
+            nearest = int(np.argmin(np.linalg.norm(centres - point, axis=1)))
+            self.element_rows = slice(nearest, nearest + 1)
         else:
             self.nodes = model.target_nodes(request.part, request.set)
-            self.element = None
-            if request.part is not None:
-                self.elements = model.parts[model.part_index(request.part)].elements
+            self.element_rows = (model.parts[model.part_index(request.part)].elements if request.part is not None
+                                 else slice(0, model.n_elements))
         self.quantities = list(request.quantities)
         columns = ["time"]
         axes = "xyz"[:dim]
@@ -163,12 +172,7 @@ class _HistoryProbe:
 
     def _element_values(self, q: str) -> list[float]:
         st = self.sim.state
-        if self.element is not None:
-            rows = slice(self.element, self.element + 1)
-        elif hasattr(self, "elements"):
-            rows = self.elements
-        else:
-            rows = slice(0, self.sim.model.n_elements)
+        rows = self.element_rows
         stress = st.stress[rows]
         if q == "stress":
             return list(stress.mean(axis=0))
