@@ -12,7 +12,7 @@ import numpy as np
 
 from ..deck.schema import Deck
 from ..deck.schema.model import SegmentSet
-from ..fem.kernels import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2
+from ..fem.kernels import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2, hex8_volumes
 from ..materials.kernels import NHIST, NPARAM, RIGID
 
 VOID = -1  # material type id of void (ALE only; no row in the kernels)
@@ -281,9 +281,10 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     element_section = np.array([parts[i].section for i in element_part], dtype=np.int64)
     element_active = np.array([not parts[i].rigid for i in element_part])
 
-    volume0 = meshgen.element_jacobian_sign_check(coordinates, connectivity)
-    if dim == 3:
-        volume0 = _hex_volumes(coordinates, connectivity)
+    if dim == 3 and len(connectivity):
+        volume0 = hex8_volumes(coordinates, connectivity)
+    else:
+        volume0 = meshgen.element_jacobian_sign_check(coordinates, connectivity)  # exact quad4 areas
     mass = np.zeros(len(coordinates))
     np.add.at(mass, connectivity, (material_param[element_material, 0] * volume0 / npe)[:, None])
 
@@ -444,14 +445,6 @@ def _check_mesh(name: str, part, mesh: meshgen.MeshData) -> None:
     if not (np.all(np.isfinite(mesh.nodes)) and np.all(np.isfinite(sizes)) and np.all(sizes > 0)):
         raise ModelError(f"parts.{name}.geometry.{part.geometry.kind}",
                          "the mesh has non-finite coordinates or elements of zero size (check the sizes and units)")
-
-
-def _hex_volumes(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
-    """Exact trilinear hex8 volumes (the same ones the element kernel computes)."""
-    from ..fem.kernels import hex8_gradient
-
-    b = np.empty((3, 8))
-    return np.array([hex8_gradient(x[c], b) for c in conn])
 
 
 def _node_element_map(conn: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:
