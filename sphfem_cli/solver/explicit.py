@@ -7,6 +7,20 @@ Step n -> n+1, with forces F^n known:
   4. loads F_ext^{n+1}; energy accounting; next dt = timestep_scale * min element dt.
 SPH particles (solver.particles) and the ALE mesh (solver.ale_domain), when the deck has them,
 advance with the same dt, the smallest stable step of all.
+
+Contacts and couplings (`interactions`, from the deck's `contacts` and `couplings`) act at the
+start of each step, on the state n of every domain: each adds its forces to `State.f_contact`
+(solid nodes) and to the fluid's external-force array (`ParticleSystem.f_ext`, the ALE coupling
+forces), which the loop clears first. Each interaction object provides
+
+    forces(st)                                   add the forces of state n
+    stable_dt() -> float                         the largest step its stiffness allows (inf if none)
+    record_work(dt, dt_avg, v_old, st)           after the step: the work its forces did on every side
+    work: float                                  that work, summed; its contact energy is -work
+
+Solid nodes see the forces through the same central difference as f_ext, particles through their
+leapfrog kick; both give every force the weight dt_avg, so equal and opposite forces conserve the
+total momentum exactly.
 """
 from __future__ import annotations
 
@@ -50,6 +64,7 @@ class State:
     volume: np.ndarray
     q_visc: np.ndarray
     node_power: np.ndarray
+    f_contact: np.ndarray
     dt_prev: float = 0.0
     external_work: float = 0.0
     initial_energy: float = 0.0
@@ -63,15 +78,16 @@ class EnergyRow:
     kinetic: float
     internal: float
     hourglass: float
+    contact: float
     external_work: float
     total: float
     ratio: float
     dt: float
 
-    COLUMNS = ("time", "kinetic", "internal", "hourglass", "external_work", "total", "energy_ratio", "dt")
+    COLUMNS = ("time", "kinetic", "internal", "hourglass", "contact", "external_work", "total", "energy_ratio", "dt")
 
     def values(self) -> list[float]:
-        return [self.time, self.kinetic, self.internal, self.hourglass, self.external_work,
+        return [self.time, self.kinetic, self.internal, self.hourglass, self.contact, self.external_work,
                 self.total, self.ratio, self.dt]
 
 
@@ -100,6 +116,15 @@ class Simulation:
             from .ale_domain import AleDomain
 
             self.ale = AleDomain(model)
+        self.interactions = []
+        if deck.contacts:
+            from ..contact.system import NodesToSurfaceContact
+
+            self.interactions += [NodesToSurfaceContact(self, spec) for spec in deck.contacts]
+        if deck.couplings:
+            from ..contact.coupling import LagrangeInSolidCoupling
+
+            self.interactions += [LagrangeInSolidCoupling(self, spec) for spec in deck.couplings]
         self._dt_first: float | None = None
         self.state = self._initial_state()
 
@@ -121,6 +146,7 @@ class Simulation:
             stress=np.zeros((e, 6)), hist=np.zeros((e, NHIST)), energy=e0,
             hg_energy=np.zeros(e), hg_force=np.zeros((e, n_modes, dim)),
             volume=m.volume0.copy(), q_visc=np.zeros(e), node_power=np.zeros(n),
+            f_contact=np.zeros((n, dim)),
         )
         # Stable step and forces of the initial configuration (zero-length step).
         if self.has_solids:
@@ -174,6 +200,10 @@ class Simulation:
                                  "(remedies: lower the section's courant, check the equations of state and units)")
             if dt_ale < dt:
                 dt, limiter = dt_ale, "ale"
+        for it in self.interactions:
+            dt_it = self.control.timestep_scale * it.stable_dt()
+            if dt_it < dt:
+                dt, limiter = dt_it, "contact"
         if self.control.dt_max is not None:
             dt = min(dt, self.control.dt_max)
         if not np.isfinite(dt):
@@ -189,7 +219,7 @@ class Simulation:
                 e = int(np.argmin(self._dt_elem))
                 where = f"element {e} of part '{self._part_of(e)}'"
             else:
-                where = "the SPH particles" if limiter == "sph" else "the ALE mesh"
+                where = {"sph": "the SPH particles", "ale": "the ALE mesh", "contact": "a contact's stiffness"}[limiter]
             floor = (f"1/{1 / DT_COLLAPSE:.0f} of the first step {self._dt_first:.3e}" if collapsed
                      else f"dt_min {self.control.dt_min:.3e}")
             raise RunStopped(
@@ -210,6 +240,9 @@ class Simulation:
         dt = self._step_size(st)
         dt = min(dt, max(stop - st.time, 1e-6 * dt))
         dt_avg = 0.5 * dt if st.step == 0 else 0.5 * (st.dt_prev + dt)
+        if self.interactions:
+            self._interaction_forces(st)
+            v_old = st.v.copy()
         if self.has_solids:
             self._solid_step(st, dt, dt_avg)
         st.time += dt
@@ -223,16 +256,27 @@ class Simulation:
             self.particles.step(dt)
         if self.ale is not None:
             self.ale.step(dt)
+        for it in self.interactions:
+            it.record_work(dt, dt_avg, v_old, st)
         st.dt = self._solid_dt(st)
+
+    def _interaction_forces(self, st: State) -> None:
+        """Contact and coupling forces of state n, into cleared arrays."""
+        st.f_contact[:] = 0.0
+        if self.particles is not None:
+            self.particles.system.f_ext[:] = 0.0
+        for it in self.interactions:
+            it.forces(st)
 
     def _solid_step(self, st: State, dt: float, dt_avg: float) -> None:
         """Nodes and rigid bodies from n to n+1 with the forces of step n."""
         t_mid = st.time + 0.5 * dt
         self.constraints.update(t_mid)
+        f_applied = st.f_ext + st.f_contact if self.interactions else st.f_ext
         if self.rigid.bodies:
-            self.rigid.kick(st.f_int + st.f_ext, t_mid, dt_avg, st.x)
+            self.rigid.kick(st.f_int + f_applied, t_mid, dt_avg, st.x)
         fem.central_difference_update(
-            st.x, st.v, st.f_int, st.f_ext, self.inv_mass, self.constraints.free,
+            st.x, st.v, st.f_int, f_applied, self.inv_mass, self.constraints.free,
             self.constraints.v_prescribed, dt_avg, dt, st.node_power,
         )
         st.external_work += float(np.sum(st.node_power))
@@ -272,10 +316,12 @@ class Simulation:
         if self.ale is not None:
             ke_a, ie_a = self.ale.energies()
             ke, ie = ke + ke_a, ie + ie_a
-        total = ke + ie + hg
+        contact_work = sum(it.work for it in self.interactions)
+        work -= contact_work  # the solids' and fluids' work sums include the contact forces
+        total = ke + ie + hg - contact_work
         reference = st.initial_energy + work - lost
         ratio = total / reference if abs(reference) > 1e-300 else 1.0
-        return EnergyRow(st.time, ke, ie, hg, work, total, ratio, st.dt_prev)
+        return EnergyRow(st.time, ke, ie, hg, -contact_work, work, total, ratio, st.dt_prev)
 
     def part_energies(self) -> np.ndarray:
         """(parts, 3): kinetic, internal, hourglass per part (LS-DYNA matsum)."""

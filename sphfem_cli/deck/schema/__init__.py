@@ -10,6 +10,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from .base import DeckModel, check_vector_lengths
+from .interaction import Contact, Coupling, LagrangeInSolid, NodesToSurface
 from .materials import EquationOfState, Material
 from .model import (
     MESH_KINDS,
@@ -53,6 +54,8 @@ class Deck(DeckModel):
     boundaries: list[Boundary] = Field(default_factory=list, description="Kinematic boundary conditions.")
     initial: list[Initial] = Field(default_factory=list, description="Initial conditions.")
     loads: list[Load] = Field(default_factory=list, description="Loads.")
+    contacts: list[Contact] = Field(default_factory=list, description="Penalty contacts (SPH or nodes to surfaces).")
+    couplings: list[Coupling] = Field(default_factory=list, description="ALE fluid to structure couplings.")
     output: Output = Field(default_factory=Output, description="Output requests.")
 
     @model_validator(mode="after")
@@ -181,11 +184,50 @@ def _check_references(deck: Deck) -> None:
         check_target(h, f"output.histories.{i}")
         if h.part in sph_parts | ale_parts:
             raise ValueError(f"@output.histories.{i}.part: '{h.part}' is a fluid part: use output.probes or fields")
-    if len(ale_parts) > 1:
-        raise ValueError(f"@parts.{sorted(ale_parts)[1]}: one ALE part per deck (several material groups fill it)")
         if h.name in names:
             raise ValueError(f"@output.histories.{i}.name: duplicate history name '{h.name}'")
         names.add(h.name)
+    if len(ale_parts) > 1:
+        raise ValueError(f"@parts.{sorted(ale_parts)[1]}: one ALE part per deck (several material groups fill it)")
+    _check_interactions(deck, sph_parts, ale_parts)
+
+
+def _check_interactions(deck: Deck, sph_parts: set, ale_parts: set) -> None:
+    """Contacts and couplings name existing parts and sets of the right kinds."""
+    fluid_parts = sph_parts | ale_parts
+
+    def surface(name: str, path: str) -> None:
+        if name in deck.sets:
+            if not isinstance(deck.sets[name], SegmentSet):
+                raise ValueError(f"@{path}: '{name}' is a node set; a surface is a solid part or a segment set")
+            return
+        _ref(name, deck.parts, path, "part or segment set")
+        if name in fluid_parts:
+            raise ValueError(f"@{path}: '{name}' is a fluid part; a surface is a solid part or a segment set")
+
+    for i, c in enumerate(deck.contacts):
+        path = f"contacts.{i}"
+        surface(c.surface, f"{path}.surface")
+        if c.nodes in deck.sets:
+            if isinstance(deck.sets[c.nodes], SegmentSet):
+                raise ValueError(f"@{path}.nodes: '{c.nodes}' is a segment set; slaves are a part or a node set")
+        else:
+            _ref(c.nodes, deck.parts, f"{path}.nodes", "part or node set")
+            if c.nodes in ale_parts:
+                raise ValueError(f"@{path}.nodes: '{c.nodes}' is an ALE part: couple it with couplings.lagrange_in_solid")
+        if c.nodes == c.surface:
+            raise ValueError(f"@{path}.nodes: a part cannot be in contact with itself")
+    for i, c in enumerate(deck.couplings):
+        path = f"couplings.{i}"
+        surface(c.structure, f"{path}.structure")
+        _ref(c.fluid, deck.parts, f"{path}.fluid", "part")
+        if c.fluid not in ale_parts:
+            raise ValueError(f"@{path}.fluid: '{c.fluid}' is not an ALE part")
+        for j, mname in enumerate(c.materials or []):
+            groups = [deck.parts[c.fluid].material] + [f.material for f in deck.parts[c.fluid].fill]
+            if mname not in groups:
+                raise ValueError(f"@{path}.materials.{j}: '{mname}' is not a material of ALE part '{c.fluid}' "
+                                 f"(its materials: {', '.join(groups)})")
 
 
 def _check_ale_part(deck: Deck, pname: str, part) -> None:

@@ -1,0 +1,9 @@
+"""Contact and coupling: penalty forces between slave points and master segments.
+
+- `surface`: master segments (outer faces of solid parts, or segment sets) with their owners.
+- `kernels`: the compiled search and penalty kernels of nodes-to-surface contact.
+- `system`: `NodesToSurfaceContact`, the deck's `contacts` inside the explicit loop.
+- `coupling`, `coupling_kernels`: `LagrangeInSolidCoupling`, the deck's ALE-to-structure `couplings`.
+
+Imported only when a deck has contacts or couplings (see solver.explicit for the interface).
+"""

@@ -1,0 +1,65 @@
+"""Contacts and couplings: how fluids and structures push on each other.
+
+`contacts` are penalty contacts with points as slaves (SPH particles or the nodes of a solid part)
+and the outer faces of a solid part as master segments (LS-DYNA *CONTACT_AUTOMATIC_NODES_TO_SURFACE).
+`couplings` join an ALE fluid to a Lagrangian structure (LS-DYNA *CONSTRAINED_LAGRANGE_IN_SOLID,
+penalty form).
+"""
+from __future__ import annotations
+
+from typing import Annotated, Literal, Union
+
+from pydantic import Field
+
+from .base import DeckModel, NonNegativeFloat, PositiveFloat
+
+
+class NodesToSurface(DeckModel):
+    """Penalty contact: slave points (particles or nodes) against master segments."""
+
+    type: Literal["nodes_to_surface"] = Field(description="Contact selector: nodes (or SPH particles) to surface.")
+    nodes: str = Field(description="Slave side: an SPH part (its particles), a solid part (its nodes) or a node set.")
+    surface: str = Field(
+        description="Master side: a solid or rigid part (its outer faces) or a segment set."
+    )
+    thickness: PositiveFloat | None = Field(
+        None, description="Contact distance from the master surface at which the slave is pushed back [length]. "
+        "Default half the particle spacing for SPH slaves, 0.1 of the master's smallest element edge for node slaves."
+    )
+    stiffness: Literal["penalty", "soft_constraint"] = Field(
+        "penalty", description="penalty: k = penalty_scale K A^2/V (3D) or K L^2/A (2D) from the master element's "
+        "bulk modulus K; soft_constraint: k = soft_scale m_slave / dt0^2 from the slave's mass and the first step, "
+        "for a soft slave against a stiff master. Default penalty."
+    )
+    penalty_scale: PositiveFloat = Field(0.1, description="Scale of the penalty stiffness [-]. Default 0.1.")
+    soft_scale: PositiveFloat = Field(0.1, description="Scale of the soft-constraint stiffness [-]. Default 0.1.")
+    damping: NonNegativeFloat = Field(
+        0.0, le=1.0, description="Viscous contact damping, fraction of critical for the slave's mass [-]. Default 0."
+    )
+    friction: NonNegativeFloat = Field(0.0, description="Coulomb friction coefficient [-]. Default 0 (frictionless).")
+
+
+class LagrangeInSolid(DeckModel):
+    """Penalty coupling of an ALE fluid to the faces of a Lagrangian structure."""
+
+    type: Literal["lagrange_in_solid"] = Field(description="Coupling selector: ALE fluid to structure.")
+    structure: str = Field(description="The structure: a solid or rigid part (its outer faces) or a segment set.")
+    fluid: str = Field(description="The ALE part.")
+    materials: list[str] | None = Field(
+        None, description="Fluid materials that couple. Default all non-void materials of the ALE part."
+    )
+    nquad: int = Field(2, ge=1, le=5, description="Coupling points per segment direction [-]. Default 2.")
+    min_fraction: float = Field(
+        0.5, gt=0.0, le=1.0, description="Fluid volume fraction from which an ALE element couples [-]. Default 0.5."
+    )
+    pfac: PositiveFloat = Field(0.1, description="Scale of the penalty stiffness from the fluid's bulk modulus [-]. Default 0.1.")
+    damping: NonNegativeFloat = Field(
+        0.0, le=1.0, description="Viscous coupling damping, fraction of critical [-]. Default 0."
+    )
+    leakage_control: bool = Field(
+        True, description="Push back fluid found behind the structure's surface (LS-DYNA ILEAK). Default true."
+    )
+
+
+Contact = Annotated[Union[NodesToSurface], Field(discriminator="type")]
+Coupling = Annotated[Union[LagrangeInSolid], Field(discriminator="type")]
