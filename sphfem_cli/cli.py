@@ -136,8 +136,15 @@ def check(deck: str) -> None:
                    "(small models run fastest on one thread).")
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing but errors.")
 @click.option("-v", "--verbose", is_flag=True, help="Print the energy balance at every field output.")
-def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose: bool) -> None:
-    """Run DECK and write XDMF/HDF5 fields and CSV histories to the output folder."""
+@click.option("--restart", "restart", type=click.Path(dir_okay=False), default=None,
+              help="Continue the run from this checkpoint (e.g. <output>/checkpoint.pkl), appending to the output "
+                   "folder's histories and XDMF series; the deck must be the one the run started from.")
+def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose: bool, restart: str | None) -> None:
+    """Run DECK and write XDMF/HDF5 fields and CSV histories to the output folder.
+
+    A checkpoint (checkpoint.pkl in the output folder) is written at every field output (or every
+    control.checkpoint_interval) and on Ctrl-C or SIGTERM; --restart continues from it.
+    """
     loaded = load_model(deck)
     import numba
 
@@ -147,7 +154,7 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
     numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     out = Path(outdir) if outdir else Path.cwd() / f"{Path(deck).stem}_results"
     out.mkdir(parents=True, exist_ok=True)
-    code = execute(loaded, out, quiet=quiet, verbose=verbose)
+    code = execute(loaded, out, quiet=quiet, verbose=verbose, restart=Path(restart) if restart else None)
     sys.exit(code)
 
 
@@ -168,31 +175,81 @@ def regress(decks, update_refs, end_time_fraction, references, failures_only) ->
                           failures_only=failures_only, echo=click.echo))
 
 
-def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = False) -> int:
-    """Run a built model into `out`; returns the exit code. Keeps the effective deck and a log."""
+def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = False, restart: Path | None = None) -> int:
+    """Run a built model into `out`; returns the exit code. Keeps the effective deck and a log.
+
+    Checkpoints (`output.checkpoint`) go to `out`/checkpoint.pkl: at every field output, or every
+    control.checkpoint_interval of simulated time and control.checkpoint_wall_interval of wall time,
+    and when Ctrl-C or SIGTERM stops the run (after the step under way; a second signal stops at once,
+    without a checkpoint). `restart` continues the run of a checkpoint in `out`.
+    """
     import numba
     import yaml
 
+    from .output.checkpoint import CHECKPOINT_NAME, CheckpointError, deck_hash, read_checkpoint, write_checkpoint
     from .output.results import RunOutput
     from .solver.explicit import RunStopped, Simulation
+
+    digest = deck_hash(loaded.deck, loaded.model)
+    payload = None
+    if restart is not None:
+        try:
+            payload = read_checkpoint(restart, digest)
+        except CheckpointError as err:
+            raise DeckProblem(str(err)) from None
+    checkpoint_path = out / CHECKPOINT_NAME
 
     (out / "deck.effective.yaml").write_text(
         f"# {loaded.path} with every default filled in (sphfem {__version__})\n"
         + yaml.safe_dump(loaded.deck.model_dump(mode="json"), sort_keys=False)
     )
-    log = _RunLog(out / "run.log", loaded.path)
-    previous_term = signal.signal(signal.SIGTERM, _terminate)
+    log = _RunLog(out / "run.log", loaded.path, append=payload is not None)
+    stop = _StopRequest()
+    previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGINT, signal.SIGTERM)}
     start = time.perf_counter()
-    status, message = "completed", ""
+    status, message, stopped = "completed", "", None
     output = None
+    control = loaded.deck.control
+    last_checkpoint: tuple[float, int] | None = None
     try:
-        sim = Simulation(loaded.model)
-        output = RunOutput(sim, out)
+        if payload is None:
+            sim = Simulation(loaded.model)
+            output = RunOutput(sim, out)
+        else:
+            sim = payload["simulation"]
+            try:
+                output = RunOutput(sim, out, resume=payload["output"])
+            except (OSError, ValueError, KeyError) as err:
+                raise DeckProblem(f"{restart}: the output folder {out} does not hold the run of this checkpoint "
+                                  f"({err}); give the run's folder with -o") from None
+            log.write(f"restarted from {restart} at t = {sim.state.time:.6e}, step {sim.state.step}\n")
+            last_checkpoint = (sim.state.time, sim.state.step)
         output()
+        next_checkpoint = [_next_multiple(sim.state.time, control.checkpoint_interval)]
+        last_wall = [time.monotonic()]
+
+        def checkpoint(st) -> None:
+            nonlocal last_checkpoint
+            write_checkpoint(checkpoint_path, sim, output.state(), digest)
+            last_checkpoint = (st.time, st.step)
+            last_wall[0] = time.monotonic()
+
         with _Progress(sim, enabled=not quiet and sys.stderr.isatty()) as progress:
             def on_step(st):
                 fields_before = output.xdmf.n_steps
                 output()
+                if control.checkpoint_interval is None:
+                    due = output.xdmf.n_steps > fields_before
+                else:
+                    due = st.time >= next_checkpoint[0] * (1.0 - 1e-12)
+                    if due:
+                        next_checkpoint[0] = _next_multiple(st.time, control.checkpoint_interval)
+                wall = control.checkpoint_wall_interval
+                if due or (wall is not None and time.monotonic() - last_wall[0] >= wall):
+                    checkpoint(st)
+                if stop.signum is not None:
+                    checkpoint(st)  # the step is complete: a consistent state to restart from
+                    raise _Interrupted
                 progress.update(st)
                 if verbose and output.xdmf.n_steps > fields_before:
                     row = sim.energy_row()
@@ -201,14 +258,23 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
                                   f"energy ratio {row.ratio:.5f}")
             sim.run(on_step, next_stop=output.next_field_time)
     except RunStopped as err:
-        status, message = "stopped by a guard", str(err)
-    except KeyboardInterrupt:
-        status, message = "interrupted", "interrupted; the output so far is kept and the last state written"
+        status, message, stopped = "stopped by a guard", str(err), err
+    except DeckProblem:
+        log.close("refused", "", 0.0, 0, numba.get_num_threads())
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+        raise
+    except KeyboardInterrupt as err:
+        status = "interrupted"
+        message = "interrupted; the output so far is kept and the last state written"
+        if isinstance(err, _Interrupted):
+            message += f"; continue with --restart {checkpoint_path}"
     except Exception as err:  # noqa: BLE001 - the CLI's last line of defence
         status, message = "internal error", f"{type(err).__name__}: {err}"
         log.write(traceback.format_exc())
     finally:
-        signal.signal(signal.SIGTERM, previous_term)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
         if output is not None:
             try:
                 if status != "completed":
@@ -217,15 +283,19 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
                 output.close()
     wall = time.perf_counter() - start
     steps = output.sim.state.step if output else 0
+    eroded = output.sim.erosion_summary() if output else ""
+    if eroded:
+        log.write(f"erosion: {eroded}\n" + "".join(f"  t = {t:.6e}: element {e} of part '{p}' ({why})\n"
+                                                   for t, e, p, why in output.sim.eroded))
     log.close(status, message, wall, steps, numba.get_num_threads())
     if status == "completed":
         if not quiet:
             row = output.last_energy
             click.echo(f"completed: t = {output.sim.state.time:.6g}, {steps} steps, {wall:.2f} s wall, "
-                       f"energy ratio {row.ratio:.4f}; results in {out}", err=True)
+                       f"energy ratio {row.ratio:.4f}{'; ' + eroded if eroded else ''}; results in {out}", err=True)
         return EXIT_OK
     if status == "stopped by a guard":
-        (out / "diagnostics.txt").write_text(message + "\n")
+        _write_diagnostics(out / "diagnostics.txt", stopped, output, last_checkpoint, checkpoint_path, loaded.path)
         click.echo(f"run stopped: {message}; last state written to {out}", err=True)
         return EXIT_GUARD
     if status == "interrupted":
@@ -235,14 +305,69 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
     return EXIT_INTERNAL
 
 
-def _terminate(signum, frame):
-    """SIGTERM ends a run as Ctrl-C does: the last state is written and the files closed."""
-    raise KeyboardInterrupt
+class _Interrupted(KeyboardInterrupt):
+    """Ctrl-C or SIGTERM, acted on after a complete step (a checkpoint was written)."""
+
+
+class _StopRequest:
+    """Signal handler for SIGINT and SIGTERM: the first asks the loop to stop after the step under way
+    (checkpoint, last state, files closed); a second stops at once."""
+
+    def __init__(self):
+        self.signum: int | None = None
+
+    def __call__(self, signum, frame):
+        if self.signum is not None:
+            raise KeyboardInterrupt
+        self.signum = signum
+
+
+def _next_multiple(t: float, interval: float | None) -> float:
+    """The first multiple of interval after t (inf without an interval)."""
+    if interval is None:
+        return float("inf")
+    return (int((t + 1e-9 * interval) // interval) + 1) * interval
+
+
+_REMEDIES = {
+    "non_finite": "lower timestep_scale; check material constants, equations of state and units",
+    "negative_volume": "lower timestep_scale; refine the mesh where it inverts; raise the hourglass stiffness; "
+                       "or let the part erode (parts.<name>.erosion)",
+    "time_step": "look at the element or domain named; a collapsing element or violent impact; lower dt_min",
+    "energy_ratio": "lower timestep_scale; raise the hourglass stiffness when hourglass energy grows; refine; "
+                    "check contact stiffness; widen control.energy_band if the energy change is physical",
+    "lost_particles": "enlarge the SPH section's domain or add walls; lower timestep_scale if particles were "
+                      "thrown out by a blow-up; raise control.max_lost_fraction",
+    "penetration": "raise the contact's penalty_scale; lower timestep_scale; refine the master surface",
+}
+
+
+def _write_diagnostics(path: Path, err, output, last_checkpoint, checkpoint_path: Path, deck: Path) -> None:
+    """diagnostics.txt: which guard, where, the values, the state at the stop, what to try, where to restart."""
+    sim = output.sim if output is not None else None
+    lines = [f"guard: {err.guard or 'unnamed'}", f"message: {err}"]
+    if sim is not None:
+        st = sim.state
+        lines.append(f"stopped at: t = {st.time:.9e}, step {st.step}, last dt {st.dt_prev:.6e}")
+    for key, value in err.values.items():
+        lines.append(f"  {key}: {value}")
+    if output is not None and output.last_energy is not None:
+        row = output.last_energy
+        lines.append("last history row: " + ", ".join(f"{name} {value:.6e}" for name, value in
+                                                     zip(row.COLUMNS, row.values())))
+    if sim is not None and sim.eroded:
+        lines.append(f"erosion: {sim.erosion_summary()}")
+    lines.append(f"remedies: {_REMEDIES.get(err.guard, 'see the message')}")
+    lines.append("state at the stop: the last step of results.xdmf / results.h5 and the history tables")
+    if last_checkpoint is not None:
+        lines.append(f"last good state: {checkpoint_path} (t = {last_checkpoint[0]:.9e}, step {last_checkpoint[1]}); "
+                     f"sphfem run {deck} --restart {checkpoint_path} continues from it with the same deck")
+    path.write_text("\n".join(lines) + "\n")
 
 
 class _RunLog:
-    def __init__(self, path: Path, deck: Path):
-        self.file = path.open("w")
+    def __init__(self, path: Path, deck: Path, append: bool = False):
+        self.file = path.open("a" if append else "w")
         self.file.write(
             f"sphfem {__version__}\ncommand: {' '.join(sys.argv)}\ndeck: {deck.resolve()}\n"
             f"host: {socket.gethostname()} ({platform.platform()}, Python {platform.python_version()})\n"

@@ -33,7 +33,10 @@ class HistoryWriter:
         h5: h5py.Group | None = None,
         flush_rows: int = 100,
         flush_interval_s: float = 5.0,
+        resume_rows: int | None = None,
     ):
+        """``resume_rows``: continue an existing table after its first ``resume_rows`` rows (rows
+        beyond them, written after a checkpoint, are dropped from the CSV and the HDF5 mirror)."""
         self.columns = [str(c) for c in columns]
         if not self.columns:
             raise ValueError("a history needs at least one column")
@@ -48,10 +51,13 @@ class HistoryWriter:
         self.path = directory / f"{name}.csv"
         self.flush_rows = int(flush_rows)
         self.flush_interval_s = float(flush_interval_s)
-        self._csv = open(self.path, "w", encoding="ascii", newline="\n")
-        self._csv.write(",".join(self.columns) + "\n")
         self._dataset = None
-        if h5 is not None:
+        if resume_rows is not None:
+            self._reopen(h5, int(resume_rows))
+        else:
+            self._csv = open(self.path, "w", encoding="ascii", newline="\n")
+            self._csv.write(",".join(self.columns) + "\n")
+        if h5 is not None and resume_rows is None:
             group = h5.require_group("histories")
             if name in group:
                 del group[name]
@@ -64,9 +70,27 @@ class HistoryWriter:
             )
             self._dataset.attrs["columns"] = self.columns
         self._pending: list[np.ndarray] = []
-        self._n_rows = 0
+        self._n_rows = 0 if resume_rows is None else int(resume_rows)
         self._last_flush = time.monotonic()
         self._closed = False
+
+    def _reopen(self, h5, rows: int) -> None:
+        """Keep the header and the first `rows` rows of the CSV and of the HDF5 mirror; append after them."""
+        with open(self.path, encoding="ascii", newline="\n") as fh:
+            lines = fh.read().split("\n")
+        header = ",".join(self.columns)
+        data = [line for line in lines[1:] if line]
+        if lines[0] != header or len(data) < rows:
+            raise ValueError(f"{self.path}: does not hold the {rows} rows of {header!r} the checkpoint expects")
+        kept = header + "\n" + "".join(line + "\n" for line in data[:rows])
+        with open(self.path, "w", encoding="ascii", newline="\n") as fh:
+            fh.write(kept)
+        self._csv = open(self.path, "a", encoding="ascii", newline="\n")
+        if h5 is not None:
+            self._dataset = h5.require_group("histories")[self.name]
+            if self._dataset.shape[0] < rows:
+                raise ValueError(f"{self.name}: {self._dataset.shape[0]} rows in the HDF5 mirror, expected {rows}")
+            self._dataset.resize((rows, len(self.columns)))
 
     @property
     def n_rows(self) -> int:

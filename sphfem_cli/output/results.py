@@ -31,7 +31,9 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
 class RunOutput:
     """Field and history output of one simulation into `directory`."""
 
-    def __init__(self, sim: Simulation, directory: Path):
+    def __init__(self, sim: Simulation, directory: Path, resume: dict | None = None):
+        """``resume``: a :meth:`state` from a checkpoint; the files in ``directory`` are continued
+        after the rows and steps it lists (what was written after it is dropped)."""
         self.sim = sim
         model = sim.model
         out = model.deck.output
@@ -41,8 +43,9 @@ class RunOutput:
         self.fields = set(out.fields)
         self.directory = Path(directory)
         (self.directory / "histories").mkdir(parents=True, exist_ok=True)
-        self.xdmf = XdmfWriter(self.directory, "results")
-        for p in model.parts:
+        self.xdmf = XdmfWriter(self.directory, "results", resume=None if resume is None else resume["xdmf"])
+        rows = {} if resume is None else resume["rows"]
+        for p in model.parts if resume is None else ():
             if p.kind == "sph":
                 self.xdmf.add_grid(p.name, "Polyvertex", None, p.particles.stop - p.particles.start)
                 continue
@@ -53,23 +56,42 @@ class RunOutput:
             self.xdmf.add_grid(p.name, TOPOLOGY[model.nodes_per_element], conn, p.nodes.stop - p.nodes.start)
         group = self.xdmf.h5.require_group("histories")
         hist_dir = self.directory / "histories"
-        self.glstat = HistoryWriter(hist_dir, "glstat", EnergyRow.COLUMNS, h5=group)
+        self.glstat = HistoryWriter(hist_dir, "glstat", EnergyRow.COLUMNS, h5=group, resume_rows=rows.get("glstat"))
         part_cols = ["time"] + [f"{p.name}_{k}" for p in model.parts for k in ("kinetic", "internal", "hourglass")]
-        self.matsum = HistoryWriter(hist_dir, "matsum", part_cols, h5=group)
-        self.requests = [_HistoryProbe(sim, h, hist_dir, group) for h in out.histories]
-        self.probes = [(probe, HistoryWriter(hist_dir, probe.name, ["time", _PROBE_COLUMN[probe.type]], h5=group))
+        self.matsum = HistoryWriter(hist_dir, "matsum", part_cols, h5=group, resume_rows=rows.get("matsum"))
+        self.requests = [_HistoryProbe(sim, h, hist_dir, group, rows.get(h.name)) for h in out.histories]
+        self.probes = [(probe, HistoryWriter(hist_dir, probe.name, ["time", _PROBE_COLUMN[probe.type]], h5=group,
+                                             resume_rows=rows.get(probe.name)))
                        for probe in out.probes]
-        self._next_field = 0.0
-        self._next_history = 0.0
-        self.last_energy: EnergyRow | None = None
+        self._next_field = 0.0 if resume is None else resume["next_field"]
+        self._next_history = 0.0 if resume is None else resume["next_history"]
+        self.last_energy: EnergyRow | None = None if resume is None else resume["last_energy"]
+
+    def _writers(self) -> list[HistoryWriter]:
+        return [self.glstat, self.matsum, *(p.writer for p in self.requests), *(w for _, w in self.probes)]
+
+    def flush(self) -> None:
+        """Every history row appended so far onto disk (CSV and HDF5)."""
+        for writer in self._writers():
+            writer.flush()
+
+    def state(self) -> dict:
+        """Everything needed to continue these files after a restart (flushes the histories first)."""
+        self.flush()
+        return {"next_field": self._next_field, "next_history": self._next_history,
+                "last_energy": self.last_energy, "xdmf": self.xdmf.state(),
+                "rows": {w.name: w.n_rows for w in self._writers()}}
 
     def __call__(self, force: bool = False) -> None:
-        """Write whatever is due at the current state (everything when `force`)."""
+        """Write whatever is due at the current state (everything not yet written at this time when `force`)."""
         t = self.sim.state.time
-        if force or _due(t, self._next_history, self.history_interval):
+        history_done = self.last_energy is not None and self.last_energy.time == t
+        if (force and not history_done) or _due(t, self._next_history, self.history_interval):
             self.write_histories()
             self._next_history = _next_after(t, self.history_interval)
-        if force or _due(t, self._next_field, self.field_interval):
+            if not force:
+                self.sim.check_history_guards(self.last_energy)
+        if (force and self.xdmf.last_time != t) or _due(t, self._next_field, self.field_interval):
             self.write_fields()
             self._next_field = _next_after(t, self.field_interval)
 
@@ -123,10 +145,11 @@ class RunOutput:
                 point_data={k: val for k, val in point.items() if k in self.fields},
                 cell_data={k: val for k, val in cell.items() if k in self.fields},
             )
+        self.flush()  # histories up to this field step are on disk with it
         self.xdmf.write_step(st.time, data)
 
     def close(self) -> None:
-        for writer in (self.glstat, self.matsum, *(p.writer for p in self.requests), *(w for _, w in self.probes)):
+        for writer in self._writers():
             writer.close()
         self.xdmf.close()
 
@@ -144,7 +167,7 @@ def _next_after(t: float, interval: float) -> float:
 class _HistoryProbe:
     """One requested history: mean over nodes of a part/set, or the node/element nearest a point."""
 
-    def __init__(self, sim: Simulation, request, directory: Path, group):
+    def __init__(self, sim: Simulation, request, directory: Path, group, resume_rows: int | None = None):
         self.sim = sim
         model = sim.model
         dim = model.dim
@@ -168,7 +191,7 @@ class _HistoryProbe:
                 columns += [f"stress_{c}" for c in ("xx", "yy", "zz", "xy", "yz", "zx")]
             else:
                 columns.append(q)
-        self.writer = HistoryWriter(directory, request.name, columns, h5=group)
+        self.writer = HistoryWriter(directory, request.name, columns, h5=group, resume_rows=resume_rows)
 
     def _element_values(self, q: str) -> list[float]:
         st = self.sim.state

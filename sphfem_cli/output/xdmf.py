@@ -147,25 +147,58 @@ class XdmfWriter:
     time. Use as a context manager, or call :meth:`close` (idempotent) at the end.
     """
 
-    def __init__(self, directory: Path | str, basename: str = "results", xml_interval_s: float = 5.0):
+    def __init__(self, directory: Path | str, basename: str = "results", xml_interval_s: float = 5.0,
+                 resume: dict | None = None):
+        """``resume``: a :meth:`state` of an earlier writer on the same files; the series continues
+        after its steps (steps written after that state are dropped), grids are not declared again."""
         self.directory = Path(directory)
         self.directory.mkdir(parents=True, exist_ok=True)
         self.basename = basename
         self.h5_path = self.directory / f"{basename}.h5"
         self.xdmf_path = self.directory / f"{basename}.xdmf"
         self.xml_interval_s = float(xml_interval_s)
+        self._last_xml = -np.inf
+        self._closed = False
+        if resume is not None:
+            self._resume(resume)
+            return
         self.h5 = h5py.File(self.h5_path, "w", locking=False)
         self._times = self.h5.create_dataset("times", shape=(0,), maxshape=(None,), dtype="f8", chunks=(1024,))
         self._grids: dict[str, _Grid] = {}
         self._steps: list[_StepRecord] = []
-        self._last_xml = -np.inf
-        self._closed = False
         self.xdmf_path.unlink(missing_ok=True)
+
+    def state(self) -> dict:
+        """What :meth:`__init__` needs to continue this series later (plain data, picklable)."""
+        return {"grids": dict(self._grids), "steps": list(self._steps)}
+
+    def _resume(self, state: dict) -> None:
+        if not self.h5_path.exists():
+            raise FileNotFoundError(f"{self.h5_path}: the HDF5 file of the run to continue is missing")
+        self.h5 = h5py.File(self.h5_path, "a", locking=False)
+        self._grids = dict(state["grids"])
+        self._steps = list(state["steps"])
+        n = len(self._steps)
+        self._times = self.h5["times"]
+        if self._times.shape[0] < n:
+            raise ValueError(f"{self.h5_path}: {self._times.shape[0]} steps on disk, the checkpoint lists {n}")
+        self._times.resize((n,))
+        for name in self._grids:
+            for key in list(self.h5[name].keys()):
+                if key.startswith("step_") and int(key[5:]) >= n:
+                    del self.h5[name][key]
+        self.h5.flush()
+        self.write_xml()
 
     @property
     def n_steps(self) -> int:
         """Number of steps written so far."""
         return len(self._steps)
+
+    @property
+    def last_time(self) -> float | None:
+        """Time of the last step written, None before the first."""
+        return self._steps[-1].time if self._steps else None
 
     def add_grid(self, name: str, topology: str, connectivity: np.ndarray | None, n_points: int) -> None:
         """Declare a grid; its connectivity is written once.

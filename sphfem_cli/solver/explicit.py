@@ -18,6 +18,16 @@ forces), which the loop clears first. Each interaction object provides
     record_work(dt, dt_avg, v_old, st)           after the step: the work its forces did on every side
     work: float                                  that work, summed; its contact energy is -work
 
+An interaction may also provide
+
+    max_penetration() -> (depth, where)          the deepest penetration at the last force pass [length]
+                                                 and a description of where (e.g. "particle 12 of contact a->b")
+    penetration_limit: float                     the depth beyond which the run should stop [length]
+
+The penetration guard (checked at every history row, see `check_history_guards`) compares
+max_penetration() with `control.max_penetration` when the deck sets it, else with the interaction's
+own `penetration_limit`; an interaction with neither is not checked.
+
 Solid nodes see the forces through the same central difference as f_ext, particles through their
 leapfrog kick; both give every force the weight dt_avg, so equal and opposite forces conserve the
 total momentum exactly.
@@ -38,8 +48,21 @@ from .boundary import Constraints, Curves, Loads, RigidBodies
 DT_COLLAPSE = 1e-3  # a step below this fraction of the first one means the model is collapsing
 
 
+ENERGY_GUARD_FLOOR = 1e-3  # the energy guard waits until the reference energy reaches this fraction of the largest seen
+ENERGY_GUARD_STEPS = 200  # ... and for this many steps (the central difference's start-up error decays as 1/step)
+
+
 class RunStopped(Exception):
-    """A guard stopped the run; the message says where, when and what, and what to try."""
+    """A guard stopped the run; the message says where, when and what, and what to try.
+
+    `guard` names the guard (non_finite, negative_volume, time_step, energy_ratio, lost_particles,
+    penetration); `values` holds the figures the diagnostics file lists.
+    """
+
+    def __init__(self, message: str, guard: str = "", values: dict | None = None):
+        super().__init__(message)
+        self.guard = guard
+        self.values = values or {}
 
 
 @dataclass
@@ -126,6 +149,10 @@ class Simulation:
 
             self.interactions += [LagrangeInSolidCoupling(self, spec) for spec in deck.couplings]
         self._dt_first: float | None = None
+        self._energy_peak = 0.0
+        self._erode_inverted, self._erode_strain = self._erosion_tables()
+        self._has_strain_erosion = bool(np.isfinite(self._erode_strain).any())
+        self.eroded: list[tuple[float, int, str, str]] = []  # (time, element, part, reason)
         self.state = self._initial_state()
 
     # ------------------------------------------------------------------------------- set-up
@@ -161,6 +188,20 @@ class Simulation:
             st.initial_energy += sum(self.ale.energies())
         return st
 
+    def _erosion_tables(self) -> tuple[np.ndarray, np.ndarray]:
+        """Per element: erode when inverted (bool), plastic-strain limit (inf: none), from the parts' `erosion`."""
+        m = self.model
+        inverted = np.zeros(m.n_elements, dtype=bool)
+        strain = np.full(m.n_elements, np.inf)
+        for p in m.parts:
+            spec = getattr(m.deck.parts.get(p.name), "erosion", None)
+            if p.kind != "solid" or spec is None:
+                continue
+            inverted[p.elements] = spec.on_negative_volume
+            if spec.max_plastic_strain is not None:
+                strain[p.elements] = spec.max_plastic_strain
+        return inverted, strain
+
     # ---------------------------------------------------------------------------------- loop
 
     def _element_pass(self, st: State, dt: float) -> None:
@@ -180,7 +221,7 @@ class Simulation:
             return np.inf
         dt = self.control.timestep_scale * float(self._dt_elem.min())
         if np.isnan(dt):
-            raise RunStopped(self._where_not_finite(st))
+            raise RunStopped(self._where_not_finite(st), "non_finite", {"domain": "solid"})
         return dt
 
     def _step_size(self, st: State) -> float:
@@ -190,14 +231,17 @@ class Simulation:
             dt_sph = self.particles.stable_dt(self.control.timestep_scale)
             if not dt_sph == dt_sph:  # NaN
                 raise RunStopped(f"non-finite SPH state at t = {st.time:.6e}, step {st.step} "
-                                 "(remedies: lower timestep_scale, check the equation of state and units)")
+                                 "(remedies: lower timestep_scale, check the equation of state and units)",
+                                 "non_finite", {"domain": "sph"})
             if dt_sph < dt:
                 dt, limiter = dt_sph, "sph"
+            self._check_lost(st)
         if self.ale is not None:
             dt_ale = self.ale.stable_dt()
             if not dt_ale == dt_ale:
                 raise RunStopped(f"non-finite ALE state at t = {st.time:.6e}, step {st.step} "
-                                 "(remedies: lower the section's courant, check the equations of state and units)")
+                                 "(remedies: lower the section's courant, check the equations of state and units)",
+                                 "non_finite", {"domain": "ale"})
             if dt_ale < dt:
                 dt, limiter = dt_ale, "ale"
         for it in self.interactions:
@@ -210,7 +254,8 @@ class Simulation:
             return self.control.end_time / 1000.0  # nothing deformable limits the step
         if not dt > 0.0:
             raise RunStopped(f"the stable time step of the {limiter} domain is {dt:g} at t = {st.time:.6e} "
-                             "(remedies: check the material and equation-of-state constants and the units)")
+                             "(remedies: check the material and equation-of-state constants and the units)",
+                             "time_step", {"dt": dt, "domain": limiter})
         if self._dt_first is None:
             self._dt_first = dt
         collapsed = dt < DT_COLLAPSE * self._dt_first
@@ -225,7 +270,8 @@ class Simulation:
             raise RunStopped(
                 f"time step {dt:.3e} fell below {floor} at t = {st.time:.6e}, "
                 f"step {st.step}, controlled by {where} "
-                "(remedies: refine less there, check for a collapsing element or a violent impact, lower dt_min)"
+                "(remedies: refine less there, check for a collapsing element or a violent impact, lower dt_min)",
+                "time_step", {"dt": dt, "first dt": self._dt_first, "dt_min": self.control.dt_min, "where": where},
             )
         return dt
 
@@ -255,7 +301,7 @@ class Simulation:
         if self.particles is not None:
             self.particles.step(dt)
         if self.ale is not None:
-            self.ale.step(dt)
+            self.ale.step(dt, dt_avg)
         for it in self.interactions:
             it.record_work(dt, dt_avg, v_old, st)
         st.dt = self._solid_dt(st)
@@ -265,6 +311,8 @@ class Simulation:
         st.f_contact[:] = 0.0
         if self.particles is not None:
             self.particles.system.f_ext[:] = 0.0
+        if self.ale is not None:
+            self.ale.system.f_couple[:] = 0.0
         for it in self.interactions:
             it.forces(st)
 
@@ -316,6 +364,7 @@ class Simulation:
         if self.ale is not None:
             ke_a, ie_a = self.ale.energies()
             ke, ie = ke + ke_a, ie + ie_a
+            work += self.ale.external_work()
         contact_work = sum(it.work for it in self.interactions)
         work -= contact_work  # the solids' and fluids' work sums include the contact forces
         total = ke + ie + hg - contact_work
@@ -346,14 +395,103 @@ class Simulation:
         return self.model.parts[int(self.model.element_part[e])].name
 
     def _check_elements(self, st: State) -> None:
+        """Erode what the parts' `erosion` allows; stop on any other inverted element."""
+        m = self.model
         bad = np.flatnonzero(self._dt_elem == fem.INVERTED)
+        over = (np.flatnonzero(m.element_active & (st.hist[:, 0] > self._erode_strain))
+                if self._has_strain_erosion else ())
+        if len(bad) and self._erode_inverted[bad].any():
+            self._erode(st, bad[self._erode_inverted[bad]], "negative volume")
+            bad = bad[~self._erode_inverted[bad]]
+        if len(over):
+            self._erode(st, over, "plastic strain")
         if len(bad):
             e = int(bad[0])
             raise RunStopped(
                 f"negative volume in element {e} of part '{self._part_of(e)}' at t = {st.time:.6e} "
                 f"(step {st.step}, volume {st.volume[e]:.3e}, {len(bad)} element(s) inverted) "
-                "(remedies: lower timestep_scale, refine the mesh, raise hourglass stiffness)"
+                "(remedies: lower timestep_scale, refine the mesh, raise hourglass stiffness, "
+                "or give the part erosion: {on_negative_volume: true})",
+                "negative_volume", {"element": e, "part": self._part_of(e), "volume": float(st.volume[e]),
+                                    "inverted elements": len(bad)},
             )
+
+    def _erode(self, st: State, elements: np.ndarray, reason: str) -> None:
+        """Deactivate `elements`: no more forces or stable step from them; their energies stay in the sums."""
+        m = self.model
+        m.element_active[elements] = False
+        self._f_elem[elements] = 0.0
+        self._dt_elem[elements] = np.inf
+        fem.gather_nodal_forces(self._f_elem, m.node_elem_ptr, m.node_elem_idx, st.f_int)
+        for e in elements:
+            self.eroded.append((st.time, int(e), self._part_of(int(e)), reason))
+
+    def erosion_summary(self) -> str:
+        """'n element(s) eroded (part: count, ...)', or '' when none was."""
+        if not self.eroded:
+            return ""
+        counts: dict[str, int] = {}
+        for _, _, part, _ in self.eroded:
+            counts[part] = counts.get(part, 0) + 1
+        parts = ", ".join(f"{k}: {v}" for k, v in counts.items())
+        return f"{len(self.eroded)} element(s) eroded ({parts})"
+
+    def _check_lost(self, st: State) -> None:
+        """Stop when more than control.max_lost_fraction of the SPH particles have left the domain."""
+        limit = self.control.max_lost_fraction
+        ps = self.particles.system
+        if limit is None or ps.lost <= limit * ps.n:
+            return
+        raise RunStopped(
+            f"{ps.lost} of {ps.n} SPH particles ({ps.lost / ps.n:.1%}) have left the domain by t = {st.time:.6e}, "
+            f"step {st.step}, more than max_lost_fraction {limit:g} (remedies: enlarge the section's domain or add "
+            "walls, lower timestep_scale if particles were ejected by a blow-up, raise max_lost_fraction)",
+            "lost_particles", {"lost": ps.lost, "particles": ps.n, "fraction": ps.lost / ps.n, "limit": limit},
+        )
+
+    def check_history_guards(self, row: EnergyRow) -> None:
+        """The guards checked at every history row: energy ratio band and contact penetration.
+
+        The energy ratio is judged once the run is past its first ENERGY_GUARD_STEPS steps and its
+        reference energy (initial energy + external work) has reached ENERGY_GUARD_FLOOR of the largest
+        energy seen: at the start of a run driven by loads the reference is near zero and the ratio
+        of two small numbers says nothing.
+        """
+        st = self.state
+        band = self.control.energy_band
+        if band is not None:
+            reference = row.total / row.ratio if row.ratio != 0.0 else 0.0
+            scale = abs(row.kinetic) + abs(row.internal) + abs(row.hourglass) + abs(row.contact) + abs(reference)
+            self._energy_peak = max(self._energy_peak, scale)
+            judged = st.step >= ENERGY_GUARD_STEPS and abs(reference) >= ENERGY_GUARD_FLOOR * self._energy_peak
+            if judged and not band[0] <= row.ratio <= band[1]:
+                raise RunStopped(
+                    f"energy ratio {row.ratio:.4f} left the band [{band[0]:g}, {band[1]:g}] at t = {st.time:.6e}, "
+                    f"step {st.step} (total {row.total:.4e}, initial + external work {reference:.4e}, kinetic "
+                    f"{row.kinetic:.4e}, internal {row.internal:.4e}, hourglass {row.hourglass:.4e}, contact "
+                    f"{row.contact:.4e}) (remedies: lower timestep_scale, raise hourglass stiffness if hourglass "
+                    "energy grows, refine where the mesh distorts, check contact stiffness; widen or switch off "
+                    "control.energy_band if the loss is physical)",
+                    "energy_ratio", {"ratio": row.ratio, "band": list(band), "total": row.total,
+                                     "reference": reference, "kinetic": row.kinetic, "internal": row.internal,
+                                     "hourglass": row.hourglass, "contact": row.contact},
+                )
+        for it in self.interactions:
+            if not hasattr(it, "max_penetration"):
+                continue
+            limit = self.control.max_penetration
+            if limit is None:
+                limit = getattr(it, "penetration_limit", None)
+            if limit is None:
+                continue
+            depth, where = it.max_penetration()
+            if depth > limit:
+                raise RunStopped(
+                    f"penetration {depth:.4e} beyond the limit {limit:.4e} at {where or 'a contact'}, t = {st.time:.6e}, "
+                    f"step {st.step} (remedies: raise the contact's penalty_scale, lower timestep_scale, refine the "
+                    "master surface, or lower the impact speed)",
+                    "penetration", {"depth": depth, "limit": limit, "where": where},
+                )
 
     def _where_not_finite(self, st: State) -> str:
         bad = np.flatnonzero(~np.isfinite(self._dt_elem))

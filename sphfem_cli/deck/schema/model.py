@@ -69,6 +69,33 @@ class Control(DeckModel):
         0.0, description="The run stops with a diagnosis if the step falls below this [time]. Default 0 (off)."
     )
     dt_max: PositiveFloat | None = Field(None, description="Upper bound on the time step [time]. Default none.")
+    energy_band: Annotated[list[PositiveFloat], Field(min_length=2, max_length=2)] | None = Field(
+        [0.9, 1.1], description="The run stops with a diagnosis when the energy ratio (glstat energy_ratio: total "
+        "energy over initial energy plus external work) leaves [low, high]; checked at every history row, once the "
+        "reference energy exceeds 1e-3 of the largest energy seen. null switches the check off. Default [0.9, 1.1]."
+    )
+    max_lost_fraction: Annotated[float, Field(ge=0, le=1)] | None = Field(
+        0.5, description="The run stops when more than this fraction of the SPH particles has left the domain "
+        "(deactivated) [-]. null switches the check off. Default 0.5."
+    )
+    max_penetration: PositiveFloat | None = Field(
+        None, description="The run stops when a contact or coupling reports a penetration deeper than this, checked at "
+        "every history row [length]. Default none: each contact's own limit, if it has one."
+    )
+    checkpoint_interval: PositiveFloat | None = Field(
+        None, description="Simulated time between restart checkpoints (checkpoint.pkl in the output folder, "
+        "replaced each time) [time]. Default: one at every field output. A checkpoint is also written on "
+        "Ctrl-C or SIGTERM."
+    )
+    checkpoint_wall_interval: PositiveFloat | None = Field(
+        None, description="Wall-clock seconds between restart checkpoints, besides checkpoint_interval [s]. Default none."
+    )
+
+    @model_validator(mode="after")
+    def _band(self) -> "Control":
+        if self.energy_band is not None and not self.energy_band[0] < 1.0 < self.energy_band[1]:
+            raise ValueError("@energy_band: must be [low, high] with low < 1 < high")
+        return self
 
 
 class Curve(DeckModel):
@@ -295,6 +322,17 @@ class Fill(DeckModel):
         return self
 
 
+class Erosion(DeckModel):
+    """Element erosion of a solid part: an eroded element is deactivated, its nodes keep their mass."""
+
+    on_negative_volume: bool = Field(
+        True, description="Erode an element whose volume (or Jacobian) becomes zero or negative. Default true."
+    )
+    max_plastic_strain: PositiveFloat | None = Field(
+        None, description="Erode an element whose effective plastic strain exceeds this [-]. Default none."
+    )
+
+
 class Part(DeckModel):
     """A meshed body with one material and one section."""
 
@@ -317,6 +355,10 @@ class Part(DeckModel):
 
 
 # -------------------------------------------------------------------------------------------- sets
+    erosion: Erosion | None = Field(
+        None, description="Solid parts: delete (deactivate) elements that invert or exceed a plastic strain, and go on "
+        "(LS-DYNA *MAT_ADD_EROSION). Default none: an inverted element stops the run."
+    )
 
 
 class Selection(DeckModel):
