@@ -50,15 +50,22 @@ def sphere(center: Sequence[float], radius: float, dx: float) -> np.ndarray:
 
 
 def inside_polygon(points: np.ndarray, vertices: np.ndarray) -> np.ndarray:
-    """Even-odd (crossing number) test of 2D ``points`` against a closed polygon."""
+    """Even-odd (crossing number) test of 2D ``points`` against a closed polygon.
+
+    Points are tested in chunks so that the (points x edges) temporaries stay near 64 MB.
+    """
     vx, vy = vertices[:, 0], vertices[:, 1]
     wx, wy = np.roll(vx, -1), np.roll(vy, -1)
-    px, py = points[:, 0:1], points[:, 1:2]
-    straddle = (vy <= py) != (wy <= py)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        xcross = vx + (py - vy) * (wx - vx) / (wy - vy)
-    hits = straddle & (px < xcross)
-    return (np.count_nonzero(hits, axis=1) % 2) == 1
+    out = np.zeros(len(points), dtype=bool)
+    chunk = max(1, 4_000_000 // max(1, len(vx)))
+    for s in range(0, len(points), chunk):
+        px, py = points[s:s + chunk, 0:1], points[s:s + chunk, 1:2]
+        straddle = (vy <= py) != (wy <= py)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            xcross = vx + (py - vy) * (wx - vx) / (wy - vy)
+        hits = straddle & (px < xcross)
+        out[s:s + chunk] = (np.count_nonzero(hits, axis=1) % 2) == 1
+    return out
 
 
 def polygon(vertices: Sequence[Sequence[float]], dx: float) -> np.ndarray:
