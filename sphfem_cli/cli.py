@@ -428,5 +428,82 @@ class _Progress:
         return False
 
 
+def _number_list(kind):
+    def parse(ctx, param, value):
+        if value is None or value == "":
+            return ()
+        try:
+            return tuple(kind(v) for v in str(value).split(",") if v.strip())
+        except ValueError:
+            raise click.BadParameter(f"expected comma-separated numbers, got {value!r}") from None
+    return parse
+
+
+def _fraction(ctx, param, value):
+    text = str(value).strip()
+    try:
+        return float(text[:-1]) / 100.0 if text.endswith("%") else float(text)
+    except ValueError:
+        raise click.BadParameter(f"expected a fraction or a percentage (5%), got {value!r}") from None
+
+
+@main.command("mesh-study")
+@click.argument("deck", type=click.Path(exists=True, dir_okay=False))
+@click.option("--ratios", default="1,2,3", callback=_number_list(int), show_default=True,
+              help="Particle-spacing ratios (ALE element size / particle spacing), whole numbers.")
+@click.option("--reference", default="ale", show_default=True,
+              help="ale (the finest ALE case), finest (the finest SPH case) or PATH of a run folder.")
+@click.option("--quantities", default=None, callback=lambda c, p, v: tuple(q for q in (v or "").split(",") if q),
+              help="TABLE.COLUMN list, e.g. plate.displacement,plate.von_mises. Default: every requested history.")
+@click.option("--tolerance", default="5%", callback=_fraction, show_default=True,
+              help="Target normalised L2 error, for the predicted ratio and the recommendation.")
+@click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
+              help="Cases run at once in the local process pool.")
+@click.option("--scheduler", default=None, help="Dask scheduler ADDRESS: run the cases on that cluster.")
+@click.option("--ale-sizes", default=None, callback=_number_list(float),
+              help="ALE element sizes to sweep as well (the reference's own convergence).")
+@click.option("--threads", type=click.IntRange(min=1), default=1, show_default=True, help="Threads per case.")
+@click.option("--end-time", type=click.FloatRange(min=0, min_open=True), default=None,
+              help="Run every case to this time instead of the deck's end_time.")
+@click.option("-o", "--output", "outdir", type=click.Path(file_okay=False), default=None,
+              help="Study folder. Default: <deck name>_study in the current directory.")
+def mesh_study(deck, ratios, reference, quantities, tolerance, workers, scheduler, ale_sizes, threads, end_time,
+               outdir) -> None:
+    """Run DECK's ALE scene and its SPH variants at several ratios; report error, convergence and cost."""
+    from rich.console import Console
+
+    from .study import StudyConfig, StudyError, run_study
+    from .study.report import table
+
+    config = StudyConfig(deck=Path(deck), ratios=ratios, reference=reference, quantities=quantities or None,
+                         tolerance=tolerance, workers=workers, scheduler=scheduler,
+                         outdir=Path(outdir) if outdir else None, ale_sizes=ale_sizes, threads=threads,
+                         end_time=end_time)
+    try:
+        out, result = run_study(config, echo=lambda line: click.echo(line, err=True))
+    except StudyError as err:
+        raise DeckProblem(str(err)) from None
+    Console().print(table(result))
+    click.echo(result["recommendation"])
+    click.echo(f"report: {out / 'report.md'}")
+
+
+@main.command()
+@click.argument("directory", type=click.Path(exists=True, file_okay=False))
+@click.option("--quantity", "quantities", multiple=True, help="TABLE.COLUMN to draw (repeatable). Default: all.")
+@click.option("-o", "--output", "outdir", type=click.Path(file_okay=False), default=None,
+              help="Folder for the PNGs. Default: DIRECTORY/plots.")
+def plot(directory, quantities, outdir) -> None:
+    """Draw the histories of a run folder, or of every case of a study folder, to PNG."""
+    from .study.plots import plot_dir
+
+    try:
+        written = plot_dir(Path(directory), quantities, Path(outdir) if outdir else None)
+    except (FileNotFoundError, KeyError) as err:
+        raise click.UsageError(str(err)) from None
+    for path in written:
+        click.echo(str(path))
+
+
 if __name__ == "__main__":  # pragma: no cover
     main()
