@@ -76,7 +76,7 @@ def run_case(case_dir: str, threads: int = 1) -> dict:
                         "started": time.strftime("%Y-%m-%d %H:%M:%S")})
     usage0 = resource.getrusage(resource.RUSAGE_SELF)
     start = time.perf_counter()
-    status: dict = {"deck_sha256": sha}
+    status: dict = {"deck_sha256": sha, "pid": os.getpid()}
     try:
         import numba
 
