@@ -17,6 +17,7 @@ from .history import HistoryWriter
 from .xdmf import GridStep, XdmfWriter
 
 TOPOLOGY = {4: "Quadrilateral", 8: "Hexahedron"}
+XML_BUDGET = 0.05  # the XDMF index is rewritten at a field step whenever that costs under 5 % of the wall time
 _PROBE_COLUMN = {"pressure": "pressure", "surface_height": "height", "front": "front"}
 
 
@@ -43,7 +44,8 @@ class RunOutput:
         self.fields = set(out.fields)
         self.directory = Path(directory)
         (self.directory / "histories").mkdir(parents=True, exist_ok=True)
-        self.xdmf = XdmfWriter(self.directory, "results", resume=None if resume is None else resume["xdmf"])
+        self.xdmf = XdmfWriter(self.directory, "results", resume=None if resume is None else resume["xdmf"],
+                               xml_budget=XML_BUDGET)
         rows = {} if resume is None else resume["rows"]
         for p in model.parts if resume is None else ():
             if p.kind == "sph":
@@ -185,7 +187,7 @@ class _HistoryProbe:
         columns = ["time"]
         axes = "xyz"[:dim]
         for q in self.quantities:
-            if q in ("displacement", "velocity", "acceleration", "coordinates"):
+            if q in ("displacement", "velocity", "acceleration", "coordinates", "contact_force"):
                 columns += [f"{q}_{a}" for a in axes]
             elif q == "stress":
                 columns += [f"stress_{c}" for c in ("xx", "yy", "zz", "xy", "yz", "zx")]
@@ -219,6 +221,8 @@ class _HistoryProbe:
             elif q == "acceleration":
                 f = st.f_int[self.nodes] + st.f_ext[self.nodes]
                 row += list((f * sim.inv_mass[self.nodes, None]).mean(axis=0))
+            elif q == "contact_force":
+                row += list(st.f_contact[self.nodes].sum(axis=0))
             else:
                 row += self._element_values(q)
         self.writer.append(row)

@@ -23,8 +23,8 @@ row by row, ``xx, xy, xz, yy, yz, zz``, so tensors are permuted to that order on
 dataset carries it in its ``component_order`` attribute.
 
 Every step is flushed to the HDF5 file before it is listed in the XML, and the XML is replaced
-atomically (temporary file + ``os.replace``), at most every ``xml_interval_s`` seconds of wall
-time and always on ``close()``. A run killed at any moment therefore leaves a readable XDMF that
+atomically (temporary file + ``os.replace``), at the latest every ``xml_interval_s`` seconds of
+wall time, at every step when ``xml_budget`` allows it (see ``__init__``), and always on ``close()``. A run killed at any moment therefore leaves a readable XDMF that
 lists only steps whose data is on disk. The XDMF file appears with the first step (a stale one
 from an earlier run in the same directory is removed when the writer opens). The HDF5 file is
 opened without HDF5's file lock, so ParaView can open the series while the run is still going.
@@ -148,9 +148,14 @@ class XdmfWriter:
     """
 
     def __init__(self, directory: Path | str, basename: str = "results", xml_interval_s: float = 5.0,
-                 resume: dict | None = None):
+                 resume: dict | None = None, xml_budget: float | None = None):
         """``resume``: a :meth:`state` of an earlier writer on the same files; the series continues
-        after its steps (steps written after that state are dropped), grids are not declared again."""
+        after its steps (steps written after that state are dropped), grids are not declared again.
+        ``xml_budget``: also rewrite the XML at a step whenever that keeps the rewrites below this
+        fraction of the wall time (the last rewrite's duration / budget has passed), so a short
+        series lists every step as soon as it is flushed; None: only every ``xml_interval_s``."""
+        self.xml_budget = xml_budget
+        self._xml_cost = 0.0
         self.directory = Path(directory)
         self.directory.mkdir(parents=True, exist_ok=True)
         self.basename = basename
@@ -277,7 +282,8 @@ class XdmfWriter:
         self._times[index] = float(time_value)
         self.h5.flush()
         self._steps.append(_StepRecord(float(time_value), records))
-        if time.monotonic() - self._last_xml >= self.xml_interval_s:
+        age = time.monotonic() - self._last_xml
+        if age >= self.xml_interval_s or (self.xml_budget and age >= self._xml_cost / self.xml_budget):
             self.write_xml()
 
     def _data_item(self, parent: ET.Element, path: str, shape: tuple[int, ...], dtype: np.dtype) -> None:
@@ -324,6 +330,7 @@ class XdmfWriter:
         """
         if not self._steps:
             return
+        started = time.monotonic()
         root = self._xml_tree()
         ET.indent(root, space="  ")
         text = '<?xml version="1.0" ?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n' + ET.tostring(root, encoding="unicode") + "\n"
@@ -340,6 +347,7 @@ class XdmfWriter:
                 os.unlink(tmp)
             raise
         self._last_xml = time.monotonic()
+        self._xml_cost = self._last_xml - started
 
     def close(self) -> None:
         """Write the final XML and close the HDF5 file; calling it again does nothing."""

@@ -49,7 +49,7 @@ DT_COLLAPSE = 1e-3  # a step below this fraction of the first one means the mode
 
 
 ENERGY_GUARD_FLOOR = 1e-3  # the energy guard waits until the reference energy reaches this fraction of the largest seen
-ENERGY_GUARD_STEPS = 200  # ... and for this many steps (the central difference's start-up error decays as 1/step)
+ENERGY_GUARD_STEPS = 100  # before this step the band is widened by (ENERGY_GUARD_STEPS / step)^2 (start-up error)
 
 
 class RunStopped(Exception):
@@ -452,10 +452,13 @@ class Simulation:
     def check_history_guards(self, row: EnergyRow) -> None:
         """The guards checked at every history row: energy ratio band and contact penetration.
 
-        The energy ratio is judged once the run is past its first ENERGY_GUARD_STEPS steps and its
-        reference energy (initial energy + external work) has reached ENERGY_GUARD_FLOOR of the largest
-        energy seen: at the start of a run driven by loads the reference is near zero and the ratio
-        of two small numbers says nothing.
+        The energy ratio is judged once the reference energy (initial energy + external work) has
+        reached ENERGY_GUARD_FLOOR of the largest energy seen: at the start of a run driven by loads
+        the reference is near zero and the ratio of two small numbers says nothing. Before step
+        ENERGY_GUARD_STEPS the band's half-widths are widened by (ENERGY_GUARD_STEPS / step)^2: the
+        central difference's start-up error (kinetic energy at half steps against work at full
+        steps) decays about as 1/step^2, measured at 5.9 after 10 steps, 1.15 after 50 and 1.03 after
+        100 in the dam-break deck starting from rest.
         """
         st = self.state
         band = self.control.energy_band
@@ -463,10 +466,12 @@ class Simulation:
             reference = row.total / row.ratio if row.ratio != 0.0 else 0.0
             scale = abs(row.kinetic) + abs(row.internal) + abs(row.hourglass) + abs(row.contact) + abs(reference)
             self._energy_peak = max(self._energy_peak, scale)
-            judged = st.step >= ENERGY_GUARD_STEPS and abs(reference) >= ENERGY_GUARD_FLOOR * self._energy_peak
-            if judged and not band[0] <= row.ratio <= band[1]:
+            widen = max(1.0, (ENERGY_GUARD_STEPS / max(st.step, 1)) ** 2)
+            low, high = 1.0 - (1.0 - band[0]) * widen, 1.0 + (band[1] - 1.0) * widen
+            judged = abs(reference) >= ENERGY_GUARD_FLOOR * self._energy_peak
+            if judged and not low <= row.ratio <= high:
                 raise RunStopped(
-                    f"energy ratio {row.ratio:.4f} left the band [{band[0]:g}, {band[1]:g}] at t = {st.time:.6e}, "
+                    f"energy ratio {row.ratio:.4f} left the band [{low:.4g}, {high:.4g}] at t = {st.time:.6e}, "
                     f"step {st.step} (total {row.total:.4e}, initial + external work {reference:.4e}, kinetic "
                     f"{row.kinetic:.4e}, internal {row.internal:.4e}, hourglass {row.hourglass:.4e}, contact "
                     f"{row.contact:.4e}) (remedies: lower timestep_scale, raise hourglass stiffness if hourglass "

@@ -72,7 +72,9 @@ class Control(DeckModel):
     energy_band: Annotated[list[PositiveFloat], Field(min_length=2, max_length=2)] | None = Field(
         [0.9, 1.1], description="The run stops with a diagnosis when the energy ratio (glstat energy_ratio: total "
         "energy over initial energy plus external work) leaves [low, high]; checked at every history row, once the "
-        "reference energy exceeds 1e-3 of the largest energy seen. null switches the check off. Default [0.9, 1.1]."
+        "reference energy exceeds 1e-3 of the largest energy seen; before step 100 the band is widened by "
+        "(100/step)^2 for the start-up error of the central difference. null switches the check off. "
+        "Default [0.9, 1.1]."
     )
     max_lost_fraction: Annotated[float, Field(ge=0, le=1)] | None = Field(
         0.5, description="The run stops when more than this fraction of the SPH particles has left the domain "
