@@ -933,7 +933,7 @@ def interpolate_points(points, sx, sd, cell_start, fprm, iprm, column, include_w
 
 @njit(cache=True)
 def kick_drift(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsph, f_ext, m, active,
-               gravity, dt, dt_prev, power):
+               gravity, dt, dt_prev, work):
     """One leapfrog step (kick-drift-kick, one rate evaluation per step).
 
     With total acceleration a^n = acc + g + f_ext/m and rates evaluated at step n:
@@ -943,26 +943,29 @@ def kick_drift(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsph, f_ex
       v       <- v^{n+1/2} + dt/2 a^n                 (prediction of v^{n+1} for the next rates)
     and the same for rho and e (their rates are drho, de). Net effect
     v^{n+1/2} = v^{n-1/2} + (dt_prev + dt)/2 a^n, the central difference of the FEM loop.
-    ``power[i]`` = f_ext . v^{n+1/2} (external power, for the energy balance).
+    ``work[i]`` = f_ext . (v^{n-1/2} + v^{n+1/2})/2 (dt_prev + dt)/2, the work of f_ext over the
+    step exactly as the kicks apply it (the FEM loop counts nodal work the same way), so that an
+    impulsive force (contact) is not over-counted.
     """
     dim = x.shape[1]
     hp = 0.5 * dt_prev
     hn = 0.5 * dt
     for i in range(x.shape[0]):
         if not active[i]:
-            power[i] = 0.0
+            work[i] = 0.0
             continue
         im = 1.0 / m[i]
         pw = 0.0
         for d in range(dim):
             a = acc[i, d] + gravity[d] + f_ext[i, d] * im
-            vn = v_half[i, d] + hp * a if dt_prev > 0.0 else v[i, d]
+            v_old = v_half[i, d] if dt_prev > 0.0 else v[i, d]
+            vn = v_old + hp * a
             vh = vn + hn * a
             v_half[i, d] = vh
             x[i, d] += dt * (vh + xsph[i, d])
             v[i, d] = vh + hn * a
-            pw += f_ext[i, d] * vh
-        power[i] = pw
+            pw += f_ext[i, d] * 0.5 * (v_old + vh)
+        work[i] = pw * (hp + hn)
         rn = rho_half[i] + hp * drho[i] if dt_prev > 0.0 else rho[i]
         rh = rn + hn * drho[i]
         rho_half[i] = rh
@@ -978,16 +981,16 @@ def advance_particles(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsp
                       gravity, dt, dt_prev, walls, lo, hi, use_domain):
     """``kick_drift`` then ``enforce_bounds``; zeroes the rates of particles just deactivated.
 
-    Returns (external power sum f_ext . v^{n+1/2}, number reflected at walls, number
+    Returns (work of f_ext over the step (see ``kick_drift``), number reflected at walls, number
     deactivated, their mass, their kinetic + internal energy).
     """
     n = x.shape[0]
-    power = np.empty(n)
+    work = np.empty(n)
     kick_drift(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsph, f_ext, m, active, gravity, dt,
-               dt_prev, power)
+               dt_prev, work)
     ptot = 0.0
     for i in range(n):
-        ptot += power[i]
+        ptot += work[i]
     crossed = np.zeros(n, dtype=np.int64)
     lost = np.zeros(n, dtype=np.int64)
     nref, nlost = 0, 0

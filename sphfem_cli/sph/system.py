@@ -343,11 +343,11 @@ class ParticleSystem:
         if not self._rates_valid:
             raise RuntimeError("step() needs the rates of the current state: call compute_rates() first")
         dt = float(dt)
-        power, nref, nlost, lost_mass, lost_energy = k.advance_particles(
+        work, nref, nlost, lost_mass, lost_energy = k.advance_particles(
             self.x, self.v, self.v_half, self.rho, self.rho_half, self.e, self.e_half, self.acc, self.drho,
             self.de, self.xsph, self.f_ext, self.m, self.active, self.gravity, dt, self._dt_prev, self.walls,
             self._dom_lo, self._dom_hi, self._use_domain)
-        self.external_work += dt * power
+        self.external_work += work
         self.wall_crossings += nref
         if nlost:
             self.lost += nlost

@@ -28,13 +28,16 @@ class NodesToSurface(DeckModel):
     )
     stiffness: Literal["penalty", "soft_constraint"] = Field(
         "penalty", description="penalty: k = penalty_scale K A^2/V (3D) or K L^2/A (2D) from the master element's "
-        "bulk modulus K; soft_constraint: k = soft_scale m_slave / dt0^2 from the slave's mass and the first step, "
-        "for a soft slave against a stiff master. Default penalty."
+        "bulk modulus K (the run's time step is bounded by the contact spring's stable step); soft_constraint: "
+        "k = soft_scale m_slave / dt0^2 from the slave's mass and the first step, for a soft slave against a stiff "
+        "master (water on steel, a rigid body): it never shortens the step. Default penalty."
     )
     penalty_scale: PositiveFloat = Field(0.1, description="Scale of the penalty stiffness [-]. Default 0.1.")
     soft_scale: PositiveFloat = Field(0.1, description="Scale of the soft-constraint stiffness [-]. Default 0.1.")
     damping: NonNegativeFloat = Field(
-        0.0, le=1.0, description="Viscous contact damping, fraction of critical for the slave's mass [-]. Default 0."
+        0.1, le=1.0, description="Viscous contact damping, fraction of critical for the slave's mass [-] (LS-DYNA's VDC "
+        "as a fraction). It damps the contact spring's own oscillation, which an undamped penalty turns into "
+        "spurious energy. Default 0.1."
     )
     friction: NonNegativeFloat = Field(0.0, description="Coulomb friction coefficient [-]. Default 0 (frictionless).")
 

@@ -520,6 +520,7 @@ Load = Annotated[Union[Gravity, PressureLoad, NodalForce], Field(discriminator="
 NODE_QUANTITIES = ("displacement", "velocity", "acceleration", "coordinates")
 ELEMENT_QUANTITIES = ("stress", "von_mises", "pressure", "plastic_strain")
 FIELD_NAMES = NODE_QUANTITIES + ELEMENT_QUANTITIES + ("density",)
+HISTORY_ONLY = ("contact_force",)  # summed over the nodes: the force contacts and couplings exert on them
 
 
 class HistoryRequest(DeckModel):
@@ -531,9 +532,10 @@ class HistoryRequest(DeckModel):
     point: Vector | None = Field(
         None, description="The node nearest this point (element quantities: the element nearest it)."
     )
-    quantities: list[Literal[NODE_QUANTITIES + ELEMENT_QUANTITIES]] = Field(
+    quantities: list[Literal[NODE_QUANTITIES + ELEMENT_QUANTITIES + HISTORY_ONLY]] = Field(
         default_factory=lambda: ["displacement", "velocity"],
-        description="Quantities recorded. Default [displacement, velocity].",
+        description="Quantities recorded (contact_force: the total force of contacts and couplings on the "
+        "nodes, at the start of the last step). Default [displacement, velocity].",
     )
 
     @model_validator(mode="after")

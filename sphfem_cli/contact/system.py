@@ -1,0 +1,157 @@
+"""Nodes-to-surface penalty contact inside the explicit loop (LS-DYNA *CONTACT_AUTOMATIC_NODES_TO_SURFACE).
+
+Slaves are SPH particles (an SPH part) or nodes (a solid part or a node set); the master is the
+outer surface of a solid or rigid part, or a segment set. The interface the loop uses is stated
+in solver.explicit; the force law and the search in contact.kernels.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..deck.schema.interaction import NodesToSurface
+from ..materials.kernels import P_K
+from . import kernels as K
+from .surface import master_segments
+
+
+class NodesToSurfaceContact:
+    """One `contacts` entry of the deck."""
+
+    def __init__(self, sim, spec: NodesToSurface):
+        model = sim.model
+        self.sim, self.spec, self.name = sim, spec, f"{spec.nodes}->{spec.surface}"
+        self.dim = model.dim
+        self.faces, owner = master_segments(model, spec.surface)
+        x0 = model.coordinates
+        self.particle_slaves = spec.nodes in model.deck.parts and model.parts[model.part_index(spec.nodes)].kind == "sph"
+        if self.particle_slaves:
+            self.part_index = model.part_index(spec.nodes)
+            ps = model.particles
+            slave_mass = ps.mass[ps.part == self.part_index]
+            self.slave_thickness = 0.5 * ps.spacing if spec.thickness is None else np.full(ps.n, spec.thickness)
+        else:
+            self.slave_nodes = model.target_nodes(spec.nodes if spec.nodes in model.deck.parts else None,
+                                                  None if spec.nodes in model.deck.parts else spec.nodes)
+            slave_mass = model.mass[self.slave_nodes]
+            edge = min(float(np.min(np.linalg.norm(x0[self.faces[:, (j + 1) % self.faces.shape[1]]] - x0[self.faces[:, j]], axis=1)))
+                       for j in range(self.faces.shape[1]))
+            thickness = 0.1 * edge if spec.thickness is None else spec.thickness
+            self._slave_mask = np.zeros(model.n_nodes, dtype=bool)
+            self._slave_mask[self.slave_nodes] = True
+            self._slave_mask[np.unique(self.faces)] = False  # a node is never its own master
+            self.slave_thickness = np.full(model.n_nodes, thickness)
+        self.slave_mass_min = float(slave_mass.min()) if len(slave_mass) else np.inf
+
+        # Segment stiffness k = penalty_scale K A^2 / V (3D), K L^2 / A (2D); depth limit V / A.
+        area = self._segment_areas(x0)
+        volume = model.volume0[owner]
+        bulk = model.material_param[model.element_material[owner], P_K]
+        self.seg_k = spec.penalty_scale * bulk * area * area / volume
+        self.seg_depth = volume / area
+        self.reach = float(self.slave_thickness.max()) if len(slave_mass) else 0.0
+        self._k_soft = None  # set on the first step for the soft constraint
+        self.work = 0.0
+        self._f_master = np.zeros((model.n_nodes, self.dim))
+        self._seg_of = None
+
+    def _segment_areas(self, x: np.ndarray) -> np.ndarray:
+        f = self.faces
+        if self.dim == 2:
+            return np.linalg.norm(x[f[:, 1]] - x[f[:, 0]], axis=1)
+        d1, d2 = x[f[:, 2]] - x[f[:, 0]], x[f[:, 3]] - x[f[:, 1]]
+        return 0.5 * np.linalg.norm(np.cross(d1, d2), axis=1)
+
+    # ------------------------------------------------------------------------- slave side
+
+    def _slaves(self):
+        """(x, v, m, slave mask, thickness) of the slave points at state n."""
+        if self.particle_slaves:
+            ps = self.sim.particles.system
+            mask = ps.active & (self.sim.model.particles.part[ps.ids] == self.part_index)
+            return ps.x, ps.v, ps.m, mask, self.slave_thickness[ps.ids]
+        st = self.sim.state
+        return st.x, st.v, self.sim.model.mass, self._slave_mask, self.slave_thickness
+
+    # ----------------------------------------------------------------------------- loop
+
+    def stable_dt(self) -> float:
+        """2/omega (sqrt(1 + zeta^2) - zeta) with omega = sqrt(k_max / m_min): the contact spring's step."""
+        if self.spec.stiffness == "soft_constraint":
+            if self._k_soft is None:
+                return np.inf
+            omega = np.sqrt(self.spec.soft_scale) / self._dt0
+        else:
+            if not len(self.seg_k) or not np.isfinite(self.slave_mass_min):
+                return np.inf
+            omega = np.sqrt(float(self.seg_k.max()) / self.slave_mass_min)
+        zeta = self.spec.damping
+        return 2.0 / omega * (np.sqrt(1.0 + zeta * zeta) - zeta)
+
+    def forces(self, st) -> None:
+        xp, vp, mp, mask, thickness = self._slaves()
+        if self.spec.stiffness == "soft_constraint":
+            if self._k_soft is None:
+                self._dt0 = self.sim._dt_first
+                self._k_soft = self.spec.soft_scale / self._dt0 ** 2
+            point_k = self._k_soft * mp
+        else:
+            point_k = np.zeros(len(mp))
+        n = len(mp)
+        self._f_point = np.zeros((n, self.dim))
+        self._seg_of = np.empty(n, dtype=np.int64)
+        self._weights = np.zeros((n, self.faces.shape[1]))
+        self._gap = np.empty(n)
+        if len(self.faces) and mask.any():
+            lo, cell, ncell = self._grid(st.x)
+            start, segs = K.bin_segments(st.x, self.faces, self.reach, lo, cell, ncell)
+            K.point_forces(xp, vp, mp, mask, thickness, st.x, st.v, self.faces, self.seg_k, self.seg_depth, point_k,
+                           start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
+                           max(st.dt_prev, self.sim._dt_first or 0.0), self._f_point, self._seg_of, self._weights,
+                           self._gap)
+        self._f_master[:] = 0.0
+        K.scatter_reactions(self._f_point, self._seg_of, self._weights, self.faces, self._f_master)
+        st.f_contact += self._f_master
+        if self.particle_slaves:
+            ps = self.sim.particles.system
+            ps.f_ext += self._f_point
+            self._v_start = ps.v_half.copy() if ps.nsteps else ps.v.copy()  # v^{n-1/2} (v^0 at the start)
+        else:
+            st.f_contact += self._f_point
+
+    def _grid(self, x: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
+        """A cell grid over the master surface grown by the reach; cells about one segment wide."""
+        used = x[np.unique(self.faces)]
+        lo = used.min(axis=0) - 2.0 * self.reach
+        hi = used.max(axis=0) + 2.0 * self.reach
+        size = float(np.median(self._segment_areas(x))) ** (1.0 / (self.dim - 1))
+        cell = max(size, 2.0 * self.reach, 1e-12 * float(np.max(hi - lo)))
+        ncell = np.maximum(1, np.ceil((hi - lo) / cell)).astype(np.int64)
+        while np.prod(ncell) > 4 * len(self.faces) + 64:  # a sparse surface in a large box: coarser cells
+            cell *= 2.0
+            ncell = np.maximum(1, np.ceil((hi - lo) / cell)).astype(np.int64)
+        return lo, cell, ncell
+
+    def record_work(self, dt: float, dt_avg: float, v_old: np.ndarray, st) -> None:
+        """Work of this contact's forces over the step, as the loop's integrators count it."""
+        w = float(np.sum(self._f_master * (v_old + st.v))) * 0.5 * dt_avg
+        if self.particle_slaves:
+            w += float(np.sum(self._f_point * (self._v_start + self.sim.particles.system.v_half))) * 0.5 * dt_avg
+        else:
+            w += float(np.sum(self._f_point * (v_old + st.v))) * 0.5 * dt_avg
+        self.work += w
+
+    # --------------------------------------------------------------------------- output
+
+    def max_penetration(self) -> tuple[float, str]:
+        """Deepest slave below the master surface (positive gap = outside) at the last force pass."""
+        if self._seg_of is None or not len(self._seg_of):
+            return 0.0, ""
+        inside = np.where(self._seg_of >= 0, -self._gap, 0.0)
+        i = int(np.argmax(inside))
+        if self.particle_slaves:
+            return float(inside[i]), f"particle {int(self.sim.particles.system.ids[i])} of contact {self.name}"
+        return float(inside[i]), f"node {i} of contact {self.name}"
+
+    def resultant(self) -> np.ndarray:
+        """Total contact force on the master side (dim,)."""
+        return self._f_master.sum(axis=0)
