@@ -1,0 +1,56 @@
+"""A scene pays only for the physics it has: a deck without ALE parts compiles no ALE kernel, and
+likewise for SPH, FEM and contact (issue 5).
+
+Each deck runs a few steps in a fresh interpreter, which then reports the sphfem kernel modules it
+imported and the compiled kernels (numba dispatchers with at least one signature) among them.
+"""
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+DECKS = Path(__file__).resolve().parents[2] / "decks"
+
+_PROBE = r"""
+import json, sys
+from sphfem_cli.cli import load_model
+from sphfem_cli.solver.explicit import Simulation
+sim = Simulation(load_model(sys.argv[1]).model)
+for _ in range(3):
+    sim.step()
+report = {}
+for name in ("fem", "sph", "ale", "contact"):
+    mod = sys.modules.get(f"sphfem_cli.{name}.kernels")
+    compiled = []
+    if mod is not None:
+        compiled = sorted(k for k, v in vars(mod).items() if getattr(v, "signatures", None))
+    report[name] = {"imported": mod is not None, "compiled": compiled}
+print(json.dumps(report))
+"""
+
+
+def _compiled(deck: Path) -> dict:
+    out = subprocess.run([sys.executable, "-c", _PROBE, str(deck)], capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.parametrize("deck, needed", [
+    ("cantilever_2d.yaml", {"fem"}),
+    ("dam_break_2d.yaml", {"sph"}),
+    ("water_air_shock_tube.yaml", {"ale"}),
+])
+def test_a_deck_compiles_only_its_physics(deck, needed):
+    report = _compiled(DECKS / deck)
+    for name, seen in report.items():
+        if name in needed:
+            assert seen["compiled"], f"{deck}: expected {name} kernels to run"
+        else:
+            assert not seen["imported"] or not seen["compiled"], f"{deck} compiled {name} kernels {seen['compiled']}"
+    # Modules of physics a deck does not have are not even imported (import costs, cached loads).
+    assert not report["ale"]["imported"] or "ale" in needed
+    assert not report["contact"]["imported"]
