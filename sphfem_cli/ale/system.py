@@ -42,6 +42,11 @@ Boundaries (node index arrays): ``set_slip(nodes, normal)`` normal velocity zero
 the set are open (outflow / zero-gradient inflow, with the inside pressure applied outside).
 Nodes in two slip sets with different normals become fixed.
 
+Body force and structure coupling: ``gravity`` (2,) acceleration on the nodal masses;
+``f_couple`` (N, 2) coupling forces of the step (contact.coupling), with their work accumulated
+in ``gravity_work`` and ``coupling_work``; ``step(dt, couple_dt)`` gives the coupling forces the
+impulse weight couple_dt.
+
 Methods: ``stable_dt(scale)``, ``step(dt)``, ``totals()`` (mass per material, momentum,
 kinetic, internal and total energy, accumulated wall impulse); accessors ``fractions()``,
 ``density()`` (per material, 0 where absent), ``pressure()`` (per material and mixture),
@@ -287,6 +292,14 @@ class AleSystem:
         self._bk = np.zeros((n_elem, 2, 2))
         self._impulse = np.zeros((n_nodes, 2))
         self._f_ext = np.zeros((n_nodes, 2))
+        # body acceleration on the nodal masses, and the forces of couplings to structures
+        # (contact.coupling): set f_couple before each step; its impulse is couple_dt * f_couple
+        self.gravity = np.zeros(2)
+        self.f_couple = np.zeros((n_nodes, 2))
+        self.gravity_work = 0.0
+        self.coupling_work = 0.0
+        self.v_lag = self.velocity.copy()  # v^{n+1/2} of the Lagrangian phase, before the remap
+        self.v_mid = np.zeros((n_nodes, 2))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last Lagrangian phase
 
     # ---------------------------------------------------------------- boundaries
     def set_fixed(self, node_ids) -> None:
@@ -352,14 +365,38 @@ class AleSystem:
         np.add.at(f[:, 1], n1, fy)
         return f
 
-    def step(self, dt: float) -> None:
-        """One Lagrangian step of length dt followed (every advect_every steps) by the remap."""
+    def step(self, dt: float, couple_dt: float | None = None) -> None:
+        """One Lagrangian step of length dt followed (every advect_every steps) by the remap.
+
+        Gravity acts on the nodal masses; the coupling forces ``f_couple`` give the impulse
+        ``couple_dt * f_couple`` (default dt), so that a structure stepping them with its own
+        weight (the central difference's dt_avg) receives exactly the opposite impulse. Their work
+        over the step, f . (v^{n-1/2} + v^{n+1/2}) / 2 times the impulse weight (the same average
+        that makes lagrange_energy conserve kinetic plus internal energy), is added to
+        ``gravity_work`` and ``coupling_work``.
+        """
         if not self._fresh:
             self._forces()
         topo = self.topo
         v_old = self.velocity.copy()
-        K.nodal_update(self.f_elem, topo["node_elem_ptr"], topo["node_elem_idx"], self._external_forces(),
+        f_ext = self._external_forces()
+        has_gravity = bool(np.any(self.gravity))
+        if has_gravity:
+            f_ext += self.node_mass[:, None] * self.gravity
+        w_couple = dt if couple_dt is None else couple_dt
+        has_couple = bool(np.any(self.f_couple))
+        if has_couple:
+            f_ext += self.f_couple * (w_couple / dt)
+        K.nodal_update(self.f_elem, topo["node_elem_ptr"], topo["node_elem_idx"], f_ext,
                        self.node_mass, self.velocity, self.bc_type, self.bc_normal, dt, self._impulse)
+        self.v_lag[:] = self.velocity
+        v_mid = self.v_mid
+        np.add(v_old, self.velocity, out=v_mid)
+        v_mid *= 0.5
+        if has_gravity:
+            self.gravity_work += dt * float(np.sum(self.node_mass * (v_mid @ self.gravity)))
+        if has_couple:
+            self.coupling_work += w_couple * float(np.sum(self.f_couple * v_mid))
         self.wall_impulse += self._impulse.sum(axis=0)
         K.lagrange_energy(self.x, v_old, self.velocity, dt, self.conn, self.f_elem, self.vol_m, self.mass_m,
                           self.ener_m, self.pres_m, self.bulk_m, self.q_elem, self.closure, self.relax_alpha,

@@ -347,7 +347,51 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
         pressure[hit, k] = fill.pressure if fill.pressure is not None else state(mats[k], rho)
         if fill.velocity is not None:
             velocity[inside(nodes[:, 0], nodes[:, 1])] = fill.velocity
+        if part.hydrostatic and model.material_type[mats[k]] != VOID:
+            _hydrostatic_fill(model, deck, name, j, nodes, conn, f, mats[k], density[:, k], pressure[:, k])
     return AleMesh(index, nodes, conn, mats, fractions, density, pressure, velocity)
+
+
+def _hydrostatic_fill(model: Model, deck: Deck, name: str, j: int, nodes, conn, f, m: int, density, pressure) -> None:
+    """Hydrostatic pressure and density of one ALE fill (in place, on the elements it touches).
+
+    Heights h are measured against gravity g. An element's part of the fill is taken as the lowest
+    fraction f of its height span [h_lo, h_hi] (a horizontal free surface in a level-layered
+    mesh); the fill's free surface s is the highest top h_lo + f (h_hi - h_lo) over its elements,
+    the element's pressure p = rho0 |g| (s - h_c) at the middle h_c = h_lo + f (h_hi - h_lo) / 2 of
+    its part, and its density solves p_eos(rho, e0) = p by Newton's method.
+    """
+    from ..deck.schema.model import Gravity
+    from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, eos_pressure, eos_sound_speed
+
+    g = sum((np.array(l.acceleration[:2], dtype=float) for l in deck.loads
+             if isinstance(l, Gravity) and (l.parts is None or name in l.parts)), np.zeros(2))
+    if not np.any(g):
+        raise ModelError(f"parts.{name}.hydrostatic", "a hydrostatic start needs a gravity load on the part")
+    up = -g / np.linalg.norm(g)
+    hit = np.flatnonzero(f > 0)
+    heights = nodes[conn[hit]] @ up  # (n, 4)
+    lo, hi = heights.min(axis=1), heights.max(axis=1)
+    top = lo + f[hit] * (hi - lo)
+    surface = top.max()
+    mid = lo + 0.5 * f[hit] * (hi - lo)
+    row = model.material_param[m]
+    rho0, eos, q = row[0], int(row[P_EOS_TYPE]), np.ascontiguousarray(row[EOS_OFFSET:])
+    for i, e in enumerate(hit):
+        p = rho0 * np.linalg.norm(g) * (surface - mid[i])
+        rho = rho0
+        for _ in range(50):
+            r = rho / rho0
+            c = eos_sound_speed(eos, q, r, q[1])
+            if c <= 0.0:
+                raise ModelError(f"parts.{name}.fill.{j}", "hydrostatic start: the EOS has no sound speed at the "
+                                 "reference density")
+            step = (eos_pressure(eos, q, r, q[1]) - p) / (c * c)
+            rho -= step
+            if abs(step) <= 1e-14 * rho:
+                break
+        density[e] = rho
+        pressure[e] = p
 
 
 def _region(fill):

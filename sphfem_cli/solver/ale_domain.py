@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..ale.system import AleSystem
-from ..deck.schema.model import AleBoundary
+from ..deck.schema.model import AleBoundary, Gravity
 from ..model import sets as selection
 from ..model.build import VOID, Model
 
@@ -34,6 +34,9 @@ class AleDomain:
             interface=section.interface, closure=section.closure, advect_every=section.advect_every,
             mesh_motion="eulerian" if section.mesh_motion == "eulerian" else "smooth",
         )
+        for load in deck.loads:
+            if isinstance(load, Gravity) and (load.parts is None or part.name in load.parts):
+                self.system.gravity += np.array(load.acceleration[:2], dtype=float)
         for bc in deck.boundaries:
             if not isinstance(bc, AleBoundary):
                 continue
@@ -49,8 +52,14 @@ class AleDomain:
     def stable_dt(self) -> float:
         return self.system.stable_dt(self.section.courant)
 
-    def step(self, dt: float) -> None:
-        self.system.step(dt)
+    def step(self, dt: float, dt_avg: float | None = None) -> None:
+        """One step of the loop's dt; coupling forces (f_couple) get the impulse weight dt_avg."""
+        self.system.step(dt, dt_avg)
+
+    def external_work(self) -> float:
+        """Work done on the fluid by gravity and coupling forces so far (the loop's energy table takes
+        the couplings' work back out and books it as contact energy)."""
+        return self.system.gravity_work + self.system.coupling_work
 
     def energies(self) -> tuple[float, float]:
         """(kinetic, internal) of the ALE fluid."""

@@ -56,8 +56,8 @@ print(json.dumps([\"sphfem_cli.sph.kernels\" in sys.modules, bool(fem.solid_elem
     (("  water: {type: fluid, density: 1000.0, eos: water}",
       "  water: {type: elastic, density: 1000.0, youngs_modulus: 1.0e9, poisson_ratio: 0.3}"),
      "parts.tube.fill[1].material: ALE materials are fluid or void, 'water' is elastic"),
-    (("output:", "loads:\n  - {type: gravity, acceleration: [0, -9.81]}\noutput:"),
-     "loads[0]: gravity on ALE parts is not supported yet"),
+    (("output:", "curves:\n  ramp: {points: [[0, 0], [1, 1]]}\nloads:\n  - {type: gravity, acceleration: [0, -9.81], curve: ramp}\noutput:"),
+     "loads[0].curve: gravity on ALE parts is constant (no curve)"),
 ])
 def test_bad_ale_decks(tmp_path, change, message):
     deck = tmp_path / "bad.yaml"

@@ -159,12 +159,11 @@ def _check_references(deck: Deck) -> None:
         if isinstance(load, Gravity):
             for name in load.parts or []:
                 _ref(name, deck.parts, f"loads.{i}.parts", "part")
-            if ale_parts & set(load.parts or deck.parts):
-                raise ValueError(f"@loads.{i}: gravity on ALE parts is not supported yet "
-                                 f"(list the other parts in 'parts')")
             acts_on_sph = sph_parts & set(load.parts or deck.parts)
             if load.curve is not None and acts_on_sph:
                 raise ValueError(f"@loads.{i}.curve: gravity on SPH parts is constant (no curve)")
+            if load.curve is not None and ale_parts & set(load.parts or deck.parts):
+                raise ValueError(f"@loads.{i}.curve: gravity on ALE parts is constant (no curve)")
         if isinstance(load, PressureLoad) and not isinstance(deck.sets[load.set], SegmentSet):
             raise ValueError(f"@loads.{i}.set: pressure needs a segment set, '{load.set}' is a node set")
         if isinstance(load, NodalForce) and isinstance(deck.sets[load.set], SegmentSet):
@@ -239,8 +238,8 @@ def _check_ale_part(deck: Deck, pname: str, part) -> None:
         raise ValueError(f"@{where}.geometry.{kind}: ALE parts are meshed from box or file")
     if kind == "box" and not (part.geometry.box.divisions or part.geometry.box.element_size):
         raise ValueError(f"@{where}.geometry.box: give 'divisions' or 'element_size'")
-    if part.spacing is not None or part.hydrostatic or part.rigid:
-        raise ValueError(f"@{where}: ALE parts take no spacing, hydrostatic or rigid")
+    if part.spacing is not None or part.rigid:
+        raise ValueError(f"@{where}: ALE parts take no spacing or rigid")
     for j, name in enumerate([part.material] + [f.material for f in part.fill]):
         key = "material" if j == 0 else f"fill.{j - 1}.material"
         _ref(name, deck.materials, f"{where}.{key}", "material")

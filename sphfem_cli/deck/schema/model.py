@@ -348,19 +348,22 @@ class Part(DeckModel):
         None, description="SPH parts: particle spacing dx on a square/cubic lattice [length]; mass = density dx^dimension."
     )
     hydrostatic: bool = Field(
-        False, description="SPH parts: start at the hydrostatic density under the deck's gravity, free surface at the part's top. Default false."
+        False, description="SPH parts: start at the hydrostatic density under the deck's gravity, free surface at the part's top. "
+        "ALE parts: each fill of a fluid material starts at the hydrostatic pressure p = rho0 |g| (s - h) of its own free "
+        "surface s (the top of the fill, measured against gravity; h the height of the element's part of the fill), "
+        "its density from the EOS at that pressure; the part's own material is left at its state. Default false."
     )
     fill: list[Fill] = Field(
         default_factory=list,
         description="ALE parts: regions filled with other materials, in order (later ones win); the part's material fills the rest.",
     )
-
-
-# -------------------------------------------------------------------------------------------- sets
     erosion: Erosion | None = Field(
         None, description="Solid parts: delete (deactivate) elements that invert or exceed a plastic strain, and go on "
         "(LS-DYNA *MAT_ADD_EROSION). Default none: an inverted element stops the run."
     )
+
+
+# -------------------------------------------------------------------------------------------- sets
 
 
 class Selection(DeckModel):
