@@ -45,7 +45,7 @@ class Constraints:
         self.v_prescribed = np.zeros((model.n_nodes, model.dim))
         self.prescribed: list[_Prescribed] = []
         self.rigid_prescribed: dict[int, list[tuple[int, float, str | None]]] = {}
-        self.rigid_held: set[int] = set()  # rigid parts fixed in every direction: no spin either
+        self.rigid_held: set[int] = set()  # rigid parts fixed in every direction or hold_rotation: no spin
         rigid_parts = {b.part: b for b in model.rigid_bodies}
         for bc in model.deck.boundaries:
             if isinstance(bc, (WallBoundary, AleBoundary)):
@@ -62,7 +62,7 @@ class Constraints:
             if rigid:
                 entry = self.rigid_prescribed.setdefault(model.part_index(bc.part), [])
                 entry.extend((k, val, curve) for k, val in comps)
-                if isinstance(bc, FixedBoundary) and len(comps) == model.dim:
+                if isinstance(bc, FixedBoundary) and (len(comps) == model.dim or bc.hold_rotation):
                     self.rigid_held.add(model.part_index(bc.part))
                 continue
             nodes = model.target_nodes(bc.part, bc.set)

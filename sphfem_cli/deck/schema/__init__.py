@@ -150,6 +150,10 @@ def _check_references(deck: Deck) -> None:
         if deck.dimension == 2 and "z" in directions:
             key = "directions" if hasattr(bc, "directions") else "normal"
             raise ValueError(f"@boundaries.{i}.{key}: direction 'z' does not exist in 2D")
+        if getattr(bc, "hold_rotation", False):
+            part = deck.parts.get(bc.part) if bc.part is not None else None
+            if part is None or not (part.rigid or getattr(deck.materials.get(part.material), "type", "") == "rigid"):
+                raise ValueError(f"@boundaries.{i}.hold_rotation: holds the rotation of a rigid part, given by 'part'")
 
     for i, ic in enumerate(deck.initial):
         check_target(ic, f"initial.{i}")

@@ -422,12 +422,17 @@ class FixedBoundary(Target):
     """Zero velocity in the listed directions (LS-DYNA *BOUNDARY_SPC).
 
     On a rigid part it holds the body's translation in those directions; fixed in every direction,
-    the body is held entirely (no rotation either).
+    the body is held entirely (no rotation either). With hold_rotation the body's rotation is held
+    as well, e.g. directions [x] leaves a 2D body one degree of freedom, translation in y.
     """
 
     type: Literal["fixed"] = Field(description="Boundary selector: fixed directions.")
     directions: list[Direction] | None = Field(
         None, description="Fixed directions. Default all directions of the deck's dimension."
+    )
+    hold_rotation: bool = Field(
+        False, description="Rigid parts only (given by part): hold the body's rotation too (no spin), whatever the "
+        "directions. Default false: a rigid body turns freely unless every direction is fixed."
     )
 
 
