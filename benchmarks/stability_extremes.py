@@ -148,7 +148,7 @@ def cases(long_steps: int) -> list[tuple[str, str, dict]]:
     still = copy.deepcopy(free)
     still["sections"]["solid"] = {"type": "solid", "hourglass": {"coefficient": 0.0}, "bulk_viscosity": {"q1": 0.0, "q2": 0.0}}
     out.append(("long run", f"the same without hourglass control and bulk viscosity, {long_steps} steps", still))
-    water = variant(SPH, parts__column__spacing=0.01)
+    water = variant(SPH, parts__column__spacing=0.01, boundaries__0__max=[0.05, 0.3])
     out.append(("long run", f"SPH water column at rest (5 x 10 particles), {long_steps} steps", water))
     return out
 

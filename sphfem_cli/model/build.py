@@ -166,6 +166,13 @@ BYTES_PER_ELEMENT = 900
 BYTES_PER_PARTICLE = 1000
 
 
+def _as_count(value) -> int:
+    """A count from a float estimate; an overflowing or non-finite one (extreme geometry) becomes 10**18."""
+    value = float(value)
+    return int(value) if value < 1e18 else 10**18
+
+
+@np.errstate(over="ignore", invalid="ignore")
 def estimate_counts(deck: Deck, name: str) -> tuple[int, int, int]:
     """(nodes, elements, particles) a part will have, from the deck alone (0s for a mesh file)."""
     part = deck.parts[name]
@@ -177,12 +184,12 @@ def estimate_counts(deck: Deck, name: str) -> tuple[int, int, int]:
             lengths = np.full(deck.dimension, 2.0 * g.ball.radius)
         else:
             lengths = np.ptp(np.array(g.polygon.vertices, dtype=float), axis=0)
-        return 0, 0, int(np.prod(np.maximum(np.rint(lengths / part.spacing), 1.0)))
+        return 0, 0, _as_count(np.prod(np.maximum(np.rint(lengths / part.spacing), 1.0)))
     if g.box is not None:
         lengths = np.subtract(g.box.max, g.box.min)
         div = (np.array(g.box.divisions, dtype=float) if g.box.divisions is not None
                else np.maximum(np.rint(lengths / g.box.element_size), 1.0))
-        return int(np.prod(div + 1)), int(np.prod(div)), 0
+        return _as_count(np.prod(div + 1)), _as_count(np.prod(div)), 0
     if g.ring is not None or g.cylinder is not None:
         r = g.ring or g.cylinder
         layers = (g.cylinder.elements_along + 1) if g.cylinder is not None else 1
