@@ -3,6 +3,7 @@ remedies, last good state) and readable output; erosion lets a run go on past wh
 from __future__ import annotations
 
 import pickle
+import re
 
 import numpy as np
 import pytest
@@ -47,13 +48,18 @@ def test_timestep_scale_1_2_trips_the_energy_guard(tmp_path):
     assert (tmp_path / "out" / "results.xdmf").is_file()
 
 
-def test_timestep_scale_2_trips_the_volume_guard(tmp_path):
+def test_timestep_scale_2_trips_the_energy_guard_first_then_the_volume_guard(tmp_path):
     deck = decks.write(tmp_path, "solid", timestep_scale=2.0)
-    code, text = _run(deck, tmp_path / "out")
+    code, text = _run(deck, tmp_path / "on")
+    assert code == 3 and _diagnostics(tmp_path / "on")["guard"] == "energy_ratio", text
+    deck = decks.write(tmp_path, "solid", timestep_scale=2.0, energy_band=None)
+    code, text = _run(deck, tmp_path / "off")
     assert code == 3, text
-    diag = _diagnostics(tmp_path / "out")
-    assert diag["guard"] in ("negative_volume", "non_finite", "energy_ratio"), diag
-    assert "element" in diag["message"] and "part 'bar'" in diag["message"]
+    diag = _diagnostics(tmp_path / "off")
+    assert diag["guard"] == "negative_volume", diag
+    assert re.search(r"negative volume in element \d+ of part 'bar' at t = ", diag["message"])
+    assert re.search(r"^  element: \d+$", (tmp_path / "off" / "diagnostics.txt").read_text(), re.M)
+    assert "remedies" in diag and "erosion" in diag["remedies"]
 
 
 def test_energy_band_is_configurable_and_can_be_switched_off(tmp_path):
