@@ -49,9 +49,16 @@ def _fields(out: Path) -> list[tuple[str, np.ndarray]]:
     return sorted(found, key=lambda item: item[0])
 
 
-@pytest.mark.parametrize("kind, stop_step", [("solid", 333), ("sph", 97), ("ale", 71)])
+FUZZ = Path(__file__).parents[1] / "data" / "fuzz"
+
+
+@pytest.mark.parametrize("kind, stop_step", [("solid", 333), ("sph", 97), ("ale", 71),
+                                             ("fsi_sph", 31), ("fsi_ale", 7)])
 def test_restart_is_bit_identical(tmp_path, monkeypatch, kind, stop_step):
-    deck = decks.write(tmp_path, kind)
+    """fsi_sph has a nodes_to_surface contact, fsi_ale a lagrange_in_solid coupling (their state and work
+    travel in the checkpoint too)."""
+    text = (FUZZ / f"{kind}.yaml").read_text() if kind.startswith("fsi") else None
+    deck = decks.write(tmp_path, kind, text)
     code, text = _run(deck, "-o", tmp_path / "whole")
     assert code == 0, text
 
