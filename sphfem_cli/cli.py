@@ -205,7 +205,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
     )
     log = _RunLog(out / "run.log", loaded.path, append=payload is not None)
     stop = _StopRequest()
-    previous = {sig: signal.signal(sig, stop) for sig in (signal.SIGINT, signal.SIGTERM)}
+    previous = _install(stop)
     start = time.perf_counter()
     status, message, stopped = "completed", "", None
     output = None
@@ -320,6 +320,18 @@ class _StopRequest:
         if self.signum is not None:
             raise KeyboardInterrupt
         self.signum = signum
+
+
+def _install(handler) -> dict:
+    """Install `handler` for SIGINT and SIGTERM; the previous handlers (none outside the main thread,
+    where signals cannot be caught and a run keeps the caller's handling)."""
+    previous = {}
+    for sig in (signal.SIGINT, signal.SIGTERM):
+        try:
+            previous[sig] = signal.signal(sig, handler)
+        except ValueError:
+            break
+    return previous
 
 
 def _next_multiple(t: float, interval: float | None) -> float:

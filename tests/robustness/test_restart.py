@@ -118,3 +118,37 @@ def test_restart_refuses_a_file_that_is_not_a_checkpoint(tmp_path):
     code, text = _run(deck, "-o", tmp_path / "out", "--restart", bogus)
     assert code == 65
     assert len(text.strip().splitlines()) == 1 and "not a readable sphfem checkpoint" in text
+
+
+def test_restart_refuses_an_output_folder_without_the_run(tmp_path):
+    deck = decks.write(tmp_path, "solid")
+    code, text = _run(deck, "-o", tmp_path / "out")
+    assert code == 0, text
+    code, text = _run(deck, "-o", tmp_path / "elsewhere", "--restart", tmp_path / "out" / "checkpoint.pkl")
+    assert code == 65
+    lines = text.strip().splitlines()
+    assert len(lines) == 1 and "does not hold the run of this checkpoint" in lines[0], text
+
+
+def test_checkpoints_follow_the_simulated_and_wall_intervals(tmp_path, monkeypatch):
+    from sphfem_cli.output import checkpoint as ckpt
+
+    written = []
+    original = ckpt.write_checkpoint
+
+    def record(path, sim, output_state, digest):
+        written.append((sim.state.time, sim.state.step))
+        original(path, sim, output_state, digest)
+
+    monkeypatch.setattr(ckpt, "write_checkpoint", record)
+    code, text = _run(decks.write(tmp_path, "solid", checkpoint_interval=3.0e-5), "-o", tmp_path / "sim")
+    assert code == 0, text
+    times = np.array([t for t, _ in written])
+    assert len(times) == 6  # 3e-5, 6e-5, ..., 1.8e-4 within end_time 2e-4
+    assert np.all(np.floor(times / 3.0e-5 + 1e-9) == np.arange(1, 7))  # the first step at or after each multiple
+    steps = [s for _, s in written]
+    written.clear()
+    code, text = _run(decks.write(tmp_path, "solid", checkpoint_interval=1.0, checkpoint_wall_interval=1.0e-9),
+                      "-o", tmp_path / "wall")
+    assert code == 0, text
+    assert [s for _, s in written] == list(range(1, len(written) + 1)) and len(written) > max(steps)
