@@ -152,3 +152,21 @@ def test_checkpoints_follow_the_simulated_and_wall_intervals(tmp_path, monkeypat
                       "-o", tmp_path / "wall")
     assert code == 0, text
     assert [s for _, s in written] == list(range(1, len(written) + 1)) and len(written) > max(steps)
+
+
+def test_restart_of_a_restarted_run_is_still_bit_identical(tmp_path, monkeypatch):
+    deck = decks.write(tmp_path, "solid")
+    code, text = _run(deck, "-o", tmp_path / "whole")
+    assert code == 0, text
+    checkpoint = tmp_path / "split" / "checkpoint.pkl"
+    for stop_step, restart in ((201, False), (457, True)):
+        with monkeypatch.context() as patch:
+            _interrupt_at(patch, stop_step)
+            code, text = _run(deck, "-o", tmp_path / "split", *(["--restart", checkpoint] if restart else []))
+        assert code == 130, text
+    code, text = _run(deck, "-o", tmp_path / "split", "--restart", checkpoint)
+    assert code == 0, text
+    whole, split = _histories(tmp_path / "whole"), _histories(tmp_path / "split")
+    for name in whole:
+        assert np.array_equal(whole[name], split[name]), name
+    assert (tmp_path / "split" / "run.log").read_text().count("restarted from") == 2
