@@ -398,13 +398,13 @@ class Simulation:
         """Erode what the parts' `erosion` allows; stop on any other inverted element."""
         m = self.model
         bad = np.flatnonzero(self._dt_elem == fem.INVERTED)
-        over = (np.flatnonzero(m.element_active & (st.hist[:, 0] > self._erode_strain))
-                if self._has_strain_erosion else ())
         if len(bad) and self._erode_inverted[bad].any():
             self._erode(st, bad[self._erode_inverted[bad]], "negative volume")
             bad = bad[~self._erode_inverted[bad]]
-        if len(over):
-            self._erode(st, over, "plastic strain")
+        if self._has_strain_erosion:
+            over = np.flatnonzero(m.element_active & (st.hist[:, 0] > self._erode_strain))
+            if len(over):
+                self._erode(st, over, "plastic strain")
         if len(bad):
             e = int(bad[0])
             raise RunStopped(
