@@ -477,7 +477,8 @@ class Simulation:
                     f"{row.contact:.4e}) (remedies: lower timestep_scale, raise hourglass stiffness if hourglass "
                     "energy grows, refine where the mesh distorts, check contact stiffness; widen or switch off "
                     "control.energy_band if the loss is physical)",
-                    "energy_ratio", {"ratio": row.ratio, "band": list(band), "total": row.total,
+                    "energy_ratio", {"ratio": row.ratio, "band": list(band), "band at this step": [low, high],
+                                     "total": row.total,
                                      "reference": reference, "kinetic": row.kinetic, "internal": row.internal,
                                      "hourglass": row.hourglass, "contact": row.contact},
                 )
