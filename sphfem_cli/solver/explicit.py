@@ -52,6 +52,17 @@ ENERGY_GUARD_FLOOR = 1e-3  # the energy guard waits until the reference energy r
 ENERGY_GUARD_STEPS = 100  # before this step the band is widened by (ENERGY_GUARD_STEPS / step)^2 (start-up error)
 
 
+def _stable_or_nan(stable_dt: Callable[[], float], *state: np.ndarray) -> float:
+    """`stable_dt()`, or NaN when it fails on a non-finite state (a compiled kernel dividing by a
+    NaN-derived zero raises ZeroDivisionError); a failure on a finite state is a bug and propagates."""
+    try:
+        return stable_dt()
+    except (ZeroDivisionError, FloatingPointError, OverflowError):
+        if all(np.isfinite(a).all() for a in state):
+            raise
+        return float("nan")
+
+
 class RunStopped(Exception):
     """A guard stopped the run; the message says where, when and what, and what to try.
 
@@ -228,7 +239,8 @@ class Simulation:
         """The step this step takes: the smallest over solids and particles, bounded by dt_max."""
         dt, limiter = st.dt, "solid"
         if self.particles is not None:
-            dt_sph = self.particles.stable_dt(self.control.timestep_scale)
+            dt_sph = _stable_or_nan(lambda: self.particles.stable_dt(self.control.timestep_scale),
+                                    self.particles.system.x, self.particles.system.v)
             if not dt_sph == dt_sph:  # NaN
                 raise RunStopped(f"non-finite SPH state at t = {st.time:.6e}, step {st.step} "
                                  "(remedies: lower timestep_scale, check the equation of state and units)",
@@ -237,7 +249,7 @@ class Simulation:
                 dt, limiter = dt_sph, "sph"
             self._check_lost(st)
         if self.ale is not None:
-            dt_ale = self.ale.stable_dt()
+            dt_ale = _stable_or_nan(self.ale.stable_dt, self.ale.system.x, self.ale.system.velocity)
             if not dt_ale == dt_ale:
                 raise RunStopped(f"non-finite ALE state at t = {st.time:.6e}, step {st.step} "
                                  "(remedies: lower the section's courant, check the equations of state and units)",

@@ -185,3 +185,13 @@ def test_negative_volume_erosion_instead_of_a_stop(tmp_path):
     assert "(negative volume)" in log, text
     if code == 3:  # erosion may not save a run that is unstable everywhere, but it must not be the volume guard
         assert _diagnostics(tmp_path / "out")["guard"] != "negative_volume"
+
+
+def test_non_finite_sph_state_stops_with_the_guard_not_an_exception(tmp_path):
+    """Found by the run fuzzer: reference_density 1e308 gives p = -inf at once, NaN positions after one
+    step, and the cell search then divided by zero inside a kernel."""
+    deck = _edit(tmp_path, "sph", lambda t: t["equations_of_state"]["water"].update(reference_density=1.0e308))
+    code, text = _run(deck, tmp_path / "out")
+    assert code == 3, text
+    diag = _diagnostics(tmp_path / "out")
+    assert diag["guard"] == "non_finite" and "non-finite SPH state" in diag["message"]
