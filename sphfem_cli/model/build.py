@@ -461,9 +461,18 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
     spacing = np.concatenate(dx_of)
     density = np.concatenate(rho)
     volume = spacing ** model.dim
+    mass = model.material_param[np.array(used)[np.concatenate(mat)], 0] * volume
+    owners = np.concatenate(owner)
+    tiny = np.finfo(np.float64).tiny
+    degenerate = ~((mass >= tiny) & np.isfinite(mass) & (density >= tiny) & np.isfinite(density))
+    if degenerate.any():  # e.g. a density of 5e-324 makes the mass underflow to zero (found by fuzzing)
+        k = int(np.argmax(degenerate))
+        raise ModelError(f"parts.{model.parts[owners[k]].name}.material",
+                         f"particle mass {mass[k]:g} and density {density[k]:g} must be finite positive normal "
+                         "numbers (check the material density, the spacing and the units)")
     return ParticleSet(
-        x=x, mass=model.material_param[np.array(used)[np.concatenate(mat)], 0] * volume, density=density,
-        material=np.concatenate(mat), part=np.concatenate(owner), spacing=spacing,
+        x=x, mass=mass, density=density,
+        material=np.concatenate(mat), part=owners, spacing=spacing,
         material_type=model.material_type[used], material_param=model.material_param[used],
         section=deck.parts[sph[0][1].name].section,
     )
