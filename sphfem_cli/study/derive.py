@@ -13,8 +13,10 @@ Works on the loaded YAML data (plain dicts and lists) and returns new data; the 
   the deck, else alpha 0.1, beta 0);
 - ``ale_boundary`` slip / fixed sides -> ``wall`` slip / no_slip; transmit sides -> the section's
   ``domain`` (particles leaving it are deactivated);
-- ``lagrange_in_solid`` -> one ``nodes_to_surface`` per coupled SPH part (pfac -> penalty_scale,
-  damping kept, thickness left at its default);
+- ``lagrange_in_solid`` -> one ``nodes_to_surface`` per coupled SPH part, soft-constraint stiffness
+  (pfac -> soft_scale, damping kept, thickness left at its default): the penalty form's stiffness
+  comes from the structure's bulk modulus and can shorten the step; the soft form never does
+  (measured on decks/structure_in_water_ale.yaml, docs/mesh-study.md);
 - a fill's ``pressure`` (and ``density``) becomes a copy of its material whose EOS ``e0`` gives that
   pressure; a fill's ``velocity`` becomes an initial velocity of its SPH part.
 """
@@ -355,10 +357,11 @@ def _couplings(out: dict, deck, info: AleInfo, sph_parts: dict[str, str], derive
                 continue
             out.setdefault("contacts", []).append({
                 "type": "nodes_to_surface", "nodes": part, "surface": c["structure"],
-                "stiffness": "penalty", "penalty_scale": model.pfac, "damping": model.damping,
+                "stiffness": "soft_constraint", "soft_scale": model.pfac, "damping": model.damping,
             })
         derived.notes.append(f"coupling {c['structure']} <- {info.name} (pfac {model.pfac:g}, damping "
-                             f"{model.damping:g}) became nodes_to_surface contacts for "
+                             f"{model.damping:g}) became soft-constraint nodes_to_surface contacts "
+                             f"(soft_scale {model.pfac:g}) for "
                              f"{', '.join(p for p, m in sph_parts.items() if m in coupled) or 'no part'}")
 
 
