@@ -233,16 +233,24 @@ def check_memory(deck: Deck) -> None:
         )
 
 
+def _packed(name: str, m, deck: Deck) -> tuple[int, np.ndarray]:
+    """The (type id, parameter row) of material `name`; a derived constant that overflows is a deck error."""
+    if m.type == "void":
+        return VOID, np.zeros(NPARAM)
+    eos_name = getattr(m, "eos", None) or ""
+    try:
+        return pack_material(m, deck.equations_of_state.get(eos_name, None))
+    except OverflowError:  # e.g. sound_speed 1e308: rho0 c^2 (found by fuzzing)
+        where = f"equations_of_state.{eos_name}" if eos_name in deck.equations_of_state else f"materials.{name}"
+        raise ModelError(where, "a constant derived from these values overflows (check their magnitude and the units)") from None
+
+
 def build_model(deck: Deck, deck_path: Path) -> Model:
     """Mesh every part and pack every table of the deck into a :class:`Model`."""
     check_memory(deck)
     dim = deck.dimension
     material_names = list(deck.materials)
-    rows = [
-        (VOID, np.zeros(NPARAM)) if m.type == "void"
-        else pack_material(m, deck.equations_of_state.get(getattr(m, "eos", None) or "", None))
-        for m in deck.materials.values()
-    ]
+    rows = [_packed(name, m, deck) for name, m in deck.materials.items()]
     material_type = np.array([r[0] for r in rows], dtype=np.int64)
     material_param = np.vstack([r[1] for r in rows])
 
