@@ -105,8 +105,11 @@ def van_leer(qd, qa, qu, courant):
 
 @njit(parallel=True, cache=True)
 def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
-                    phi_eps, f_elem, pres_m, bulk_m, q_elem, dt_elem):
+                    phi_eps, pscale, f_elem, pres_m, bulk_m, q_elem, dt_elem):
     """Element forces at x^n with v^{n-1/2} (see module docstring, step 1).
+
+    pscale (E, N) multiplies each material's EOS pressure (1 except for a high explosive, where it
+    is the programmed-burn fraction, ``materials.burn``); sound speed and bulk modulus are unscaled.
 
     Written: f_elem (E, 4, 2) force on each element node, pres_m (E, N) material pressures,
     bulk_m (E, N) material bulk moduli rho c^2, q_elem (E,) bulk viscosity, dt_elem (E,) stable step.
@@ -143,6 +146,7 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
                 if vol_m[e, m] > phi_eps * vtot and mass_m[e, m] > 0.0:
                     rho = mass_m[e, m] / vol_m[e, m]
                     p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m])
+                    p *= pscale[e, m]
                     pres_m[e, m] = p
                     bulk_m[e, m] = rho * c * c
                     p_mix += vol_m[e, m] / vtot * p

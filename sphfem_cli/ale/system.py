@@ -59,6 +59,7 @@ from collections.abc import Callable, Sequence
 import numpy as np
 
 from ..materials import kernels as mk
+from ..materials.burn import burn_fraction, lighting_time, quad_size
 from . import kernels as K
 
 _INTERFACES = {"donor": K.IFACE_DONOR, "slic": K.IFACE_SLIC}
@@ -274,6 +275,8 @@ class AleSystem:
         self._since_remap = 0
 
         self.f_elem = np.zeros((n_elem, 4, 2))
+        self.pscale = np.ones((n_elem, n_mat))  # pressure factor per material (programmed burn)
+        self.burn = None  # [(material, lighting time (E,), D, element size (E,))]: set_burn
         self.pres_m = np.zeros((n_elem, n_mat))
         self.bulk_m = np.zeros((n_elem, n_mat))
         self.q_elem = np.zeros(n_elem)
@@ -300,6 +303,16 @@ class AleSystem:
         self.coupling_work = 0.0
         self.v_lag = self.velocity.copy()  # v^{n+1/2} of the Lagrangian phase, before the remap
         self.v_mid = np.zeros((n_nodes, 2))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last Lagrangian phase
+
+    def set_burn(self, materials, velocities, detonations) -> None:
+        """Programmed burn (``materials.burn``) of the given materials (indices) with detonation
+        velocities D: lighting times at the element centroids of the initial (Eulerian) mesh from
+        ``detonations`` [(point, time), ...], element size area / longest edge."""
+        centroids = self.x0[self.conn].mean(axis=1)
+        delta = quad_size(self.x0, self.conn)
+        self.burn = [(int(m), lighting_time(centroids, detonations, float(d)), float(d), delta)
+                     for m, d in zip(materials, velocities)] or None
+        self._fresh = False
 
     # ---------------------------------------------------------------- boundaries
     def set_fixed(self, node_ids) -> None:
@@ -334,9 +347,12 @@ class AleSystem:
 
     # ---------------------------------------------------------------- stepping
     def _forces(self) -> None:
+        if self.burn is not None:
+            for m, t_light, d, delta in self.burn:
+                self.pscale[:, m] = burn_fraction(self.time, t_light, d, delta)
         K.lagrange_forces(self.x, self.velocity, self.conn, self.vol_m, self.mass_m, self.ener_m,
                           self.mat_eos, self.mat_q, self.mat_rho0, self.q1, self.q2, self.qhg, self.phi_eps,
-                          self.f_elem, self.pres_m, self.bulk_m, self.q_elem, self.dt_elem)
+                          self.pscale, self.f_elem, self.pres_m, self.bulk_m, self.q_elem, self.dt_elem)
         self._fresh = True
 
     def stable_dt(self, scale: float = 0.5) -> float:

@@ -16,6 +16,8 @@ slot         model               meaning
 8            elastic_plastic     plastic modulus Ep = E Et/(E - Et)
 5..13        johnson_cook        A, B, n, C, m, reference strain rate, Tm, Tr, cp (0 = isothermal)
 5            fluid               dynamic viscosity mu
+5            high_explosive      0 (inviscid)
+6            high_explosive      detonation velocity D (packed as a fluid; 0 for other fluids)
 15           all                 EOS type id (``EOS_NONE`` = -1 when no EOS is attached)
 16..31       all                 EOS row q = p[16:] (below)
 ===========  ==================  ================================================================
@@ -51,7 +53,11 @@ MATERIAL_IDS = {
     "johnson_cook": k.JOHNSON_COOK,
     "rigid": k.RIGID,
     "fluid": k.FLUID,
+    "high_explosive": k.FLUID,
 }
+
+P_DETONATION_VELOCITY = 6
+"""Slot of the detonation velocity D of a ``high_explosive`` (a fluid row); 0 for other fluids."""
 
 EOS_IDS = {
     "linear_polynomial": k.EOS_LINEAR_POLYNOMIAL,
@@ -107,10 +113,13 @@ def pack_material(material, eos=None) -> tuple[int, np.ndarray]:
         p[k.P_EOS_TYPE] = eos_id
         p[k.EOS_OFFSET :] = q
 
-    if isinstance(material, sm.Fluid):
+    if isinstance(material, (sm.Fluid, sm.HighExplosive)):
         c0 = float(k.eos_sound_speed(int(p[k.P_EOS_TYPE]), p[k.EOS_OFFSET :], 1.0, p[k.EOS_OFFSET + 1]))
         p[k.P_E], p[k.P_NU], p[k.P_G], p[k.P_K] = 0.0, 0.5, 0.0, rho0 * c0 * c0
-        p[5] = material.viscosity
+        if isinstance(material, sm.HighExplosive):
+            p[P_DETONATION_VELOCITY] = material.detonation_velocity
+        else:
+            p[5] = material.viscosity
         return k.FLUID, p
 
     e, nu = material.youngs_modulus, material.poisson_ratio

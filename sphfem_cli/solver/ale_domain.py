@@ -34,6 +34,11 @@ class AleDomain:
             interface=section.interface, closure=section.closure, advect_every=section.advect_every,
             mesh_motion="eulerian" if section.mesh_motion == "eulerian" else "smooth",
         )
+        burn = [(j, deck.materials[n].detonation_velocity) for j, n in enumerate(self.names)
+                if deck.materials[n].type == "high_explosive"]
+        if burn:
+            self.system.set_burn([j for j, _ in burn], [d for _, d in burn],
+                                 [(det.point, det.time) for det in deck.detonations])
         for load in deck.loads:
             if isinstance(load, Gravity) and (load.parts is None or part.name in load.parts):
                 self.system.gravity += np.array(load.acceleration[:2], dtype=float)

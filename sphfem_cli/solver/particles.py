@@ -47,6 +47,10 @@ class Particles:
             ps_model.x, velocity, ps_model.mass, ps_model.density, ps_model.material,
             (ps_model.material_type, ps_model.material_param), options,
         )
+        from ..materials.tables import P_DETONATION_VELOCITY
+
+        if np.any(ps_model.material_param[:, P_DETONATION_VELOCITY] > 0.0):  # a high_explosive
+            self.system.set_burn([(det.point, det.time) for det in deck.detonations])
         self.potential0 = self.system.energies()["potential"]
 
     # ------------------------------------------------------------------------------ loop

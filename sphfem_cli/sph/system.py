@@ -253,11 +253,41 @@ class ParticleSystem:
 
     # ------------------------------------------------------------------ evaluation
 
+    def set_burn(self, detonations) -> None:
+        """Programmed burn (``materials.burn``) of every particle whose material has a detonation
+        velocity (a ``high_explosive``): lighting time at its current position from ``detonations``
+        [(point, time), ...], size delta its spacing (m / rho)^(1/dim) now. Kept per particle id."""
+        from ..materials.burn import lighting_time
+        from ..materials.tables import P_DETONATION_VELOCITY
+
+        d = self.params[self.mat, P_DETONATION_VELOCITY]
+        self.burn_light = np.full(self.n, np.inf)
+        self.burn_velocity = np.zeros(self.n)
+        self.burn_delta = np.ones(self.n)
+        he = d > 0.0
+        if not he.any():
+            self.burn_light = None
+            return
+        ids = self.ids[he]
+        for dv in np.unique(d[he]):
+            sel = he & (d == dv)
+            self.burn_light[self.ids[sel]] = lighting_time(self.x[sel], detonations, float(dv))
+        self.burn_velocity[ids] = d[he]
+        self.burn_delta[ids] = (self.m[he] / self.rho[he]) ** (1.0 / self.dim)
+        self._update_state()
+
     def _update_state(self) -> float:
         """p, c, h of the active particles; returns the largest h."""
-        return k.update_particle_state(self.rho, self.e, self.m, self.mat, self.active, self.params,
+        hmax = k.update_particle_state(self.rho, self.e, self.m, self.mat, self.active, self.params,
                                        float(self.options.smoothing_ratio), self.dim, float(self.options.pressure_min),
                                        self.p, self.c, self.h)
+        if getattr(self, "burn_light", None) is not None:
+            from ..materials.burn import burn_fraction
+
+            he = np.isfinite(self.burn_light[self.ids])
+            i = self.ids[he]
+            self.p[he] *= burn_fraction(self.time, self.burn_light[i], self.burn_velocity[i], self.burn_delta[i])
+        return hmax
 
     def _reorder(self) -> None:
         """Permute every per-particle array into the cell order of the last evaluation."""

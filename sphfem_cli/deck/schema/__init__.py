@@ -11,7 +11,7 @@ from pydantic import Field, model_validator
 
 from .base import DeckModel, check_vector_lengths
 from .interaction import Contact, Coupling, LagrangeInSolid, NodesToSurface
-from .materials import EquationOfState, Material
+from .materials import Detonation, EquationOfState, Material
 from .model import (
     MESH_KINDS,
     PARTICLE_KINDS,
@@ -56,6 +56,10 @@ class Deck(DeckModel):
     loads: list[Load] = Field(default_factory=list, description="Loads.")
     contacts: list[Contact] = Field(default_factory=list, description="Penalty contacts (SPH or nodes to surfaces).")
     couplings: list[Coupling] = Field(default_factory=list, description="ALE fluid to structure couplings.")
+    detonations: list[Detonation] = Field(
+        default_factory=list,
+        description="Detonation points of the high explosives (programmed burn); none: every explosive lights at t = 0.",
+    )
     output: Output = Field(default_factory=Output, description="Output requests.")
 
     @model_validator(mode="after")
@@ -83,8 +87,8 @@ def _check_references(deck: Deck) -> None:
         where = f"parts.{pname}"
         if deck.sections[part.section].type == "sph":
             sph_parts.add(pname)
-            if deck.materials[part.material].type != "fluid":
-                raise ValueError(f"@{where}.material: an SPH part needs a material of type fluid, "
+            if deck.materials[part.material].type not in ("fluid", "high_explosive"):
+                raise ValueError(f"@{where}.material: an SPH part needs a material of type fluid (or high_explosive), "
                                  f"'{part.material}' is {deck.materials[part.material].type}")
             if part.spacing is None:
                 raise ValueError(f"@{where}: an SPH part needs 'spacing' (the particle spacing)")
@@ -107,6 +111,8 @@ def _check_references(deck: Deck) -> None:
                 raise ValueError(f"@{where}.{key}: only SPH parts take '{key}'")
             if deck.materials[part.material].type == "void":
                 raise ValueError(f"@{where}.material: void fills ALE parts only")
+            if deck.materials[part.material].type in ("fluid", "high_explosive"):
+                raise ValueError(f"@{where}.material: {deck.materials[part.material].type} materials fill SPH or ALE parts only")
         if part.fill and pname not in ale_parts:
             raise ValueError(f"@{where}.fill: only ALE parts take 'fill'")
         if pname in sph_parts and part.section != deck.parts[min(sph_parts)].section:
@@ -247,6 +253,6 @@ def _check_ale_part(deck: Deck, pname: str, part) -> None:
     for j, name in enumerate([part.material] + [f.material for f in part.fill]):
         key = "material" if j == 0 else f"fill.{j - 1}.material"
         _ref(name, deck.materials, f"{where}.{key}", "material")
-        if deck.materials[name].type not in ("fluid", "void"):
+        if deck.materials[name].type not in ("fluid", "high_explosive", "void"):
             raise ValueError(f"@{where}.{key}: ALE materials are fluid or void, '{name}' is "
                              f"{deck.materials[name].type}")

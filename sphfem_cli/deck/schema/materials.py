@@ -11,7 +11,7 @@ from typing import Annotated, Literal, Optional, Union
 
 from pydantic import Field, model_validator
 
-from .base import DeckModel
+from .base import DeckModel, Vector
 
 __all__ = [
     "Elastic",
@@ -19,6 +19,8 @@ __all__ = [
     "JohnsonCook",
     "Rigid",
     "Fluid",
+    "HighExplosive",
+    "Detonation",
     "Material",
     "LinearPolynomial",
     "Gruneisen",
@@ -118,6 +120,25 @@ class Fluid(DeckModel):
     eos: str = Field(min_length=1, description="Name of the equation of state giving the pressure.")
 
 
+class HighExplosive(DeckModel):
+    """High explosive with programmed burn (LS-DYNA *MAT_HIGH_EXPLOSIVE_BURN): p = F p_eos, F the burn fraction."""
+
+    type: Literal["high_explosive"] = Field(
+        description="Model selector: high explosive, a fluid whose EOS pressure is scaled by the programmed-burn fraction "
+                    "F = min(1, max(0, (t - t_L) D / (1.5 delta))), t_L from the deck's detonations (SPH and ALE)."
+    )
+    density: float = Field(gt=0, description="Reference (initial, unreacted) mass density rho0 [mass/length^3].")
+    detonation_velocity: float = Field(gt=0, description="Detonation velocity D [length/time].")
+    eos: str = Field(min_length=1, description="Name of the equation of state of the detonation products (e.g. jwl).")
+
+
+class Detonation(DeckModel):
+    """A detonation point (LS-DYNA *INITIAL_DETONATION): explosive at x lights at time + |x - point| / D."""
+
+    point: Vector = Field(description="Detonation point [length].")
+    time: float = Field(0.0, ge=0, description="Time at which the point detonates [time]. Default 0.")
+
+
 class Void(DeckModel):
     """Empty space in an ALE mesh: no mass, no pressure (LS-DYNA *MAT_VACUUM)."""
 
@@ -125,7 +146,7 @@ class Void(DeckModel):
 
 
 Material = Annotated[
-    Union[Elastic, ElasticPlastic, JohnsonCook, Rigid, Fluid, Void], Field(discriminator="type")
+    Union[Elastic, ElasticPlastic, JohnsonCook, Rigid, Fluid, HighExplosive, Void], Field(discriminator="type")
 ]
 """One entry of the ``materials`` mapping, selected by its ``type``."""
 
