@@ -68,8 +68,8 @@ def test_cylinder_constant_speed_slamming_ale(tmp_path):
     print(f"\nALE slamming: peak Cs {cs[peak]:.2f} at s/D {s_over_d[peak]:.3f}; mean Cs {early:.2f} (s/D 0-0.2), "
           f"{middle:.2f} (0.4-0.6), {late:.2f} (0.8-1.1)")
     assert np.pi <= cs[peak] <= 1.2 * 2.0 * np.pi  # measured 4.63 at s/D 0.053
-    assert middle < 0.5 * cs[peak]  # measured 1.49
-    assert late < early  # measured 1.17 < 2.45
+    assert middle < 0.5 * cs[peak]  # measured 1.58
+    assert late < early  # measured 1.19 < 2.47
 
 
 def free_fall(name: str, tmp_path: Path):
