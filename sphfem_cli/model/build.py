@@ -385,6 +385,8 @@ def _hydrostatic_fill(model: Model, deck: Deck, name: str, j: int, nodes, conn, 
         raise ModelError(f"parts.{name}.hydrostatic", "a hydrostatic start needs a gravity load on the part")
     up = -g / np.linalg.norm(g)
     hit = np.flatnonzero(f > 0)
+    if not len(hit):  # a fill that covers no element has no hydrostatic state (found by fuzzing)
+        return
     heights = nodes[conn[hit]] @ up  # (n, 4)
     lo, hi = heights.min(axis=1), heights.max(axis=1)
     top = lo + f[hit] * (hi - lo)
