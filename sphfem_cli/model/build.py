@@ -329,6 +329,7 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     name = model.parts[index].name
     part = deck.parts[name]
     mesh = _mesh_part(name, part, model.dim, deck_path)
+    _check_mesh(name, part, mesh)  # an ALE mesh too (a box 5e-324 wide failed later in AleSystem; found by fuzzing)
     nodes, conn = mesh.nodes, mesh.elements
     names = [part.material] + [f.material for f in part.fill if f.material != part.material]
     names = list(dict.fromkeys(names))
