@@ -170,6 +170,11 @@ def run_case(tree: dict, workdir: Path, long_steps: int | None = None) -> dict:
         row["ratio"] = float(g["energy_ratio"][-1])
         row["ratio_range"] = (float(g["energy_ratio"].min()), float(g["energy_ratio"].max()))
         row["time"] = float(g["time"][-1])
+        if long_steps and len(g) > 10:  # drift after the start-up transient: from 10 % of the run to its end
+            k = int(np.searchsorted(g["time"], 0.1 * tree["control"]["end_time"]))
+            row["drift"] = (f"ratio {g['energy_ratio'][k]:.6f} at t = {g['time'][k]:.3g} (10 % of end_time), "
+                            f"{g['energy_ratio'][-1]:.6f} at t = {g['time'][-1]:.3g}: drift "
+                            f"{g['energy_ratio'][-1] - g['energy_ratio'][k]:+.1e}")
     log = (out / "run.log").read_text() if (out / "run.log").exists() else ""
     row["steps"] = next((line.split()[1] for line in log.splitlines() if line.startswith("steps:")), "?")
     row["eroded"] = next((line[9:] for line in log.splitlines() if line.startswith("erosion: ")), "")
@@ -234,7 +239,7 @@ def main_() -> None:
             row = run_case(tree, Path(tmp), args.long_steps if group == "long run" else None)
         ratio = (f"{row['ratio']:.4f}; {row['ratio_range'][0]:.4f}-{row['ratio_range'][1]:.4f}"
                  if "ratio" in row else "-")
-        note = "; ".join(x for x in (row["eroded"], row["sph"], row["diagnosis"][:160]) if x)
+        note = "; ".join(x for x in (row.get("drift", ""), row["eroded"], row["sph"], row["diagnosis"][:160]) if x)
         print(f"| {group} | {name} | {row['guard']} | {row['steps']} | {ratio} | {row['wall']:.1f} | {note} |",
               flush=True)
 
