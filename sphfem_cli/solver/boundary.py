@@ -6,7 +6,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..deck.schema.model import (
-    AleBoundary, FixedBoundary, Gravity, NodalForce, PrescribedVelocity, PressureLoad, SymmetryBoundary, WallBoundary,
+    AleBoundary, DummyWallBoundary, FixedBoundary, Gravity, NodalForce, PrescribedVelocity, PressureLoad, SymmetryBoundary,
+    WallBoundary,
 )
 from ..model.build import Model, RigidBody
 
@@ -48,7 +49,7 @@ class Constraints:
         self.rigid_held: set[int] = set()  # rigid parts fixed in every direction or hold_rotation: no spin
         rigid_parts = {b.part: b for b in model.rigid_bodies}
         for bc in model.deck.boundaries:
-            if isinstance(bc, (WallBoundary, AleBoundary)):
+            if isinstance(bc, (WallBoundary, DummyWallBoundary, AleBoundary)):
                 continue  # fluid walls: SPH ghosts, ALE mesh conditions
             rigid = bc.part is not None and model.part_index(bc.part) in rigid_parts
             if isinstance(bc, FixedBoundary):

@@ -6,11 +6,32 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..deck.schema.model import Gravity, InitialVelocity, WallBoundary
+from ..deck.schema.model import DummyWallBoundary, Gravity, InitialVelocity, WallBoundary
 from ..model.build import Model
-from ..sph.system import ParticleSystem, SPHOptions, box_walls
+from ..sph import lattice
+from ..sph.system import ParticleSystem, SPHOptions, WallParticles, box_walls
 
 AXES = {"x": 0, "y": 1, "z": 2}
+
+
+def dummy_walls(deck, default_spacing: float) -> WallParticles | None:
+    """The deck's `dummy_wall` boundaries as one set of wall particles (material: the first SPH fluid)."""
+    walls = [bc for bc in deck.boundaries if isinstance(bc, DummyWallBoundary)]
+    if not walls:
+        return None
+    dx = walls[0].spacing or default_spacing  # one spacing for all (checked with the deck)
+    points = []
+    for bc in walls:
+        if bc.region is None:
+            points.append(lattice.box_wall_particles(bc.min, bc.max, dx, bc.layers, bc.sides))
+        elif bc.region.box is not None:
+            points.append(lattice.box(bc.region.box.min, bc.region.box.max, dx))
+        elif bc.region.ball is not None:
+            fill = lattice.circle if len(bc.region.ball.center) == 2 else lattice.sphere
+            points.append(fill(bc.region.ball.center, bc.region.ball.radius, dx))
+        else:
+            points.append(lattice.polygon(bc.region.polygon.vertices, dx))
+    return WallParticles(np.vstack(points), dx)
 
 
 class Particles:
@@ -46,6 +67,7 @@ class Particles:
         self.system = ParticleSystem(
             ps_model.x, velocity, ps_model.mass, ps_model.density, ps_model.material,
             (ps_model.material_type, ps_model.material_param), options,
+            wall_particles=dummy_walls(deck, float(ps_model.spacing.min())),
         )
         from ..materials.tables import P_DETONATION_VELOCITY
 
@@ -64,9 +86,11 @@ class Particles:
         self.system.step(dt)
 
     def energies(self) -> tuple[float, float, float, float]:
-        """(kinetic, internal, work done on the particles by gravity and f_ext, energy carried off by lost particles)."""
+        """(kinetic, internal, work done on the particles by gravity, f_ext and dummy walls, energy carried off
+        by lost particles)."""
         e = self.system.energies()
-        return e["kinetic"], e["internal"], self.potential0 - e["potential"] + e["external_work"], e["lost"]
+        work = self.potential0 - e["potential"] + e["external_work"] - e["wall"]
+        return e["kinetic"], e["internal"], work, e["lost"]
 
     def part_sums(self, part_index: int) -> tuple[float, float]:
         """Kinetic and internal energy of one SPH part's active particles."""

@@ -641,13 +641,13 @@ def _pair_sums(nbj, cnt, sx, sd, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, r
                alpha, beta, eps, gx, gy, gz, dhydro):
     """Branch-free sums over the neighbour slots ``nbj[:cnt]`` of one particle (LLVM vectorises it).
 
-    Returns (ax, ay, az, cont, work, diff, sxu, sxv, sxw): the pressure + artificial-viscosity
+    Returns (ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw): the pressure + artificial-viscosity
     acceleration -sum m_j S grad W (S = p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij), sum V_j v_ij.grad W,
-    sum m_j S v_ij.grad W, the delta-SPH sum sum h c psi F V (same material, no wall) and the
+    sum m_j S v_ij.grad W, its part over dummy wall points j, the delta-SPH sum sum h c psi F V (same material, no wall) and the
     XSPH sums sum (m_j/rho_ij) W (v_j - v_i) (no wall). Sentinel entries add exactly zero.
     """
     ax = ay = az = 0.0
-    cont = work = diff = 0.0
+    cont = work = wall_work = diff = 0.0
     sxu = sxv = sxw = 0.0
     wend = kernel == WENDLAND_C2
     one_d = dim == 1
@@ -703,6 +703,7 @@ def _pair_sums(nbj, cnt, sx, sd, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, r
         work += coef * vdotg
         mk = int(sd[j, D_MK])
         notwall = 1.0 if (mk & 3) != KIND_WALL else 0.0
+        wall_work += (1.0 - notwall) * coef * vdotg
         same = notwall if (mk >> 2) == mati else 0.0
         psi = rhoj - rhoi
         if dhydro:
@@ -712,11 +713,11 @@ def _pair_sums(nbj, cnt, sx, sd, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, r
         sxu -= wr * du
         sxv -= wr * dv
         sxw -= wr * dw
-    return ax, ay, az, cont, work, diff, sxu, sxv, sxw
+    return ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph):
+def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power):
     """Continuity, momentum, energy, delta-SPH and XSPH rates of every real (fluid) point.
 
     For fluid slot k (particle i = perm[k]) and every point j within 2 h_ij, with
@@ -730,6 +731,10 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph)
 
     with sigma = -p I + tau, psi_ij = (rho_j - rho_i) [- rho_ij g.(x_j - x_i)/c_ij^2 with the
     hydrostatic correction]. ``acc`` excludes gravity and external forces.
+
+    A dummy wall point has no energy of its own: of a fluid-wall pair's work m_i m_j S v_ij.grad W
+    the fluid particle keeps half (in de_i), the other half is the power the wall absorbs,
+    ``wall_power[i]`` = m_i/2 sum_(wall j) m_j S v_ij.grad W (the energy balance counts it).
 
     Per particle: the candidates of the cell rows within reach (each row of cells along x is one
     contiguous slot range) are filtered into a neighbour list without branches (the index is
@@ -787,7 +792,7 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph)
                 nbj[t] = sentinel
             ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
             rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]
-            ax, ay, az, cont, work, diff, sxu, sxv, sxw = _pair_sums(
+            ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw = _pair_sums(
                 nbj, npad, sx, sd, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
                 alpha, beta, eps, gx, gy, gz, dhydro)
             if viscous:
@@ -823,6 +828,7 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph)
                 acc[i, 2] = az
             drho[i] = rhoi * cont - 2.0 * delta * diff
             de[i] = 0.5 * work
+            wall_power[i] = 0.5 * sd[k, D_VOL] * rhoi * wall_work
             xsph[i, 0] = exsph * sxu
             if dim > 1:
                 xsph[i, 1] = exsph * sxv

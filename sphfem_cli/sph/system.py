@@ -182,6 +182,8 @@ class ParticleSystem:
         self.de = np.zeros(n)
         self.xsph = np.zeros((n, dim))
         self.f_ext = np.zeros((n, dim))
+        self.wall_power = np.zeros(n)
+        self.wall_energy = 0.0
         self.v_half = self.v.copy()
         self.rho_half = self.rho.copy()
         self.e_half = self.e.copy()
@@ -342,7 +344,9 @@ class ParticleSystem:
         else:
             stau = self._no_stress
         pts["stau"] = stau
-        k.fluid_rates(sx, sd, stau, perm, cs, self.fprm, self.iprm, self.acc, self.drho, self.de, self.xsph)
+        self.wall_power[:] = 0.0
+        k.fluid_rates(sx, sd, stau, perm, cs, self.fprm, self.iprm, self.acc, self.drho, self.de, self.xsph,
+                      self.wall_power)
         self._sorted = pts
         self._evaluations += 1
         self._rates_valid = True
@@ -378,6 +382,8 @@ class ParticleSystem:
             self.de, self.xsph, self.f_ext, self.m, self.active, self.gravity, dt, self._dt_prev, self.walls,
             self._dom_lo, self._dom_hi, self._use_domain)
         self.external_work += work
+        if len(self.wall_x):  # the dummy walls' share of the pair work, weighted as the kicks weigh de
+            self.wall_energy += 0.5 * (self._dt_prev + dt) * float(np.sum(self.wall_power))
         self.wall_crossings += nref
         if nlost:
             self.lost += nlost
@@ -413,14 +419,15 @@ class ParticleSystem:
 
     def energies(self) -> dict:
         """Kinetic, internal and gravitational potential energy of the active particles, the external
-        work of ``f_ext`` and the energy carried away by deactivated particles."""
+        work of ``f_ext``, the energy carried away by deactivated particles and the energy the dummy
+        walls absorbed (``wall``: their half of the fluid-wall pair work, see ``kernels.fluid_rates``)."""
         a = self.active
         m = self.m[a]
         ke = 0.5 * float(np.sum(m * np.sum(self.v[a] ** 2, axis=1)))
         ie = float(np.sum(m * self.e[a]))
         pe = -float(np.sum(m * (self.x[a] @ self.gravity[: self.dim])))
         return {"kinetic": ke, "internal": ie, "potential": pe, "external_work": self.external_work,
-                "lost": self.lost_energy, "total": ke + ie + pe}
+                "lost": self.lost_energy, "wall": self.wall_energy, "total": ke + ie + pe}
 
     def momentum(self) -> np.ndarray:
         """Total linear momentum of the active particles."""

@@ -29,6 +29,7 @@ from .model import (
     SegmentSet,
     SetDef,
     AleBoundary,
+    DummyWallBoundary,
     Units,
     WallBoundary,
 )
@@ -139,6 +140,19 @@ def _check_references(deck: Deck) -> None:
 
     for i, bc in enumerate(deck.boundaries):
         check_target(bc, f"boundaries.{i}")
+        if isinstance(bc, DummyWallBoundary):
+            if not sph_parts:
+                raise ValueError(f"@boundaries.{i}: dummy walls act on SPH parts and this deck has none")
+            if deck.dimension == 2 and ({"back", "front"} & set(bc.sides or [])):
+                raise ValueError(f"@boundaries.{i}.sides: back and front walls exist only in 3D")
+            if bc.region is not None and bc.region.polygon is not None and deck.dimension != 2:
+                raise ValueError(f"@boundaries.{i}.region.polygon: polygons are 2D (use box or ball in 3D)")
+            default = min(deck.parts[n].spacing for n in sph_parts)
+            spacings = {b.spacing or default for b in deck.boundaries if isinstance(b, DummyWallBoundary)}
+            if len(spacings) > 1:
+                raise ValueError(f"@boundaries.{i}.spacing: every dummy_wall must have the same spacing "
+                                 f"(got {', '.join(f'{v:g}' for v in sorted(spacings))}; default {default:g})")
+            continue
         if isinstance(bc, WallBoundary):
             if not sph_parts:
                 raise ValueError(f"@boundaries.{i}: walls act on SPH parts and this deck has none")

@@ -472,6 +472,51 @@ class WallBoundary(DeckModel):
 class AleBoundary(DeckModel):
     """A condition on sides of an ALE part's mesh: slip wall, fixed (no-slip) wall, or transmitting outflow."""
 
+class DummyWallBoundary(DeckModel):
+    """Fixed dummy wall particles for SPH (Adami, Hu & Adams 2012): walls of any shape.
+
+    Either layers of particles outside sides of a box (`min`, `max`, `sides`, as a ghost `wall`),
+    or a region filled with wall particles (`region`: a box, ball or polygon). The wall particles
+    take part in the fluid's sums; their pressure is extrapolated from the fluid around them
+    (with gravity), their velocity is zero (no-slip for viscous terms).
+    """
+
+    type: Literal["dummy_wall"] = Field(description="Boundary selector: SPH dummy wall particles.")
+    min: Vector | None = Field(None, description="Box sides mode: lower corner of the box [length].")
+    max: Vector | None = Field(None, description="Box sides mode: upper corner [length].")
+    sides: list[Literal["left", "right", "bottom", "top", "back", "front"]] | None = Field(
+        None, description="Box sides mode: which sides get wall layers outside the box."
+    )
+    region: "WallRegion | None" = Field(None, description="Region mode: {box | ball | polygon} filled with wall particles.")
+    layers: int = Field(3, ge=1, le=10, description="Box sides mode: particle layers (cover the kernel support 2h). Default 3.")
+    spacing: PositiveFloat | None = Field(None, description="Wall particle spacing [length]. Default the smallest SPH part spacing.")
+
+    @model_validator(mode="after")
+    def _one_mode(self) -> "DummyWallBoundary":
+        box_mode = [k for k in ("min", "max", "sides") if getattr(self, k) is not None]
+        if self.region is None and len(box_mode) != 3:
+            raise ValueError("@type: give 'min', 'max' and 'sides' (layers outside a box) or 'region'")
+        if self.region is not None and box_mode:
+            raise ValueError(f"@{box_mode[0]}: give either 'region' or 'min'/'max'/'sides', not both")
+        return self
+
+
+class WallRegion(DeckModel):
+    """A region filled with dummy wall particles."""
+
+    box: Box | None = Field(None, description="{min, max} box.")
+    ball: BallGeometry | None = Field(None, description="A disc (2D) or ball (3D).")
+    polygon: PolygonGeometry | None = Field(None, description="A 2D polygon.")
+
+    @model_validator(mode="after")
+    def _one_region(self) -> "WallRegion":
+        exactly_one(self, ("box", "ball", "polygon"), "region")
+        return self
+
+
+DummyWallBoundary.model_rebuild()
+
+
     type: Literal["ale_boundary"] = Field(description="Boundary selector: sides of an ALE mesh.")
     part: str = Field(description="An ALE part.")
     sides: list[Literal["left", "right", "bottom", "top"]] = Field(min_length=1, description="Sides of the part's mesh.")
@@ -479,7 +524,8 @@ class AleBoundary(DeckModel):
 
 
 Boundary = Annotated[
-    Union[FixedBoundary, SymmetryBoundary, PrescribedVelocity, WallBoundary, AleBoundary], Field(discriminator="type")
+    Union[FixedBoundary, SymmetryBoundary, PrescribedVelocity, WallBoundary, DummyWallBoundary, AleBoundary],
+    Field(discriminator="type"),
 ]
 
 
