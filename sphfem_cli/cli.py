@@ -130,7 +130,8 @@ def check(deck: str) -> None:
 @main.command()
 @click.argument("deck", type=click.Path(dir_okay=False))
 @click.option("-o", "--output", "outdir", type=click.Path(file_okay=False),
-              help="Output folder. Default: <deck name>_results beside the current directory.")
+              help="Output folder. Default: <deck name>_results beside the current directory "
+                   "(with --restart: the checkpoint's folder).")
 @click.option("--threads", type=click.IntRange(min=1), default=None,
               help="Worker threads. Default: one per 20 000 elements, up to the number of cores "
                    "(small models run fastest on one thread).")
@@ -152,7 +153,8 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
         work = loaded.model.n_elements + (loaded.model.particles.n if loaded.model.particles is not None else 0)
         threads = max(1, work // ELEMENTS_PER_THREAD)
     numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
-    out = Path(outdir) if outdir else Path.cwd() / f"{Path(deck).stem}_results"
+    out = (Path(outdir) if outdir else Path(restart).parent if restart
+           else Path.cwd() / f"{Path(deck).stem}_results")
     out.mkdir(parents=True, exist_ok=True)
     code = execute(loaded, out, quiet=quiet, verbose=verbose, restart=Path(restart) if restart else None)
     sys.exit(code)

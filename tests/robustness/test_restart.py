@@ -170,3 +170,17 @@ def test_restart_of_a_restarted_run_is_still_bit_identical(tmp_path, monkeypatch
     for name in whole:
         assert np.array_equal(whole[name], split[name]), name
     assert (tmp_path / "split" / "run.log").read_text().count("restarted from") == 2
+
+
+def test_restart_continues_in_the_checkpoints_folder_by_default(tmp_path, monkeypatch):
+    deck = decks.write(tmp_path, "solid")
+    with monkeypatch.context() as patch:
+        _interrupt_at(patch, 100)
+        code, text = _run(deck, "-o", tmp_path / "run")
+    assert code == 130, text
+    monkeypatch.chdir(tmp_path)
+    code, text = _run(deck, "--restart", tmp_path / "run" / "checkpoint.pkl")
+    assert code == 0, text
+    assert not (tmp_path / "solid_results").exists()
+    glstat = np.loadtxt(tmp_path / "run" / "histories" / "glstat.csv", delimiter=",", skiprows=1)
+    assert glstat[-1, 0] == pytest.approx(2.0e-4) and np.all(np.diff(glstat[:, 0]) > 0)
