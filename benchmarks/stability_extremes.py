@@ -118,6 +118,15 @@ def cases(long_steps: int) -> list[tuple[str, str, dict]]:
         out.append(("spacing", f"solid bar {div[0]} x {div[1]} elements",
                     variant(SOLID, parts__bar__geometry__box__divisions=div, control__end_time=2.0e-5,
                             output__interval=2.0e-6, output__history_interval=2.0e-7)))
+    for div, scale in (([10, 1, 1], 0.9), ([10, 1, 1], 0.8), ([10, 1, 1], 0.7), ([10, 10, 1], 0.9),
+                       ([10, 10, 1], 0.8), ([10, 10, 2], 0.9)):
+        thin = variant(SOLID, dimension=3, control__timestep_scale=scale, initial__0__velocity=[10.0, 0.0, 0.0],
+                       boundaries__0__velocity=[0.0, 0.0, 0.0], control__end_time=1.0e-4)
+        thin["materials"]["steel"] = {"type": "elastic", "density": 7850.0, "youngs_modulus": 2.1e11,
+                                      "poisson_ratio": 0.3}
+        thin["parts"]["bar"]["geometry"] = {"box": {"min": [0.0, 0.0, 0.0], "max": [0.05, 0.005 * div[1], 0.005 * div[2]],
+                                                    "divisions": div}}
+        out.append(("thin 3D parts", f"hex8 {div[0]} x {div[1]} x {div[2]} struck at 10 m/s, scale {scale}", thin))
     tension = variant(SPH, control__end_time=0.05)
     tension["loads"] = []
     tension["parts"]["column"]["hydrostatic"] = False
