@@ -469,9 +469,6 @@ class WallBoundary(DeckModel):
     condition: Literal["slip", "no_slip"] = Field("slip", description="Tangential condition. Default slip.")
 
 
-class AleBoundary(DeckModel):
-    """A condition on sides of an ALE part's mesh: slip wall, fixed (no-slip) wall, or transmitting outflow."""
-
 class DummyWallBoundary(DeckModel):
     """Fixed dummy wall particles for SPH (Adami, Hu & Adams 2012): walls of any shape.
 
@@ -516,6 +513,9 @@ class WallRegion(DeckModel):
 
 DummyWallBoundary.model_rebuild()
 
+
+class AleBoundary(DeckModel):
+    """A condition on sides of an ALE part's mesh: slip wall, fixed (no-slip) wall, or transmitting outflow."""
 
     type: Literal["ale_boundary"] = Field(description="Boundary selector: sides of an ALE mesh.")
     part: str = Field(description="An ALE part.")
