@@ -178,6 +178,8 @@ def estimate_counts(deck: Deck, name: str) -> tuple[int, int, int]:
     part = deck.parts[name]
     g = part.geometry
     if part.spacing is not None:  # SPH: the lattice cells inside the shape's bounding box
+        if g.file is not None:
+            return 0, 0, 0  # known once the file is read
         if g.box is not None:
             lengths = np.subtract(g.box.max, g.box.min)
         elif g.ball is not None:
@@ -445,8 +447,13 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
             pts = lattice.box(g.box.min, g.box.max, dx)
         elif g.ball is not None:
             pts = (lattice.circle if model.dim == 2 else lattice.sphere)(g.ball.center, g.ball.radius, dx)
-        else:
+        elif g.polygon is not None:
             pts = lattice.polygon(g.polygon.vertices, dx)
+        else:
+            try:
+                pts = lattice.surface_fill((model.deck_path.parent / g.file.file).resolve(), model.dim, dx, g.file.scale)
+            except (ValueError, OSError) as exc:
+                raise ModelError(f"parts.{p.name}.geometry.file", f"{g.file.file}: {str(exc).splitlines()[0]}") from None
         if len(pts) == 0:
             raise ModelError(f"parts.{p.name}.spacing", f"spacing {dx:g} leaves no particle in the part's geometry")
         local = used.index(p.material)

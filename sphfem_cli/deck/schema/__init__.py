@@ -94,7 +94,7 @@ def _check_references(deck: Deck) -> None:
             if part.spacing is None:
                 raise ValueError(f"@{where}: an SPH part needs 'spacing' (the particle spacing)")
             if kind not in PARTICLE_KINDS:
-                raise ValueError(f"@{where}.geometry.{kind}: SPH parts are filled from box, ball or polygon")
+                raise ValueError(f"@{where}.geometry.{kind}: SPH parts are filled from box, ball, polygon or file")
             if kind == "box" and (part.geometry.box.divisions or part.geometry.box.element_size):
                 raise ValueError(f"@{where}.geometry.box: an SPH box takes its resolution from the part's spacing")
             if part.rigid:

@@ -253,7 +253,12 @@ class CylinderGeometry(RingGeometry):
 
 
 class FileGeometry(DeckModel):
-    """A mesh read with meshio (Gmsh .msh, Abaqus .inp, VTU, ...): quad cells in 2D, hexahedra in 3D."""
+    """A mesh read with meshio (Gmsh .msh, Abaqus .inp, VTU, STL, ...).
+
+    Solid and ALE parts: its quad cells (2D) or hexahedra (3D) are the part's elements. SPH parts:
+    its closed boundary, triangles and quads (3D, e.g. an STL surface) or line segments (2D), is
+    filled with lattice particles (winding-number inside test).
+    """
 
     file: str = Field(description="Path, relative to the deck's folder.")
     scale: PositiveFloat = Field(1.0, description="Multiplies every coordinate. Default 1.")
@@ -276,7 +281,7 @@ class PolygonGeometry(DeckModel):
 
 GEOMETRY_KINDS = ("box", "ring", "cylinder", "file", "ball", "polygon")
 MESH_KINDS = ("box", "ring", "cylinder", "file")
-PARTICLE_KINDS = ("box", "ball", "polygon")
+PARTICLE_KINDS = ("box", "ball", "polygon", "file")
 
 
 class Geometry(DeckModel):
