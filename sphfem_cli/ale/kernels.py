@@ -18,8 +18,8 @@ One step (paper section 2, eqs. 2.5-2.8; Benson 1992):
    W_e = -dt sum_I f_eI . (v_I^{n-1/2} + v_I^{n+1/2}) / 2 (compatible form: kinetic plus internal
    energy is conserved to round-off), the new Lagrangian volume at x + dt v^{n+1/2}, and the
    mixed-cell closure: the volume change split between materials (equal strain, or pressure
-   relaxation), each material receiving its own -(p_m + q) dV_m plus its share of the remainder
-   of W_e.
+   relaxation), each material receiving its own -p_m dV_m plus its mass share of the remainder
+   of W_e (viscous and hourglass work).
 4. Remap (``face_fluxes``, ``apply_face_fluxes``, ``dual_fluxes``, ``apply_dual_fluxes``,
    ``finish_remap``): directional sweeps (order alternating each step) through the faces of one
    logical direction; the face flux of volume is the signed area swept by the face from its
@@ -57,6 +57,10 @@ CLOSURE_RELAX = 1
 
 # SLIC orders the materials only where their fraction gradient across the donor is at least this
 SLIC_JUMP = 0.1
+
+# a material whose density is below RHO_VOID times its reference density (volume the remap left
+# without mass) carries no pressure and no sound speed: it is void
+RHO_VOID = 1e-9
 
 # local faces of a quad4: face k joins corners k and k+1. Sweep direction 0 (xi) crosses faces
 # 3 (side "a") and 1 (side "b"); direction 1 (eta) crosses faces 0 (a) and 2 (b).
@@ -105,11 +109,19 @@ def van_leer(qd, qa, qu, courant):
 
 @njit(parallel=True, cache=True)
 def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
-                    phi_eps, pscale, f_elem, pres_m, bulk_m, q_elem, dt_elem):
+                    phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
     """Element forces at x^n with v^{n-1/2} (see module docstring, step 1).
 
     pscale (E, N) multiplies each material's EOS pressure (1 except for a high explosive, where it
     is the programmed-burn fraction, ``materials.burn``); sound speed and bulk modulus are unscaled.
+    p_cut: pressure cut-off, no material pressure below it (cavitation; -inf for none). A material
+    below RHO_VOID of its reference density is void (no pressure, no sound speed).
+
+    The element's sound speed (stable step, bulk and hourglass viscosity) is that of the
+    equal-strain mixture, c_e^2 = sum_m phi_m K_m / rho_e = sum_m M_m c_m^2 / M: the element's
+    stiffness over its mass. A trace of a material contributes in proportion to its mass, so a
+    1 % trace of detonation products stretched to a tiny density with a huge sound speed does not
+    set the step (for one material c_e = c).
 
     Written: f_elem (E, 4, 2) force on each element node, pres_m (E, N) material pressures,
     bulk_m (E, N) material bulk moduli rho c^2, q_elem (E,) bulk viscosity, dt_elem (E,) stable step.
@@ -139,18 +151,21 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
                 vtot += vol_m[e, m]
                 mtot += mass_m[e, m]
             p_mix = 0.0
-            c_max = 0.0
+            mc2 = 0.0
+            m_in = 0.0
             for m in range(n_mat):
                 pres_m[e, m] = 0.0
                 bulk_m[e, m] = 0.0
-                if vol_m[e, m] > phi_eps * vtot and mass_m[e, m] > 0.0:
+                if vol_m[e, m] > phi_eps * vtot and mass_m[e, m] > RHO_VOID * mat_rho0[m] * vol_m[e, m]:
                     rho = mass_m[e, m] / vol_m[e, m]
                     p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m])
-                    p *= pscale[e, m]
+                    p = max(p * pscale[e, m], p_cut)
                     pres_m[e, m] = p
                     bulk_m[e, m] = rho * c * c
                     p_mix += vol_m[e, m] / vtot * p
-                    c_max = max(c_max, c)
+                    mc2 += mass_m[e, m] * c * c
+                    m_in += mass_m[e, m]
+            c_max = math.sqrt(mc2 / m_in) if m_in > 0.0 else 0.0
             rho_e = mtot / area
             trace_d = 0.0
             for a in range(4):
@@ -185,12 +200,13 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
 
 
 @njit(parallel=True, cache=True)
-def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, v, bc_type, bc_normal, dt, impulse):
+def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
     """v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m (eq. 2.7), then the velocity conditions.
 
     bc_type per node: BC_FREE, BC_SLIP (normal component along bc_normal removed), BC_FIXED.
     impulse (N, 2) receives the reaction impulse m (v_constrained - v_free) of this step.
-    Nodes without mass keep a zero velocity.
+    Nodes with a mass at or below m_floor (N,) (numerical fog, or none) are held at zero velocity,
+    their momentum booked in impulse like a fixed node's.
     """
     n_nodes = v.shape[0]
     for n in prange(n_nodes):
@@ -209,7 +225,10 @@ def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, v, bc_type, 
         else:
             w0 = 0.0
             w1 = 0.0
-        u0, u1 = _apply_bc(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
+        if m > m_floor[n]:
+            u0, u1 = _apply_bc(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
+        else:
+            u0, u1 = 0.0, 0.0
         impulse[n, 0] = m * (u0 - w0)
         impulse[n, 1] = m * (u1 - w1)
         v[n, 0] = u0
@@ -294,18 +313,20 @@ def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pr
                                 scale = min(scale, room / -dev[m])
                 for m in range(n_mat):
                     dvm[m] += scale * dev[m]
-            # energy: each material its own -(p_m + q) dV_m, the remainder of W_e by volume fraction
+            # energy: each material its own -p_m dV_m; the remainder of W_e (the shock viscosity's
+            # and hourglass work) by mass fraction, so that a trace of material with volume but
+            # almost no mass is not heated to an unbounded specific energy by q dV_m
             own = 0.0
             for m in range(n_mat):
                 if mass_m[e, m] > 0.0:
-                    own -= (pres_m[e, m] + q_elem[e]) * dvm[m]
+                    own -= pres_m[e, m] * dvm[m]
             rest = w - own
             mass_e = 0.0
             for m in range(n_mat):
                 mass_e += mass_m[e, m]
             for m in range(n_mat):
                 if mass_m[e, m] > 0.0:
-                    ener_m[e, m] += -(pres_m[e, m] + q_elem[e]) * dvm[m] + rest * mass_m[e, m] / mass_e
+                    ener_m[e, m] += -pres_m[e, m] * dvm[m] + rest * mass_m[e, m] / mass_e
                 vol_m[e, m] += dvm[m]
 
 
@@ -597,11 +618,14 @@ def apply_dual_fluxes(direction, node_elem_ptr, node_elem_idx, any_open, gm, gp,
 
 
 @njit(parallel=True, cache=True)
-def finish_remap_nodes(mnode, pnode, knode, bc_type, bc_normal, v, impulse, dissip):
+def finish_remap_nodes(mnode, pnode, knode, m_floor, bc_type, bc_normal, v, impulse, dissip):
     """Velocity from the remapped momentum, velocity conditions, kinetic energy lost (DeBar).
 
     v = p / m; the velocity conditions (reaction impulse into ``impulse``); dissip[n] = the
-    kinetic energy carried into the node minus 1/2 m |v|^2 afterwards.
+    kinetic energy carried into the node minus 1/2 m |v|^2 afterwards. A node whose remapped mass
+    is at or below m_floor[n] gets v = 0 (its momentum p into ``impulse``, its kinetic energy into
+    dissip): p and m come from different flux stencils, so p / m of a near-empty node is noise
+    (a fog node of 2e-58 kg was measured at 8.6e6 m/s).
     """
     n_nodes = mnode.shape[0]
     for n in prange(n_nodes):
@@ -612,9 +636,12 @@ def finish_remap_nodes(mnode, pnode, knode, bc_type, bc_normal, v, impulse, diss
         else:
             w0 = 0.0
             w1 = 0.0
-        u0, u1 = _apply_bc(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
-        impulse[n, 0] = m * (u0 - w0)
-        impulse[n, 1] = m * (u1 - w1)
+        if m > m_floor[n]:
+            u0, u1 = _apply_bc(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
+        else:
+            u0, u1 = 0.0, 0.0
+        impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
+        impulse[n, 1] = -pnode[n, 1] if m <= 0.0 else m * (u1 - w1)
         v[n, 0] = u0
         v[n, 1] = u1
         dissip[n] = knode[n] - 0.5 * m * (u0 * u0 + u1 * u1) if m > 0.0 else knode[n]
@@ -653,3 +680,4 @@ def nodal_mass(mass_m, node_elem_ptr, node_elem_idx, out):
             for m in range(n_mat):
                 s += 0.25 * mass_m[e, m]
         out[n] = s
+

@@ -22,7 +22,8 @@ def material_state(eos, q, rho0, rho, e_spec):
     return p, float(np.sqrt(max(c2, 0.0)))
 
 
-def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg, phi_eps):
+def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg, phi_eps,
+                    p_cut=-np.inf):
     """(f_elem, pres_m, bulk_m, q_elem, dt_elem), vectorised over elements except for the EOS."""
     xe = x[conn]  # (E, 4, 2)
     ve = v[conn]
@@ -40,12 +41,15 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
     snd = np.zeros_like(vol_m)
     for e in range(len(conn)):
         for m in range(vol_m.shape[1]):
-            if vol_m[e, m] > phi_eps * vtot[e] and mass_m[e, m] > 0:
+            if vol_m[e, m] > phi_eps * vtot[e] and mass_m[e, m] > K.RHO_VOID * mat_rho0[m] * vol_m[e, m]:
                 rho = mass_m[e, m] / vol_m[e, m]
                 p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m])
-                pres[e, m], bulk[e, m], snd[e, m] = p, rho * c * c, c
+                pres[e, m], bulk[e, m], snd[e, m] = max(p, p_cut), rho * c * c, c
     p_mix = (vol_m / vtot[:, None] * pres).sum(axis=1)
-    c_max = snd.max(axis=1)
+    counted = snd > 0
+    m_in = np.where(counted, mass_m, 0.0).sum(axis=1)
+    c2 = np.where(counted, mass_m * snd ** 2, 0.0).sum(axis=1)
+    c_max = np.sqrt(np.divide(c2, m_in, out=np.zeros_like(c2), where=m_in > 0))  # mixture (mass-weighted c^2)
     rho_e = mtot / area
     trace_d = np.einsum("eak,eka->e", ve, b)
     edges = np.linalg.norm(xe[:, nxt] - xe, axis=2).max(axis=1)

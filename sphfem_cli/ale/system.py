@@ -35,7 +35,13 @@ Constructor arguments:
   mesh to its start) or "smooth" (interior nodes relaxed by ``smooth_weight`` towards the mean of
   their neighbours, then ``eulerian_pull`` back towards their start; boundary nodes Eulerian);
   ``ke_fix`` return the kinetic energy lost by the
-  momentum remap to the internal energy (total energy conserved).
+  momentum remap to the internal energy (total energy conserved);
+  ``pressure_cutoff`` lowest material pressure (cavitation, LS-DYNA's *MAT_NULL PC; default none);
+  ``mass_floor`` nodes whose mass is at or below this fraction of their full mass (their
+  elements' reference volumes filled at the largest reference density) are held at zero velocity,
+  their momentum booked with the wall impulse (default 1e-10: the gas front expanding into
+  void, tests/verification/test_ale_void.py, moves within 0.1 cell of 1e-12's; 1e-8 holds it back
+  3 cells).
 
 Boundaries (node index arrays): ``set_slip(nodes, normal)`` normal velocity zero,
 ``set_fixed(nodes)`` velocity zero, ``set_transmit(nodes)`` boundary faces whose two nodes are in
@@ -182,7 +188,8 @@ class AleSystem:
                  velocity=None, q1: float = 1.5, q2: float = 0.06, hourglass: float = 0.1, order: int = 2,
                  interface: str = "slic", closure: str = "relax", relax_alpha: float = 0.5,
                  relax_beta: float = 0.5, advect_every: int = 1, ke_fix: bool = True, phi_eps: float = 1e-9,
-                 mesh_motion: str = "eulerian", smooth_weight: float = 0.5, eulerian_pull: float = 0.2):
+                 mesh_motion: str = "eulerian", smooth_weight: float = 0.5, eulerian_pull: float = 0.2,
+                 pressure_cutoff: float | None = None, mass_floor: float = 1e-10):
         self.x0 = np.ascontiguousarray(nodes, dtype=np.float64)
         if self.x0.ndim != 2 or self.x0.shape[1] != 2:
             raise ValueError("AleSystem is 2D: nodes must be (N, 2)")
@@ -216,6 +223,7 @@ class AleSystem:
         self.advect_every = int(advect_every)
         self.ke_fix = bool(ke_fix)
         self.phi_eps = float(phi_eps)
+        self.p_cut = -np.inf if pressure_cutoff is None else float(pressure_cutoff)
 
         self.topo = build_topology(self.conn, n_nodes)
         if mesh_motion not in ("eulerian", "smooth"):
@@ -264,6 +272,12 @@ class AleSystem:
         if velocity is not None:
             self.velocity[:] = np.asarray(velocity, dtype=float)
         self.node_mass = np.zeros(n_nodes)
+        # nodal mass floor: mass_floor times the node's share of its elements filled at the largest
+        # reference density (velocity of a near-empty node is not computed from momentum / mass)
+        rho_ref = float(self.mat_rho0.max()) if n_mat else 0.0
+        full = np.zeros(n_nodes)
+        np.add.at(full, self.conn.ravel(), np.repeat(0.25 * rho_ref * self.vol0, 4))
+        self.m_floor = float(mass_floor) * full
         K.nodal_mass(self.mass_m, self.topo["node_elem_ptr"], self.topo["node_elem_idx"], self.node_mass)
         self.bc_type = np.zeros(n_nodes, dtype=np.int64)
         self.bc_normal = np.zeros((n_nodes, 2))
@@ -352,7 +366,7 @@ class AleSystem:
                 self.pscale[:, m] = burn_fraction(self.time, t_light, d, delta)
         K.lagrange_forces(self.x, self.velocity, self.conn, self.vol_m, self.mass_m, self.ener_m,
                           self.mat_eos, self.mat_q, self.mat_rho0, self.q1, self.q2, self.qhg, self.phi_eps,
-                          self.pscale, self.f_elem, self.pres_m, self.bulk_m, self.q_elem, self.dt_elem)
+                          self.pscale, self.p_cut, self.f_elem, self.pres_m, self.bulk_m, self.q_elem, self.dt_elem)
         self._fresh = True
 
     def stable_dt(self, scale: float = 0.5) -> float:
@@ -404,7 +418,7 @@ class AleSystem:
         if has_couple:
             f_ext += self.f_couple * (w_couple / dt)
         K.nodal_update(self.f_elem, topo["node_elem_ptr"], topo["node_elem_idx"], f_ext,
-                       self.node_mass, self.velocity, self.bc_type, self.bc_normal, dt, self._impulse)
+                       self.node_mass, self.m_floor, self.velocity, self.bc_type, self.bc_normal, dt, self._impulse)
         self.v_lag[:] = self.velocity
         v_mid = self.v_mid
         np.add(v_old, self.velocity, out=v_mid)
@@ -472,7 +486,7 @@ class AleSystem:
             K.apply_dual_fluxes(d, topo["node_elem_ptr"], topo["node_elem_idx"], any_open, self._gm, self._gp, self._gk,
                                 self._bm, self._bp, self._bk, mnode, pnode, knode)
         dissip = np.empty_like(mnode)
-        K.finish_remap_nodes(mnode, pnode, knode, self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)
+        K.finish_remap_nodes(mnode, pnode, knode, self.m_floor, self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)
         self.wall_impulse += self._impulse.sum(axis=0)
         K.nodal_mass(self.mass_m, topo["node_elem_ptr"], topo["node_elem_idx"], self.node_mass)
         K.finish_remap_elements(self.conn, self.mass_m, self.ener_m, self.node_mass, dissip, self.ke_fix)

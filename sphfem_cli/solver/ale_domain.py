@@ -33,6 +33,7 @@ class AleDomain:
             hourglass=section.hourglass, order=1 if section.advection == "donor_cell" else 2,
             interface=section.interface, closure=section.closure, advect_every=section.advect_every,
             mesh_motion="eulerian" if section.mesh_motion == "eulerian" else "smooth",
+            pressure_cutoff=section.pressure_cutoff,
         )
         burn = [(j, deck.materials[n].detonation_velocity) for j, n in enumerate(self.names)
                 if deck.materials[n].type == "high_explosive"]

@@ -10,7 +10,7 @@ Works on the loaded YAML data (plain dicts and lists) and returns new data; the 
   computed with the ALE's own region tests, then written as a lattice-aligned ``box`` (a full
   rectangle) or ``polygon`` (anything else) whose lattice reproduces exactly those centres.
 - one ``sph`` section (cubic spline, h/dx 1.2, artificial viscosity of an sph section already in
-  the deck, else alpha 0.1, beta 0);
+  the deck, else alpha 0.1, beta 0; the ALE section's ``pressure_cutoff``, if any);
 - ``ale_boundary`` slip / fixed sides -> ``wall`` slip / no_slip; transmit sides -> the section's
   ``domain`` (particles leaving it are deactivated);
 - ``lagrange_in_solid`` -> one ``nodes_to_surface`` per coupled SPH part, soft-constraint stiffness
@@ -234,6 +234,9 @@ def sph_variant(data: dict, ratio: int, deck_dir: Path | None = None) -> Derived
             "type": "sph", "kernel": "cubic_spline", "smoothing_ratio": 1.2,
             "artificial_viscosity": {"alpha": av.alpha if av else 0.1, "beta": av.beta if av else 0.0},
         }
+        cutoff = deck.sections[info.section].pressure_cutoff  # the ALE fluids' cavitation pressure
+        if cutoff is not None:
+            out["sections"][section_name]["pressure_cutoff"] = cutoff
     del ale_raw
 
     sph_parts: dict[str, str] = {}  # part -> material

@@ -205,6 +205,9 @@ class AleSection(DeckModel):
         0.5, description="Fraction of the ALE element step l/(c + |v|) used (the remap needs it below 1). Default 0.5, as verified on the shock tubes."
     )
     bulk_viscosity: BulkViscosity = Field(default_factory=BulkViscosity, description="Shock viscosity.")
+    pressure_cutoff: float | None = Field(
+        None, description="Lowest pressure any ALE material may carry (cavitation; LS-DYNA *MAT_NULL PC) [pressure]. Default none (a fluid EOS may go into tension)."
+    )
 
 
 Section = Annotated[Union[SolidSection, SphSection, AleSection], Field(discriminator="type")]
