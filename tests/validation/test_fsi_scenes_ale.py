@@ -15,9 +15,9 @@ Eulerian mesh of 5 mm squares, void above it; the cylinder is coupled by lagrang
    engages a point once the water element is within half an element (2.5 mm, s/D = 0.023) in
    front of it, so no force is allowed before s/D = -0.023 (the SPH twin: -0.01, its contact
    thickness).
-2. decks/cylinder_free_fall_ale.yaml (density 500, to T = 0.46) and
-   decks/cylinder_free_fall_rho1000_ale.yaml (density 1000, to T = 0.31, shortened: see its
-   header): Greenhow & Lin (1983) setup (README above), no measured curve in the reference
+2. decks/cylinder_free_fall_ale.yaml (density 500) and
+   decks/cylinder_free_fall_rho1000_ale.yaml (density 1000), both to T = 0.74 (0.08 s, the SPH
+   twins' end; van Leer advection, since the ALE nodal mass floor): Greenhow & Lin (1983) setup (README above), no measured curve in the reference
    folder, so the checks are the SPH twin's physics bounds: at T = 0.02 and 0.05 the penetration
    lies between V t - a_W t^2/2 (a_W = Wagner's first-contact deceleration 2 pi (1/2 rho D V^2)/m)
    and V t + g t^2/2; both bodies slow down; the heavier one is deeper at every T > 0.05 that
@@ -67,9 +67,9 @@ def test_cylinder_constant_speed_slamming_ale(tmp_path):
     early, middle, late = mean(0.0, 0.2), mean(0.4, 0.6), mean(0.8, 1.1)
     print(f"\nALE slamming: peak Cs {cs[peak]:.2f} at s/D {s_over_d[peak]:.3f}; mean Cs {early:.2f} (s/D 0-0.2), "
           f"{middle:.2f} (0.4-0.6), {late:.2f} (0.8-1.1)")
-    assert np.pi <= cs[peak] <= 1.2 * 2.0 * np.pi  # measured 4.63 at s/D 0.053
-    assert middle < 0.5 * cs[peak]  # measured 1.58
-    assert late < early  # measured 1.19 < 2.47
+    assert np.pi <= cs[peak] <= 1.2 * 2.0 * np.pi  # measured 4.60 at s/D 0.053
+    assert middle < 0.5 * cs[peak]  # measured 1.54
+    assert late < early  # measured 1.14 < 2.38
 
 
 def free_fall(name: str, tmp_path: Path):
@@ -90,13 +90,14 @@ def test_free_fall_entry_ale(tmp_path):
         mass = rho * np.pi * (0.5 * D) ** 2
         a_wagner = 2.0 * np.pi * 0.5 * RHO * D * V * V / mass
         print(f"\nALE rho {rho}: " + ", ".join(f"T {q:.2f}: {np.interp(q, T, p):.3f}"
-                                              for q in (0.02, 0.05, 0.1, 0.2, 0.3, 0.4) if q <= T[-1]))
+                                              for q in (0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.7) if q <= T[-1]))
         for q in (0.02, 0.05):
             t = q * np.sqrt(D / G)
             pen = np.interp(q, T, p)
             assert (V * t - 0.5 * a_wagner * t * t) / D <= pen <= (V * t + 0.5 * G * t * t) / D, (rho, q, pen)
         assert np.all(np.diff(p[T > 0.0]) > 0.0)  # the penetration grows
-    assert -h5["velocity_y"][-1] < 0.6 * V and -h10["velocity_y"][-1] < V  # both slowed by the water
+    assert T5[-1] > 0.73 and T10[-1] > 0.73  # both to 0.08 s
+    assert -h5["velocity_y"][-1] < 0.6 * V and -h10["velocity_y"][-1] < V  # both slowed (1.01, 1.49 m/s)
     both = (T5 > 0.05) & (T5 <= T10[-1])
     assert np.count_nonzero(both) > 10
     assert np.all(np.interp(T5[both], T10, p10) > p5[both])  # heavier deeper at equal T
