@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 
+import numba
 import numpy as np
 from numba import njit, prange
 
@@ -637,58 +638,82 @@ _FMV = {"nsz", "arcp", "contract", "reassoc"}  # reassoc: LLVM may vectorise the
 
 
 @njit(cache=True, fastmath=_FMV, error_model="numpy")
-def _pair_sums(nbj, cnt, sx, sd, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mati,
+def _pair_sums(nbj, cnt, sxf, sdf, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mati,
                alpha, beta, eps, gx, gy, gz, dhydro):
     """Branch-free sums over the neighbour slots ``nbj[:cnt]`` of one particle (LLVM vectorises it).
+
+    ``sxf``, ``sdf``: ``sx``, ``sd`` flattened (rows of 4 and ``ND`` = 8), indexed with the unsigned
+    slots of ``nbj`` (no negative-index handling in the gathers). ``kernel`` and ``dim`` are
+    compile-time constants (``numba.literally``): one specialisation per kernel and dimension, in
+    which the other kernel's shape and the coordinates and velocities above ``dim`` are not
+    computed (in 2D they are exactly 0, so the sums are those of the general form).
 
     Returns (ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw): the pressure + artificial-viscosity
     acceleration -sum m_j S grad W (S = p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij), sum V_j v_ij.grad W,
     sum m_j S v_ij.grad W, its part over dummy wall points j, the delta-SPH sum sum h c psi F V (same material, no wall) and the
     XSPH sums sum (m_j/rho_ij) W (v_j - v_i) (no wall). Sentinel entries add exactly zero.
     """
+    numba.literally(kernel)
+    numba.literally(dim)
     ax = ay = az = 0.0
     cont = work = wall_work = diff = 0.0
     sxu = sxv = sxw = 0.0
     wend = kernel == WENDLAND_C2
     one_d = dim == 1
+    fmati = float(mati)
+    four = np.uint64(4)
+    eight = np.uint64(ND)
     for t in range(cnt):
         j = nbj[t]
-        dx = xi - sx[j, 0]
-        dy = yi - sx[j, 1]
-        dz = zi - sx[j, 2]
-        hij = 0.5 * (hi + sx[j, 3])
-        r2 = dx * dx + dy * dy + dz * dz
+        jx = j * four
+        jd = j * eight
+        dx = xi - sxf[jx]
+        dy = yi - sxf[jx + 1] if dim > 1 else 0.0
+        dz = zi - sxf[jx + 2] if dim > 2 else 0.0
+        hij = 0.5 * (hi + sxf[jx + 3])
+        r2 = dx * dx
+        if dim > 1:
+            r2 += dy * dy
+        if dim > 2:
+            r2 += dz * dz
         r = math.sqrt(r2)
         a = 1.0 / (hij * r)
         inv = r * a  # 1/h_ij
         q = r2 * a  # r/h_ij
-        # kernel shape theta(q) and (1/q) dtheta/dq; every branch computed, then selected
-        tw = max(1.0 - 0.5 * q, 0.0)
-        tw2 = tw * tw
-        th_w = tw2 * tw * (1.5 * q + 1.0) if one_d else tw2 * tw2 * (2.0 * q + 1.0)
-        dth_w = -3.0 * tw2 if one_d else -5.0 * tw2 * tw
-        tc = max(2.0 - q, 0.0)
-        inner = q < 1.0
-        th_c = 1.0 - q * q * (1.5 - 0.75 * q) if inner else 0.25 * tc * tc * tc
-        dth_c = -3.0 + 2.25 * q if inner else -0.75 * tc * tc * hij * hij * a  # -0.75 (2-q)^2 / q
-        th = th_w if wend else th_c
-        dth = dth_w if wend else dth_c
+        # kernel shape theta(q) and (1/q) dtheta/dq; both branches of the spline computed, then selected
+        if wend:
+            tw = max(1.0 - 0.5 * q, 0.0)
+            tw2 = tw * tw
+            th = tw2 * tw * (1.5 * q + 1.0) if one_d else tw2 * tw2 * (2.0 * q + 1.0)
+            dth = -3.0 * tw2 if one_d else -5.0 * tw2 * tw
+        else:
+            tc = max(2.0 - q, 0.0)
+            inner = q < 1.0
+            th = 1.0 - q * q * (1.5 - 0.75 * q) if inner else 0.25 * tc * tc * tc
+            dth = -3.0 + 2.25 * q if inner else -0.75 * tc * tc * hij * hij * a  # -0.75 (2-q)^2 / q
         invd = inv * (inv if dim >= 2 else 1.0) * (inv if dim >= 3 else 1.0)
         norm = sig * invd
         f = norm * inv * inv * dth
         wgx = f * dx
         wgy = f * dy
         wgz = f * dz
-        du = ui - sd[j, D_VX]
-        dv = vi - sd[j, D_VY]
-        dw = wi - sd[j, D_VZ]
-        rhoj = sd[j, D_RHO]
-        vol = sd[j, D_VOL]
+        du = ui - sdf[jd + D_VX]
+        dv = vi - sdf[jd + D_VY] if dim > 1 else 0.0
+        dw = wi - sdf[jd + D_VZ] if dim > 2 else 0.0
+        rhoj = sdf[jd + D_RHO]
+        vol = sdf[jd + D_VOL]
         mj = vol * rhoj
-        vdotg = du * wgx + dv * wgy + dw * wgz
+        vdotg = du * wgx
+        vdr = du * dx
+        if dim > 1:
+            vdotg += dv * wgy
+            vdr += dv * dy
+        if dim > 2:
+            vdotg += dw * wgz
+            vdr += dw * dz
         cont += vol * vdotg
-        vdotr = min(du * dx + dv * dy + dw * dz, 0.0)
-        cj = sd[j, D_C]
+        vdotr = min(vdr, 0.0)
+        cj = sdf[jd + D_C]
         cij = 0.5 * (ci + cj)
         rij = 0.5 * (rhoi + rhoj)
         dd = r2 + eps * hij * hij
@@ -696,27 +721,37 @@ def _pair_sums(nbj, cnt, sx, sd, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, r
         hv = hij * vdotr
         # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
         pi_ij = hv * (beta * hv - alpha * cij * dd) * rcp
-        coef = mj * (pri + sd[j, D_PR] + pi_ij)
+        coef = mj * (pri + sdf[jd + D_PR] + pi_ij)
         ax -= coef * wgx
-        ay -= coef * wgy
-        az -= coef * wgz
+        if dim > 1:
+            ay -= coef * wgy
+        if dim > 2:
+            az -= coef * wgz
         work += coef * vdotg
-        mk = int(sd[j, D_MK])
-        notwall = 1.0 if (mk & 3) != KIND_WALL else 0.0
+        mk = sdf[jd + D_MK]  # mat * 4 + kind, decoded in floating point (exact for these integers)
+        matj = np.floor(0.25 * mk)
+        notwall = 1.0 if mk - 4.0 * matj != KIND_WALL else 0.0
         wall_work += (1.0 - notwall) * coef * vdotg
-        same = notwall if (mk >> 2) == mati else 0.0
+        same = notwall if matj == fmati else 0.0
         psi = rhoj - rhoi
         if dhydro:
-            psi += rij * (gx * dx + gy * dy + gz * dz) / (cij * cij)
+            gr = gx * dx
+            if dim > 1:
+                gr += gy * dy
+            if dim > 2:
+                gr += gz * dz
+            psi += rij * gr / (cij * cij)
         diff += same * hij * cij * psi * f * vol
         wr = notwall * norm * th * mj * (dd * dd * rcp)
         sxu -= wr * du
-        sxv -= wr * dv
-        sxw -= wr * dw
+        if dim > 1:
+            sxv -= wr * dv
+        if dim > 2:
+            sxw -= wr * dw
     return ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw
 
 
-@njit(cache=True, parallel=True, error_model="numpy")
+@njit(cache=True)
 def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power):
     """Continuity, momentum, energy, delta-SPH and XSPH rates of every real (fluid) point.
 
@@ -744,8 +779,31 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph,
     in blocks of ``_BLOCK`` per parallel task. Each particle's sums depend only on its own
     neighbour list, so the result does not depend on the thread count. Equations and
     references: docs/theory/sph.md.
+
+    The work is done by ``_fluid_rates``, compiled once per kernel and dimension (both
+    compile-time constants there): this function only picks the specialisation.
     """
     kernel, dim = iprm[I_KERNEL], iprm[I_DIM]
+    if kernel == WENDLAND_C2:
+        if dim == 1:
+            _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, WENDLAND_C2, 1)
+        elif dim == 2:
+            _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, WENDLAND_C2, 2)
+        else:
+            _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, WENDLAND_C2, 3)
+    elif dim == 1:
+        _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, CUBIC_SPLINE, 1)
+    elif dim == 2:
+        _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, CUBIC_SPLINE, 2)
+    else:
+        _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, CUBIC_SPLINE, 3)
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, kernel, dim):
+    """``fluid_rates`` for one kernel and dimension (literal arguments)."""
+    numba.literally(kernel)
+    numba.literally(dim)
     nx, ny, nz = iprm[I_NX], iprm[I_NY], iprm[I_NZ]
     viscous = iprm[I_VISCOUS] != 0
     dhydro = iprm[I_DELTA_HYDRO] != 0
@@ -758,8 +816,10 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph,
     sig = kernel_sigma(kernel, dim)
     npts = cell_start[-1]
     sentinel = sx.shape[0] - 1
+    sxf = sx.reshape(-1)
+    sdf = sd.reshape(-1)
     for b in prange((npts + _BLOCK - 1) // _BLOCK):
-        nbj = np.empty(512, dtype=np.int64)
+        nbj = np.empty(512, dtype=np.uint64)
         for k in range(b * _BLOCK, min(npts, (b + 1) * _BLOCK)):
             mki = int(sd[k, D_MK])
             if (mki & 3) != KIND_FLUID:
@@ -776,24 +836,29 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph,
                     j0 = cell_start[base + x0]
                     j1 = cell_start[base + x1 + 1]
                     if cnt + (j1 - j0) + _PAD > nbj.shape[0]:
-                        grown = np.empty(2 * (cnt + (j1 - j0) + _PAD), dtype=np.int64)
+                        grown = np.empty(2 * (cnt + (j1 - j0) + _PAD), dtype=np.uint64)
                         for t in range(cnt):  # an explicit loop: slices inside prange trip numba's array analysis
                             grown[t] = nbj[t]
                         nbj = grown
                     for j in range(j0, j1):
                         dx = xi - sx[j, 0]
-                        dy = yi - sx[j, 1]
-                        dz = zi - sx[j, 2]
+                        r2 = dx * dx
+                        if dim > 1:
+                            dy = yi - sx[j, 1]
+                            r2 += dy * dy
+                        if dim > 2:
+                            dz = zi - sx[j, 2]
+                            r2 += dz * dz
                         hs = hi + sx[j, 3]  # 2 h_ij
                         nbj[cnt] = j
-                        cnt += (dx * dx + dy * dy + dz * dz < hs * hs) & (j != k)
+                        cnt += (r2 < hs * hs) & (j != k)
             npad = (cnt + _PAD - 1) // _PAD * _PAD
             for t in range(cnt, npad):
                 nbj[t] = sentinel
             ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
             rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]
             ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw = _pair_sums(
-                nbj, npad, sx, sd, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
+                nbj, npad, sxf, sdf, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
                 alpha, beta, eps, gx, gy, gz, dhydro)
             if viscous:
                 irho2 = 1.0 / (rhoi * rhoi)
