@@ -109,7 +109,8 @@ class RunOutput:
         for probe in self.requests:
             probe.append()
         for probe, writer in self.probes:
-            writer.append([row.time, self.sim.particles.probe(probe)])
+            ale = self.sim.ale is not None and (probe.part == self.sim.ale.name or self.sim.particles is None)
+            writer.append([row.time, self.sim.ale.probe(probe) if ale else self.sim.particles.probe(probe)])
 
     def write_fields(self) -> None:
         sim, model, st = self.sim, self.sim.model, self.sim.state

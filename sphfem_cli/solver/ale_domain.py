@@ -23,6 +23,7 @@ class AleDomain:
         part = model.parts[mesh.part]
         section = deck.sections[deck.parts[part.name].section]
         self.model = model
+        self.name = part.name
         self.names = [model.material_names[m] for m in mesh.materials]
         rows = [None if model.material_type[m] == VOID else (int(model.material_type[m]), model.material_param[m])
                 for m in mesh.materials]
@@ -83,3 +84,9 @@ class AleDomain:
                 cell[f"density_{name}"] = density[:, j]
                 cell[f"pressure_{name}"] = pressure[:, j]
         return ale.x, {"velocity": ale.velocity}, cell
+
+    def probe(self, probe) -> float:
+        """A pressure probe: the mixture pressure of the element whose centroid is nearest `probe.point`."""
+        ale = self.system
+        k = int(np.argmin(np.sum((ale.centroids() - np.array(probe.point)) ** 2, axis=1)))
+        return float(ale.pressure(mixture=True)[k])

@@ -195,11 +195,18 @@ def _check_references(deck: Deck) -> None:
 
     names = set()
     for i, probe in enumerate(deck.output.probes):
-        if not sph_parts:
-            raise ValueError(f"@output.probes.{i}: probes measure SPH parts and this deck has none")
-        if probe.part is not None and probe.part not in sph_parts:
+        _ref(probe.part, deck.parts, f"output.probes.{i}.part", "part")
+        if probe.type == "pressure" and probe.part in ale_parts:
+            pass  # the ALE element at the point
+        elif probe.type == "pressure" and probe.part is None and ale_parts and not sph_parts:
+            pass
+        elif not sph_parts:
+            raise ValueError(f"@output.probes.{i}: {probe.type} probes measure SPH parts and this deck has none"
+                             + (" (an ALE part takes pressure probes)" if ale_parts else ""))
+        elif probe.part is not None and probe.part not in sph_parts:
             raise ValueError(f"@output.probes.{i}.part: '{probe.part}' is not an SPH part "
-                             f"(SPH parts: {', '.join(sorted(sph_parts))})")
+                             f"(SPH parts: {', '.join(sorted(sph_parts))}"
+                             + (f"; pressure probes may name the ALE part" if ale_parts else "") + ")")
         if probe.name in names:
             raise ValueError(f"@output.probes.{i}.name: duplicate history name '{probe.name}'")
         names.add(probe.name)

@@ -607,7 +607,7 @@ class HistoryRequest(DeckModel):
 
 
 class Probe(DeckModel):
-    """An SPH measurement written as a history (histories/<name>.csv)."""
+    """A fluid measurement written as a history (histories/<name>.csv): SPH particles, or pressure in an ALE part."""
 
     name: str = Field(description="Name of the CSV table written.")
     type: Literal["pressure", "surface_height", "front"] = Field(
@@ -617,7 +617,9 @@ class Probe(DeckModel):
     point: Vector | None = Field(None, description="pressure: where [length].")
     gauge: float | None = Field(None, description="surface_height: gauge position along `axis` [length].")
     axis: Literal["x", "y", "z"] = Field("x", description="surface_height and front: the horizontal axis. Default x.")
-    part: str | None = Field(None, description="front: an SPH part. Default all SPH parts.")
+    part: str | None = Field(None, description="front: an SPH part (default all SPH parts); pressure: the ALE part "
+                             "to measure instead of the SPH particles (the mixture pressure of the element at `point`; "
+                             "the default in a deck whose only fluid is ALE).")
 
     @model_validator(mode="after")
     def _needs(self) -> "Probe":
