@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import math
 
-import numba
 import numpy as np
 from numba import njit, prange
 
@@ -282,18 +281,34 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
 def make_ghosts(x, v, rho, c, active, walls, valid, reach, gravity, hydrostatic):
     """Ghost particles of the planar walls: ``(gpos, gvel, gsrc, gdp, gdr)`` (see ``fill_ghosts``)."""
     n = x.shape[0]
-    counts = np.empty(n, dtype=np.int64)
-    count_ghosts(x, active, walls, valid, reach, counts)
-    offsets = np.zeros(n + 1, dtype=np.int64)
+    # one pass over the particles finds those near a wall (few); the images are counted and
+    # filled for those only, in the same order as count_ghosts/fill_ghosts would give them
+    near = np.empty(64, dtype=np.int64)
+    nnear = 0
     for i in range(n):
-        offsets[i + 1] = offsets[i] + counts[i]
-    ng = offsets[n]
+        if active[i] and _near_mask(x, i, walls, reach) != 0:
+            if nnear == near.shape[0]:
+                grown = np.empty(2 * nnear, dtype=np.int64)
+                grown[:nnear] = near
+                near = grown
+            near[nnear] = i
+            nnear += 1
+    sub = near[:nnear]
+    counts = np.empty(nnear, dtype=np.int64)
+    count_ghosts(x[sub], np.ones(nnear, dtype=np.bool_), walls, valid, reach, counts)
+    offsets = np.zeros(nnear + 1, dtype=np.int64)
+    for a in range(nnear):
+        offsets[a + 1] = offsets[a] + counts[a]
+    ng = offsets[nnear]
     gpos = np.empty((ng, 3))
     gvel = np.empty((ng, 3))
     gsrc = np.empty(ng, dtype=np.int64)
     gdp = np.empty(ng)
     gdr = np.empty(ng)
-    fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hydrostatic, gpos, gvel, gsrc, gdp, gdr)
+    fill_ghosts(x[sub], v[sub], rho[sub], c[sub], np.ones(nnear, dtype=np.bool_), walls, valid, reach, offsets, gravity,
+                hydrostatic, gpos, gvel, gsrc, gdp, gdr)
+    for g in range(ng):
+        gsrc[g] = sub[gsrc[g]]
     return gpos, gvel, gsrc, gdp, gdr
 
 
@@ -638,23 +653,24 @@ _FMV = {"nsz", "arcp", "contract", "reassoc"}  # reassoc: LLVM may vectorise the
 
 
 @njit(cache=True, fastmath=_FMV, error_model="numpy")
-def _pair_sums(nbj, cnt, sxf, sdf, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mati,
+def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mati,
                alpha, beta, eps, gx, gy, gz, dhydro):
     """Branch-free sums over the neighbour slots ``nbj[:cnt]`` of one particle (LLVM vectorises it).
 
     ``sxf``, ``sdf``: ``sx``, ``sd`` flattened (rows of 4 and ``ND`` = 8), indexed with the unsigned
-    slots of ``nbj`` (no negative-index handling in the gathers). ``kernel`` and ``dim`` are
-    compile-time constants (``numba.literally``): one specialisation per kernel and dimension, in
-    which the other kernel's shape and the coordinates and velocities above ``dim`` are not
-    computed (in 2D they are exactly 0, so the sums are those of the general form).
+    slots of ``nbj`` (no negative-index handling in the gathers). The kernel and the dimension
+    are compile-time constants, the numbers of dimensions of the empty arrays ``kshape`` and
+    ``dshape`` (see ``fluid_rates``): one compiled version per kernel and dimension, in which the
+    other kernel's shape and the coordinates and velocities above ``dim`` are not computed (in
+    2D they are exactly 0, so the sums are those of the general form).
 
     Returns (ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw): the pressure + artificial-viscosity
     acceleration -sum m_j S grad W (S = p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij), sum V_j v_ij.grad W,
     sum m_j S v_ij.grad W, its part over dummy wall points j, the delta-SPH sum sum h c psi F V (same material, no wall) and the
     XSPH sums sum (m_j/rho_ij) W (v_j - v_i) (no wall). Sentinel entries add exactly zero.
     """
-    numba.literally(kernel)
-    numba.literally(dim)
+    kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
+    dim = dshape.ndim
     ax = ay = az = 0.0
     cont = work = wall_work = diff = 0.0
     sxu = sxv = sxw = 0.0
@@ -780,30 +796,34 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph,
     neighbour list, so the result does not depend on the thread count. Equations and
     references: docs/theory/sph.md.
 
-    The work is done by ``_fluid_rates``, compiled once per kernel and dimension (both
-    compile-time constants there): this function only picks the specialisation.
+    The work is done by ``_fluid_rates``, compiled once per kernel and dimension: both are
+    compile-time constants there, the numbers of dimensions of two empty arrays (``kshape``: 1
+    cubic spline, 2 Wendland C2; ``dshape``: dim). This function only picks the specialisation.
+    (Array types rather than ``numba.literally``: code loaded from the cache was measured to
+    differ from freshly compiled code with literal arguments.)
     """
     kernel, dim = iprm[I_KERNEL], iprm[I_DIM]
+    args = (sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power)
     if kernel == WENDLAND_C2:
         if dim == 1:
-            _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, WENDLAND_C2, 1)
+            _fluid_rates(*args, np.empty((0, 0)), np.empty(0))
         elif dim == 2:
-            _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, WENDLAND_C2, 2)
+            _fluid_rates(*args, np.empty((0, 0)), np.empty((0, 0)))
         else:
-            _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, WENDLAND_C2, 3)
+            _fluid_rates(*args, np.empty((0, 0)), np.empty((0, 0, 0)))
     elif dim == 1:
-        _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, CUBIC_SPLINE, 1)
+        _fluid_rates(*args, np.empty(0), np.empty(0))
     elif dim == 2:
-        _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, CUBIC_SPLINE, 2)
+        _fluid_rates(*args, np.empty(0), np.empty((0, 0)))
     else:
-        _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, CUBIC_SPLINE, 3)
+        _fluid_rates(*args, np.empty(0), np.empty((0, 0, 0)))
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, kernel, dim):
-    """``fluid_rates`` for one kernel and dimension (literal arguments)."""
-    numba.literally(kernel)
-    numba.literally(dim)
+def _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, kshape, dshape):
+    """``fluid_rates`` for one kernel and dimension (``kshape.ndim``, ``dshape.ndim``)."""
+    kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
+    dim = dshape.ndim
     nx, ny, nz = iprm[I_NX], iprm[I_NY], iprm[I_NZ]
     viscous = iprm[I_VISCOUS] != 0
     dhydro = iprm[I_DELTA_HYDRO] != 0
@@ -858,7 +878,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph
             ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
             rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]
             ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw = _pair_sums(
-                nbj, npad, sxf, sdf, kernel, dim, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
+                nbj, npad, sxf, sdf, kshape, dshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
                 alpha, beta, eps, gx, gy, gz, dhydro)
             if viscous:
                 irho2 = 1.0 / (rhoi * rhoi)
@@ -1125,6 +1145,7 @@ def stable_time_step(h, c, v, acc, f_ext, m, rho, mat, active, params, gravity, 
     """min over active particles of cfl h/(c + |v|), cforce sqrt(h/|a|), cvisc rho h^2/mu."""
     dim = v.shape[1]
     dt = np.inf
+    ha = np.inf
     for i in range(h.shape[0]):
         if not active[i]:
             continue
@@ -1139,8 +1160,12 @@ def stable_time_step(h, c, v, acc, f_ext, m, rho, mat, active, params, gravity, 
         if speed > 0.0:
             dt = min(dt, cfl * h[i] / speed)
         if aa > 0.0:
-            dt = min(dt, cforce * math.sqrt(h[i] / math.sqrt(aa)))
+            # min of cforce sqrt(h/|a|) = cforce sqrt(min of h/|a|): sqrt is monotonic and
+            # correctly rounded, so taking it once at the end gives the same number
+            ha = min(ha, h[i] / math.sqrt(aa))
         mu = params[mat[i], P_VISCOSITY]
         if mu > 0.0:
             dt = min(dt, cvisc * rho[i] * h[i] * h[i] / mu)
+    if ha < np.inf:
+        dt = min(dt, cforce * math.sqrt(ha))
     return dt
