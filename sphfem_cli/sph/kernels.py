@@ -281,19 +281,25 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
 def make_ghosts(x, v, rho, c, active, walls, valid, reach, gravity, hydrostatic):
     """Ghost particles of the planar walls: ``(gpos, gvel, gsrc, gdp, gdr)`` (see ``fill_ghosts``)."""
     n = x.shape[0]
-    # one pass over the particles finds those near a wall (few); the images are counted and
-    # filled for those only, in the same order as count_ghosts/fill_ghosts would give them
-    near = np.empty(64, dtype=np.int64)
+    # the particles near a wall (few) are found first, wall by wall (loops over the particles
+    # that LLVM vectorises; the test of _near_mask); their images are counted and filled for
+    # those only, in the order count_ghosts/fill_ghosts give over all particles
+    flag = np.zeros(n, dtype=np.uint8)
+    for w in range(walls.shape[0]):
+        ax = int(walls[w, 0])
+        pos, side = walls[w, 1], walls[w, 2]
+        for i in range(n):
+            d = side * (x[i, ax] - pos)
+            flag[i] |= (0.0 <= d) & (d < reach)
     nnear = 0
     for i in range(n):
-        if active[i] and _near_mask(x, i, walls, reach) != 0:
-            if nnear == near.shape[0]:
-                grown = np.empty(2 * nnear, dtype=np.int64)
-                grown[:nnear] = near
-                near = grown
-            near[nnear] = i
-            nnear += 1
-    sub = near[:nnear]
+        nnear += flag[i] & active[i]
+    sub = np.empty(nnear, dtype=np.int64)
+    a = 0
+    for i in range(n):
+        if flag[i] & active[i]:
+            sub[a] = i
+            a += 1
     counts = np.empty(nnear, dtype=np.int64)
     count_ghosts(x[sub], np.ones(nnear, dtype=np.bool_), walls, valid, reach, counts)
     offsets = np.zeros(nnear + 1, dtype=np.int64)
