@@ -46,6 +46,7 @@ from ..materials.kernels import _eos_state
 BC_FREE = 0
 BC_SLIP = 1
 BC_FIXED = 2
+BC_VELOCITY = 3  # prescribed velocity (inflow): bc_normal holds the velocity itself
 
 # interface (material volume flux) modes
 IFACE_DONOR = 0
@@ -203,10 +204,12 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
 def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
     """v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m (eq. 2.7), then the velocity conditions.
 
-    bc_type per node: BC_FREE, BC_SLIP (normal component along bc_normal removed), BC_FIXED.
+    bc_type per node: BC_FREE, BC_SLIP (normal component along bc_normal removed), BC_FIXED,
+    BC_VELOCITY (v = bc_normal, a prescribed velocity).
     impulse (N, 2) receives the reaction impulse m (v_constrained - v_free) of this step.
     Nodes with a mass at or below m_floor (N,) (numerical fog, or none) are held at zero velocity,
-    their momentum booked in impulse like a fixed node's.
+    their momentum booked in impulse like a fixed node's; a prescribed velocity (BC_VELOCITY)
+    holds whatever the mass.
     """
     n_nodes = v.shape[0]
     for n in prange(n_nodes):
@@ -225,7 +228,7 @@ def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, 
         else:
             w0 = 0.0
             w1 = 0.0
-        if m > m_floor[n]:
+        if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
             u0, u1 = _apply_bc(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
         else:
             u0, u1 = 0.0, 0.0
@@ -242,6 +245,8 @@ def _apply_bc(kind, nx, ny, w0, w1):
     if kind == BC_SLIP:
         vn = w0 * nx + w1 * ny
         return w0 - vn * nx, w1 - vn * ny
+    if kind == BC_VELOCITY:
+        return nx, ny
     return w0, w1
 
 
@@ -636,7 +641,7 @@ def finish_remap_nodes(mnode, pnode, knode, m_floor, bc_type, bc_normal, v, impu
         else:
             w0 = 0.0
             w1 = 0.0
-        if m > m_floor[n]:
+        if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
             u0, u1 = _apply_bc(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
         else:
             u0, u1 = 0.0, 0.0

@@ -172,6 +172,85 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
     )
 
 
+def _winslow_stencil(conn: np.ndarray, n_nodes: int, interior: np.ndarray) -> tuple:
+    """Logical neighbours of the interior nodes that have exactly four elements.
+
+    Returns (ids, nbr) with nbr (len(ids), 8) = east, north, west, south, north-east, north-west,
+    south-west, south-east: the elements around a node are chained counter-clockwise (the next
+    element's first edge neighbour is this one's last), its edge neighbours in that order are
+    E, N, W, S and the diagonal corners between them NE, NW, SW, SE. Which direction is "east"
+    does not matter: the Winslow point is the same for each of the four choices.
+    """
+    a = np.arange(4 * conn.shape[0])
+    e, k = a // 4, a % 4
+    node = conn[e, k]
+    valence = np.bincount(node, minlength=n_nodes)
+    ok = interior & (valence == 4)
+    ids = np.flatnonzero(ok)
+    if ids.size == 0:
+        return ids, np.zeros((0, 8), dtype=np.int64)
+    sel = ok[node]
+    order = np.argsort(node[sel], kind="stable")
+    es, ks = e[sel][order].reshape(-1, 4), k[sel][order].reshape(-1, 4)
+    c1 = conn[es, (ks + 1) % 4]
+    c2 = conn[es, (ks + 2) % 4]
+    c3 = conn[es, (ks + 3) % 4]
+    nxt = np.argmax(c1[:, None, :] == c3[:, :, None], axis=2)  # nxt[n, i]: element after element i
+    r = np.arange(ids.size)
+    o = [np.zeros(ids.size, dtype=np.int64)]
+    for _ in range(3):
+        o.append(nxt[r, o[-1]])
+    edges = [c1[r, j] for j in o]
+    diags = [c2[r, j] for j in o]
+    return ids, np.stack(edges + diags, axis=1).astype(np.int64)
+
+
+def _winslow_target(x: np.ndarray, fallback: np.ndarray, stencil: tuple) -> np.ndarray:
+    """Jacobi point of the Winslow (equipotential) equations alpha x_xixi - 2 beta x_xieta + gamma x_etaeta = 0.
+
+    alpha = |x_eta|^2, beta = x_xi . x_eta, gamma = |x_xi|^2 with central differences on the
+    logical stencil (Winslow 1967; Benson 1992 sec. 3.3): x = [alpha (x_E + x_W) + gamma (x_N + x_S)
+    - beta/2 (x_NE - x_NW + x_SW - x_SE)] / (2 (alpha + gamma)). Nodes outside the stencil keep
+    ``fallback``.
+    """
+    ids, nb = stencil
+    out = fallback.copy()
+    if ids.size == 0:
+        return out
+    xe, xn, xw, xs, xne, xnw, xsw, xse = (x[nb[:, j]] for j in range(8))
+    x_xi = 0.5 * (xe - xw)
+    x_eta = 0.5 * (xn - xs)
+    alpha = (x_eta ** 2).sum(axis=1)[:, None]
+    gamma = (x_xi ** 2).sum(axis=1)[:, None]
+    beta = (x_xi * x_eta).sum(axis=1)[:, None]
+    out[ids] = (alpha * (xe + xw) + gamma * (xn + xs) - 0.5 * beta * (xne - xnw + xsw - xse)) / (2.0 * (alpha + gamma))
+    return out
+
+
+def _sliding_nodes(x0: np.ndarray, boundary_faces: np.ndarray, n_nodes: int) -> tuple:
+    """Boundary nodes inside a straight side: (ids, first and second boundary neighbour, unit tangent).
+
+    A node qualifies when it has exactly two boundary neighbours and the three points are
+    collinear (cross product below 1e-9 of the squared edge lengths); corners do not.
+    """
+    a = np.concatenate([boundary_faces[:, 0], boundary_faces[:, 1]])
+    b = np.concatenate([boundary_faces[:, 1], boundary_faces[:, 0]])
+    order = np.argsort(a, kind="stable")
+    a, b = a[order], b[order]
+    count = np.bincount(a, minlength=n_nodes)
+    two = np.flatnonzero(count == 2)
+    start = np.searchsorted(a, two)
+    nb0, nb1 = b[start], b[start + 1]
+    d0 = x0[nb0] - x0[two]
+    d1 = x0[nb1] - x0[two]
+    cross = d0[:, 0] * d1[:, 1] - d0[:, 1] * d1[:, 0]
+    straight = np.abs(cross) <= 1e-9 * (d0 ** 2).sum(axis=1) ** 0.5 * (d1 ** 2).sum(axis=1) ** 0.5
+    ids = two[straight]
+    t = x0[nb1[straight]] - x0[nb0[straight]]
+    t /= np.linalg.norm(t, axis=1)[:, None]
+    return ids.astype(np.int64), nb0[straight].astype(np.int64), nb1[straight].astype(np.int64), t
+
+
 def _per_elem(value, n_elem: int, n_mat: int, name: str) -> np.ndarray:
     arr = np.asarray(value, dtype=float)
     if arr.shape == (n_mat,):
@@ -189,7 +268,8 @@ class AleSystem:
                  interface: str = "slic", closure: str = "relax", relax_alpha: float = 0.5,
                  relax_beta: float = 0.5, advect_every: int = 1, ke_fix: bool = True, phi_eps: float = 1e-9,
                  mesh_motion: str = "eulerian", smooth_weight: float = 0.5, eulerian_pull: float = 0.2,
-                 pressure_cutoff: float | None = None, mass_floor: float = 1e-10):
+                 pressure_cutoff: float | None = None, mass_floor: float = 1e-10, smoothing: str = "average",
+                 smooth_iterations: int = 1, smooth_boundary: str = "fixed"):
         self.x0 = np.ascontiguousarray(nodes, dtype=np.float64)
         if self.x0.ndim != 2 or self.x0.shape[1] != 2:
             raise ValueError("AleSystem is 2D: nodes must be (N, 2)")
@@ -226,9 +306,16 @@ class AleSystem:
         self.p_cut = -np.inf if pressure_cutoff is None else float(pressure_cutoff)
 
         self.topo = build_topology(self.conn, n_nodes)
-        if mesh_motion not in ("eulerian", "smooth"):
-            raise ValueError("mesh_motion must be 'eulerian' or 'smooth'")
+        if mesh_motion not in ("eulerian", "lagrangian", "smooth"):
+            raise ValueError("mesh_motion must be 'eulerian', 'lagrangian' or 'smooth'")
+        if smoothing not in ("average", "equipotential"):
+            raise ValueError("smoothing must be 'average' or 'equipotential'")
+        if smooth_boundary not in ("fixed", "sliding"):
+            raise ValueError("smooth_boundary must be 'fixed' or 'sliding'")
         self.mesh_motion = mesh_motion
+        self.smoothing = smoothing
+        self.smooth_iterations = int(smooth_iterations)
+        self.smooth_boundary = smooth_boundary
         self.smooth_weight = float(smooth_weight)
         self.eulerian_pull = float(eulerian_pull)
         fn = self.topo["face_nodes"]
@@ -239,6 +326,8 @@ class AleSystem:
         bf = fn[self.topo["face_elem"][:, 1] < 0]
         on_boundary[bf.ravel()] = True
         self._interior = ~on_boundary
+        self._stencil = _winslow_stencil(self.conn, n_nodes, self._interior)
+        self._slide = _sliding_nodes(self.x0, bf, n_nodes)
         x = self.x0[self.conn]
         self.vol0 = 0.5 * ((x[:, 2, 0] - x[:, 0, 0]) * (x[:, 3, 1] - x[:, 1, 1])
                            - (x[:, 2, 1] - x[:, 0, 1]) * (x[:, 3, 0] - x[:, 1, 0]))
@@ -283,7 +372,11 @@ class AleSystem:
         self.bc_normal = np.zeros((n_nodes, 2))
         self.face_open = np.zeros(len(self.topo["face_nodes"]), dtype=np.bool_)
         self.wall_impulse = np.zeros(2)
-        self.outflow = np.zeros(n_mat)  # net mass leaving through open faces (diagnostic)
+        self.outflow = np.zeros(n_mat)  # net mass leaving through open faces (diagnostic; inflow counts negative)
+        # inflow faces: index into the inflow states (-1: none); per state the material fractions,
+        # densities, specific energies and pressure of the outside (ghost) donor
+        self.face_inflow = -np.ones(len(self.topo["face_nodes"]), dtype=np.int64)
+        self.inflow_states: list[tuple[np.ndarray, np.ndarray, np.ndarray, float]] = []
         self.time = 0.0
         self.n_steps = 0
         self._since_remap = 0
@@ -341,6 +434,10 @@ class AleSystem:
         for i in ids:
             if self.bc_type[i] == K.BC_FIXED:
                 continue
+            if self.bc_type[i] == K.BC_VELOCITY:  # inflow node on a wall: the wall takes the normal part
+                self.bc_normal[i] -= (self.bc_normal[i] @ n) * n
+                self.velocity[i] = self.bc_normal[i]
+                continue
             if self.bc_type[i] == K.BC_SLIP and abs(abs(self.bc_normal[i] @ n) - 1.0) > 1e-12:
                 self.bc_type[i] = K.BC_FIXED
                 continue
@@ -358,6 +455,58 @@ class AleSystem:
         fn = self.topo["face_nodes"]
         boundary = self.topo["face_elem"][:, 1] < 0
         self.face_open |= boundary & mark[fn[:, 0]] & mark[fn[:, 1]]
+
+    def set_inflow(self, node_ids, material: int, velocity, density: float | None = None,
+                   energy: float | None = None, pressure: float | None = None) -> None:
+        """Inflow of ``material`` at a given state through the boundary faces whose two nodes are in the set.
+
+        The outside of those faces is a ghost element full of the material at ``density`` (default
+        its reference density) and specific internal energy ``energy`` (or the one giving
+        ``pressure``; default the EOS's e0, as a fill), reset to that state every step: it is the donor of the remap
+        through the face when the face sweeps volume inwards, and pushes on the face with its
+        pressure. The nodes get the velocity ``velocity`` (BC_VELOCITY; on a slip wall only its
+        tangential part, on a fixed node none). Where the face sweeps volume outwards it acts as a
+        transmitting face (zero gradient). Mass entering is booked negative in ``totals()["outflow"]``.
+        """
+        m = int(material)
+        if self.mat_eos[m] < 0:
+            raise ValueError("the inflow material must not be void")
+        rho0 = float(self.mat_rho0[m])
+        rho = rho0 if density is None else float(density)
+        q = np.ascontiguousarray(self.mat_q[m])
+        p0, _, dpde = mk._eos_state(int(self.mat_eos[m]), q, rho / rho0, 0.0)
+        if energy is None and pressure is None:
+            e = float(q[1]) / rho0  # the EOS's e0 (per reference volume), as an initial fill
+        elif energy is None:
+            e = 0.0 if dpde == 0.0 else (float(pressure) - p0) / dpde / rho0
+        else:
+            e = float(energy)
+        p_in = p0 + dpde * rho0 * e
+        frac = np.zeros(self.n_mat)
+        frac[m] = 1.0
+        rho_m = np.zeros(self.n_mat)
+        rho_m[m] = rho
+        e_m = np.zeros(self.n_mat)
+        e_m[m] = e
+        self.inflow_states.append((frac, rho_m, e_m, float(p_in)))
+        k = len(self.inflow_states) - 1
+        ids = np.asarray(node_ids, dtype=np.int64)
+        mark = np.zeros(self.x0.shape[0], dtype=bool)
+        mark[ids] = True
+        fn = self.topo["face_nodes"]
+        faces = (self.topo["face_elem"][:, 1] < 0) & mark[fn[:, 0]] & mark[fn[:, 1]]
+        self.face_open |= faces
+        self.face_inflow[faces] = k
+        u = np.asarray(velocity, dtype=float)
+        for i in ids:
+            if self.bc_type[i] == K.BC_FIXED:
+                continue
+            w = u.copy()
+            if self.bc_type[i] == K.BC_SLIP:
+                w -= (w @ self.bc_normal[i]) * self.bc_normal[i]
+            self.bc_type[i] = K.BC_VELOCITY
+            self.bc_normal[i] = w
+            self.velocity[i] = w
 
     # ---------------------------------------------------------------- stepping
     def _forces(self) -> None:
@@ -385,6 +534,10 @@ class AleSystem:
         e = self.topo["face_elem"][fo, 0]
         vt = self.vol_m[e].sum(axis=1)
         p = (self.vol_m[e] * self.pres_m[e]).sum(axis=1) / vt
+        ghost = self.face_inflow[fo]
+        if np.any(ghost >= 0):  # inflow faces: the ghost's own pressure
+            p_in = np.array([st[3] for st in self.inflow_states])
+            p = np.where(ghost >= 0, p_in[np.maximum(ghost, 0)], p)
         t = self.x[n1] - self.x[n0]
         # the outside, a copy of the inside, pushes inward with its pressure: -p n L / 2 per node
         fx = -0.5 * p * t[:, 1]
@@ -433,7 +586,9 @@ class AleSystem:
                           self.relax_beta, self.phi_eps, self.work_elem)
         x_lag = self.x + dt * self.velocity
         self._since_remap += 1
-        if self._since_remap >= self.advect_every:
+        if self.mesh_motion == "lagrangian":
+            self.x = x_lag
+        elif self._since_remap >= self.advect_every:
             x_new = self._mesh_target(x_lag)
             self._remap(x_lag, x_new)
             self.x = x_new
@@ -447,22 +602,64 @@ class AleSystem:
     def _mesh_target(self, x_lag: np.ndarray) -> np.ndarray:
         """Where the remap puts the mesh: its start (Eulerian), or a smoothed Lagrangian mesh.
 
-        "smooth": interior nodes move from x_lag a fraction smooth_weight towards the mean of
-        their edge neighbours (simple averaging, Benson 1992 sec. 3), then a fraction
-        eulerian_pull back towards their start (which bounds the drift of a mesh in a steady
-        stream); boundary nodes go back to their start.
+        "smooth": starting from x_lag, smooth_iterations Jacobi passes move each interior node a
+        fraction smooth_weight towards its target: the mean of its edge neighbours (smoothing
+        "average", Benson 1992 sec. 3) or the Winslow equipotential point (smoothing
+        "equipotential", Winslow 1967; interior nodes with four elements, the others averaged).
+        Boundary nodes: "fixed" back to their start; "sliding" (nodes inside a straight side) on
+        that side's line, moved the same fraction towards the mean of their two boundary
+        neighbours, corners fixed. Last, every moving node goes a fraction eulerian_pull back
+        towards its start (which bounds the drift of a mesh in a steady stream).
         """
         if self.mesh_motion == "eulerian":
             return self.x0.copy()
-        mean = np.zeros_like(x_lag)
-        np.add.at(mean, self._nbr_a, x_lag[self._nbr_b])
-        mean /= self._degree[:, None]
-        x_new = self.x0.copy()
-        w = self.smooth_weight
         inner = self._interior
-        smoothed = x_lag[inner] + w * (mean[inner] - x_lag[inner])
-        x_new[inner] = smoothed + self.eulerian_pull * (self.x0[inner] - smoothed)
+        w = self.smooth_weight
+        x = x_lag.copy()
+        ids, nb0, nb1, tang = self._slide
+        sliding = self.smooth_boundary == "sliding" and ids.size > 0
+        for _ in range(self.smooth_iterations):
+            mean = np.zeros_like(x)
+            np.add.at(mean, self._nbr_a, x[self._nbr_b])
+            mean /= self._degree[:, None]
+            target = mean
+            if self.smoothing == "equipotential":
+                target = _winslow_target(x, mean, self._stencil)
+            x_prev = x.copy()
+            x[inner] = x[inner] + w * (target[inner] - x[inner])
+            x[~inner] = self.x0[~inner]
+            if sliding:
+                # on the side's line through x0, moved along it towards the boundary neighbours' mean
+                s_pos = ((x_prev[ids] - self.x0[ids]) * tang).sum(axis=1)
+                s_mean = ((0.5 * (x_prev[nb0] + x_prev[nb1]) - self.x0[ids]) * tang).sum(axis=1)
+                x[ids] = self.x0[ids] + (s_pos + w * (s_mean - s_pos))[:, None] * tang
+        moving = inner.copy()
+        if sliding:
+            moving[ids] = True
+        x_new = self.x0.copy()
+        x_new[moving] = x[moving] + self.eulerian_pull * (self.x0[moving] - x[moving])
         return x_new
+
+    def _inflow_fluxes(self, faces: np.ndarray, x_lag: np.ndarray, x_new: np.ndarray) -> None:
+        """Replace the fluxes of inflow faces sweeping volume inwards by the ghost donor's.
+
+        The swept volume is the same signed quad area face_fluxes uses (owner orientation: positive
+        into the inside element); the ghost gives material volume phi_m dV, mass rho_m phi_m dV and
+        energy e_m rho_m phi_m dV. Outward sweeps keep face_fluxes' zero-gradient outflow.
+        """
+        if faces.size == 0:
+            return
+        n0, n1 = self.topo["face_nodes"][faces].T
+        l0, l1, w0, w1 = x_lag[n0], x_lag[n1], x_new[n0], x_new[n1]
+        # quad (l0, w0, w1, l1): half the cross product of its diagonals (kernels.quad_area)
+        dv = 0.5 * ((w1[:, 0] - l0[:, 0]) * (l1[:, 1] - w0[:, 1]) - (w1[:, 1] - l0[:, 1]) * (l1[:, 0] - w0[:, 0]))
+        inward = dv > 0.0
+        for k, (frac, rho_m, e_m, _) in enumerate(self.inflow_states):
+            sel = faces[inward & (self.face_inflow[faces] == k)]
+            vol = dv[inward & (self.face_inflow[faces] == k)][:, None] * frac[None, :]
+            self._fvol[sel] = vol
+            self._fmass[sel] = vol * rho_m
+            self._fener[sel] = vol * rho_m * e_m
 
     def _remap(self, x_lag: np.ndarray, x_new: np.ndarray) -> None:
         topo = self.topo
@@ -477,6 +674,7 @@ class AleSystem:
                           self.order, self.iface, self.phi_eps, self._fvol, self._fmass, self._fener)
             if any_open:
                 fo = np.flatnonzero(self.face_open & (topo["face_dir"] == d))
+                self._inflow_fluxes(fo[self.face_inflow[fo] >= 0], x_lag, x_new)
                 self.outflow -= self._fmass[fo].sum(axis=0)
             K.apply_face_fluxes(d, topo["elem_face"], topo["elem_sign"], self._fvol, self._fmass, self._fener,
                                 self.vol_m, self.mass_m, self.ener_m)
@@ -503,6 +701,18 @@ class AleSystem:
             wall_impulse=self.wall_impulse.copy(),
             outflow=self.outflow.copy(),
         )
+
+    def material_totals(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(mass, internal energy, kinetic energy) per material, each (N,).
+
+        Kinetic energy per material: each element corner carries M_em / 4 of material m at its
+        node's velocity, KE_m = sum_e sum_a M_em |v_a|^2 / 8; over the materials these sum to the
+        nodal kinetic energy of totals() (m_I = sum_e M_e / 4).
+        """
+        v2 = (self.velocity ** 2).sum(axis=1)
+        corner = v2[self.conn].sum(axis=1)  # (E,) sum of |v|^2 over the element's corners
+        kinetic = 0.125 * (self.mass_m * corner[:, None]).sum(axis=0)
+        return self.mass_m.sum(axis=0), self.ener_m.sum(axis=0), kinetic
 
     def fractions(self) -> np.ndarray:
         return self.vol_m / self.vol_m.sum(axis=1, keepdims=True)

@@ -3,6 +3,7 @@
 histories/glstat.csv   global energies (LS-DYNA glstat)
 histories/matsum.csv   kinetic, internal, hourglass energy per part (LS-DYNA matsum)
 histories/<name>.csv   each requested history (LS-DYNA nodout/elout)
+histories/ale_materials.csv   mass, internal and kinetic energy per material of the ALE part
 The same tables are mirrored in results.h5 under /histories.
 """
 from __future__ import annotations
@@ -61,6 +62,10 @@ class RunOutput:
         self.glstat = HistoryWriter(hist_dir, "glstat", EnergyRow.COLUMNS, h5=group, resume_rows=rows.get("glstat"))
         part_cols = ["time"] + [f"{p.name}_{k}" for p in model.parts for k in ("kinetic", "internal", "hourglass")]
         self.matsum = HistoryWriter(hist_dir, "matsum", part_cols, h5=group, resume_rows=rows.get("matsum"))
+        self.ale_materials = None
+        if sim.ale is not None:
+            self.ale_materials = HistoryWriter(hist_dir, "ale_materials", ["time", *sim.ale.material_columns()],
+                                               h5=group, resume_rows=rows.get("ale_materials"))
         self.requests = [_HistoryProbe(sim, h, hist_dir, group, rows.get(h.name)) for h in out.histories]
         self.probes = [(probe, HistoryWriter(hist_dir, probe.name, ["time", _PROBE_COLUMN[probe.type]], h5=group,
                                              resume_rows=rows.get(probe.name)))
@@ -70,7 +75,8 @@ class RunOutput:
         self.last_energy: EnergyRow | None = None if resume is None else resume["last_energy"]
 
     def _writers(self) -> list[HistoryWriter]:
-        return [self.glstat, self.matsum, *(p.writer for p in self.requests), *(w for _, w in self.probes)]
+        ale = [self.ale_materials] if self.ale_materials is not None else []
+        return [self.glstat, self.matsum, *ale, *(p.writer for p in self.requests), *(w for _, w in self.probes)]
 
     def flush(self) -> None:
         """Every history row appended so far onto disk (CSV and HDF5)."""
@@ -106,6 +112,8 @@ class RunOutput:
         self.last_energy = row
         self.glstat.append(row.values())
         self.matsum.append([row.time, *self.sim.part_energies().ravel()])
+        if self.ale_materials is not None:
+            self.ale_materials.append([row.time, *self.sim.ale.material_row()])
         for probe in self.requests:
             probe.append()
         for probe, writer in self.probes:

@@ -22,6 +22,7 @@ class AleDomain:
         deck = model.deck
         part = model.parts[mesh.part]
         section = deck.sections[deck.parts[part.name].section]
+        _add_inflow_materials(model, deck, part.name)
         self.model = model
         self.name = part.name
         self.names = [model.material_names[m] for m in mesh.materials]
@@ -33,8 +34,10 @@ class AleDomain:
             velocity=mesh.velocity, q1=section.bulk_viscosity.q1, q2=section.bulk_viscosity.q2,
             hourglass=section.hourglass, order=1 if section.advection == "donor_cell" else 2,
             interface=section.interface, closure=section.closure, advect_every=section.advect_every,
-            mesh_motion="eulerian" if section.mesh_motion == "eulerian" else "smooth",
-            pressure_cutoff=section.pressure_cutoff,
+            mesh_motion={"smoothed": "smooth"}.get(section.mesh_motion, section.mesh_motion),
+            smoothing=section.smoothing, smooth_weight=section.smoothing_weight,
+            smooth_iterations=section.smoothing_iterations, eulerian_pull=section.eulerian_pull,
+            smooth_boundary=section.smoothing_boundary, pressure_cutoff=section.pressure_cutoff,
         )
         burn = [(j, deck.materials[n].detonation_velocity) for j, n in enumerate(self.names)
                 if deck.materials[n].type == "high_explosive"]
@@ -53,6 +56,9 @@ class AleDomain:
                     self.system.set_slip(nodes, _NORMALS[side])
                 elif bc.condition == "fixed":
                     self.system.set_fixed(nodes)
+                elif bc.condition == "inflow":
+                    self.system.set_inflow(nodes, self.names.index(bc.material), bc.velocity[:2], density=bc.density,
+                                           energy=bc.energy, pressure=bc.pressure)
                 else:
                     self.system.set_transmit(nodes)
 
@@ -73,6 +79,15 @@ class AleDomain:
         totals = self.system.totals()
         return totals["kinetic"], totals["internal"]
 
+    def material_columns(self) -> list[str]:
+        """Columns of histories/ale_materials.csv after time: mass, internal and kinetic energy per material."""
+        return [f"{k}_{name}" for k in ("mass", "internal", "kinetic") for name in self.names]
+
+    def material_row(self) -> list[float]:
+        """Per-material mass, internal and kinetic energy (AleSystem.material_totals), in material_columns order."""
+        mass, internal, kinetic = self.system.material_totals()
+        return [*mass, *internal, *kinetic]
+
     def fields(self) -> tuple[np.ndarray, dict, dict]:
         """Node coordinates, point fields and cell fields (mixture and per-material) for the output."""
         ale = self.system
@@ -90,3 +105,20 @@ class AleDomain:
         ale = self.system
         k = int(np.argmin(np.sum((ale.centroids() - np.array(probe.point)) ** 2, axis=1)))
         return float(ale.pressure(mixture=True)[k])
+
+
+def _add_inflow_materials(model: Model, deck, part: str) -> None:
+    """Materials entering through inflow sides that no fill holds join the ALE part with zero fraction."""
+    mesh = model.ale
+    for bc in deck.boundaries:
+        if not (isinstance(bc, AleBoundary) and bc.part == part and bc.condition == "inflow"):
+            continue
+        m = model.material_names.index(bc.material)
+        if m in mesh.materials:
+            continue
+        n_elem = len(mesh.elements)
+        rho0 = float(model.material_param[m, 0])
+        mesh.materials.append(m)
+        mesh.fractions = np.hstack([mesh.fractions, np.zeros((n_elem, 1))])
+        mesh.density = np.hstack([mesh.density, np.full((n_elem, 1), rho0)])
+        mesh.pressure = np.hstack([mesh.pressure, np.zeros((n_elem, 1))])

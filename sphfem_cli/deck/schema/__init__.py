@@ -162,6 +162,15 @@ def _check_references(deck: Deck) -> None:
         if isinstance(bc, AleBoundary):
             if bc.part not in ale_parts:
                 raise ValueError(f"@boundaries.{i}.part: '{bc.part}' is not an ALE part")
+            if bc.condition == "inflow":
+                _ref(bc.material, deck.materials, f"boundaries.{i}.material", "material")
+                if deck.materials[bc.material].type not in ("fluid", "high_explosive"):
+                    raise ValueError(f"@boundaries.{i}.material: an inflow material is a fluid or high explosive, "
+                                     f"'{bc.material}' is {deck.materials[bc.material].type}")
+            section = deck.sections.get(deck.parts[bc.part].section)
+            if bc.condition in ("inflow", "transmit") and getattr(section, "mesh_motion", "") == "lagrangian":
+                raise ValueError(f"@boundaries.{i}.condition: a lagrangian ALE mesh has no advection, "
+                                 f"so no {bc.condition} sides")
             continue
         if getattr(bc, "part", None) in sph_parts | ale_parts:
             kind = "wall" if bc.part in sph_parts else "ale_boundary"

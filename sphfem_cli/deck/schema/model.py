@@ -190,8 +190,21 @@ class AleSection(DeckModel):
     advection: Literal["donor_cell", "van_leer"] = Field(
         "van_leer", description="donor_cell (first order) or van_leer (second-order MUSCL). Default van_leer."
     )
-    mesh_motion: Literal["eulerian", "smoothed"] = Field(
-        "eulerian", description="eulerian: the mesh returns to its start; smoothed: interior nodes relaxed towards their neighbours' mean. Default eulerian."
+    mesh_motion: Literal["eulerian", "lagrangian", "smoothed"] = Field(
+        "eulerian", description="eulerian: the mesh returns to its start after each Lagrangian phase; lagrangian: no remap, the mesh moves with the material (no advection; no transmit or inflow sides); smoothed: the Lagrangian mesh relaxed by `smoothing` (LS-DYNA *CONTROL_ALE METH with AFAC/DFAC). Default eulerian."
+    )
+    smoothing: Literal["average", "equipotential"] = Field(
+        "average", description="smoothed meshes: average (each interior node towards the mean of its edge neighbours, LS-DYNA AFAC) or equipotential (Winslow's equipotential point on the four-element stencil, LS-DYNA DFAC; other nodes averaged). Default average."
+    )
+    smoothing_weight: Annotated[float, Field(ge=0, le=1)] = Field(
+        0.5, description="Fraction of the way to the smoothing target each pass moves a node. Default 0.5."
+    )
+    smoothing_iterations: Annotated[int, Field(ge=1)] = Field(1, description="Smoothing passes per remap. Default 1.")
+    eulerian_pull: Annotated[float, Field(ge=0, le=1)] = Field(
+        0.2, description="After smoothing, fraction of the way back to its start each moving node goes (bounds the drift of a mesh in a steady stream; 0 for pure smoothing). Default 0.2."
+    )
+    smoothing_boundary: Literal["fixed", "sliding"] = Field(
+        "fixed", description="Boundary nodes of a smoothed mesh: fixed (Eulerian) or sliding along straight sides (corners fixed). Default fixed."
     )
     advect_every: Annotated[int, Field(ge=1)] = Field(1, description="Remap every N steps. Default 1.")
     interface: Literal["slic", "donor"] = Field(
@@ -523,12 +536,35 @@ DummyWallBoundary.model_rebuild()
 
 
 class AleBoundary(DeckModel):
-    """A condition on sides of an ALE part's mesh: slip wall, fixed (no-slip) wall, or transmitting outflow."""
+    """A condition on sides of an ALE part's mesh: slip wall, fixed (no-slip) wall, transmitting outflow,
+    or inflow of a material at a given state."""
 
     type: Literal["ale_boundary"] = Field(description="Boundary selector: sides of an ALE mesh.")
     part: str = Field(description="An ALE part.")
     sides: list[Literal["left", "right", "bottom", "top"]] = Field(min_length=1, description="Sides of the part's mesh.")
-    condition: Literal["slip", "fixed", "transmit"] = Field("slip", description="slip, fixed or transmit (open). Default slip.")
+    condition: Literal["slip", "fixed", "transmit", "inflow"] = Field(
+        "slip", description="slip, fixed, transmit (open, zero gradient) or inflow (a ghost element outside, reset to the inflow state every step, is the donor of the advection through the side; the side's nodes move at `velocity`). Default slip."
+    )
+    material: str | None = Field(None, description="inflow: the entering material (fluid or high explosive; added to the part's materials if no fill holds it).")
+    velocity: Vector | None = Field(None, description="inflow: velocity of the side's nodes [length/time] (on a slip wall only its tangential part).")
+    density: PositiveFloat | None = Field(None, description="inflow: density of the entering material [mass/length^3]. Default the material's.")
+    pressure: float | None = Field(None, description="inflow: pressure of the entering material [pressure]; the energy follows from the EOS. Default the EOS's e0.")
+    energy: float | None = Field(None, description="inflow: specific internal energy of the entering material [energy/mass]; or give pressure.")
+
+    @model_validator(mode="after")
+    def _inflow_state(self) -> "AleBoundary":
+        keys = ("material", "velocity", "density", "pressure", "energy")
+        if self.condition != "inflow":
+            for key in keys:
+                if getattr(self, key) is not None:
+                    raise ValueError(f"@{key}: only inflow boundaries take '{key}'")
+            return self
+        for key in ("material", "velocity"):
+            if getattr(self, key) is None:
+                raise ValueError(f"@{key}: an inflow boundary needs '{key}'")
+        if self.pressure is not None and self.energy is not None:
+            raise ValueError("@energy: give only one of 'pressure' or 'energy'")
+        return self
 
 
 Boundary = Annotated[
