@@ -32,8 +32,11 @@ Constructor arguments:
   (0..1, fraction of the pressure difference removed per step) and ``relax_beta`` (largest
   relative volume loss of one material per step); ``advect_every`` remap every N steps (the
   mesh moves with the material in between); ``mesh_motion`` "eulerian" (the remap returns the
-  mesh to its start) or "smooth" (interior nodes relaxed by ``smooth_weight`` towards the mean of
-  their neighbours, then ``eulerian_pull`` back towards their start; boundary nodes Eulerian);
+  mesh to its start), "lagrangian" (no remap: the mesh moves with the material) or "smooth"
+  (``smooth_iterations`` passes moving interior nodes by ``smooth_weight`` towards their target,
+  ``smoothing`` "average" (mean of their neighbours) or "equipotential" (Winslow), then
+  ``eulerian_pull`` back towards their start; ``smooth_boundary`` "fixed" (boundary nodes
+  Eulerian) or "sliding" (along straight sides, corners fixed));
   ``ke_fix`` return the kinetic energy lost by the
   momentum remap to the internal energy (total energy conserved);
   ``pressure_cutoff`` lowest material pressure (cavitation, LS-DYNA's *MAT_NULL PC; default none);
@@ -45,7 +48,9 @@ Constructor arguments:
 
 Boundaries (node index arrays): ``set_slip(nodes, normal)`` normal velocity zero,
 ``set_fixed(nodes)`` velocity zero, ``set_transmit(nodes)`` boundary faces whose two nodes are in
-the set are open (outflow / zero-gradient inflow, with the inside pressure applied outside).
+the set are open (outflow / zero-gradient inflow, with the inside pressure applied outside),
+``set_inflow(nodes, material, velocity, density, energy | pressure)`` inflow of a material at a
+given state (ghost donor, prescribed nodal velocity).
 Nodes in two slip sets with different normals become fixed.
 
 Body force and structure coupling: ``gravity`` (2,) acceleration on the nodal masses;
@@ -54,7 +59,8 @@ in ``gravity_work`` and ``coupling_work``; ``step(dt, couple_dt)`` gives the cou
 impulse weight couple_dt.
 
 Methods: ``stable_dt(scale)``, ``step(dt)``, ``totals()`` (mass per material, momentum,
-kinetic, internal and total energy, accumulated wall impulse); accessors ``fractions()``,
+kinetic, internal and total energy, accumulated wall impulse), ``material_totals()`` (mass,
+internal and kinetic energy per material); accessors ``fractions()``,
 ``density()`` (per material, 0 where absent), ``pressure()`` (per material and mixture),
 ``mixture_density()``, ``centroids()``, ``velocity`` (N, 2), ``node_mass``, ``time``.
 """
