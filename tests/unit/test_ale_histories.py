@@ -88,3 +88,27 @@ def test_inflow_material_mass_grows_as_rho_u_a_t(tmp_path):
     hist, _ = _run(tmp_path, deck)
     np.testing.assert_allclose(hist["mass_water"], 1000.0 * u * h * hist["time"], rtol=1e-9, atol=1e-12)
     assert hist["mass_water"][-1] > 0
+
+
+def _check(tmp_path, boundary: dict, section: dict | None = None):
+    deck = dict(BOX, boundaries=[BOX["boundaries"][0], boundary])
+    if section is not None:
+        deck["sections"] = {"fluid": dict(BOX["sections"]["fluid"], **section)}
+    path = tmp_path / "bad.yaml"
+    path.write_text(yaml.safe_dump(deck))
+    return CliRunner().invoke(main, ["check", str(path)])
+
+
+def test_inflow_deck_errors(tmp_path):
+    base = {"type": "ale_boundary", "part": "box", "sides": ["left"], "condition": "inflow"}
+    cases = [
+        (dict(base, velocity=[1.0, 0.0]), None, "an inflow boundary needs 'material'"),
+        (dict(base, material="water"), None, "an inflow boundary needs 'velocity'"),
+        (dict(base, material="water", velocity=[1.0, 0.0], pressure=1.0, energy=1.0), None, "only one of"),
+        (dict(base, condition="slip", material="water"), None, "only inflow boundaries take 'material'"),
+        (dict(base, material="nope", velocity=[1.0, 0.0]), None, "unknown material 'nope'"),
+        (dict(base, material="water", velocity=[1.0, 0.0]), {"mesh_motion": "lagrangian"}, "no inflow sides"),
+    ]
+    for boundary, section, message in cases:
+        result = _check(tmp_path, boundary, section)
+        assert result.exit_code == 65 and message in result.output, (message, result.output)
