@@ -40,7 +40,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..fem.kernels import _QUAD_GAMMA, _bulk_viscosity, _stable_dt, quad4_char_length, quad4_gradient
-from ..materials.kernels import _eos_state
+from ..materials.kernels import EOS_GRUNEISEN, _eos_state
 
 # boundary condition codes per node
 BC_FREE = 0
@@ -62,6 +62,14 @@ SLIC_JUMP = 0.1
 # a material whose density is below RHO_VOID times its reference density (volume the remap left
 # without mass) carries no pressure and no sound speed: it is void
 RHO_VOID = 1e-9
+
+# with a pressure cut-off (cavitation), a Gruneisen liquid below RHO_CAVITATED times its reference
+# density is cavitated: pressure = the cut-off, sound speed its reference one. Below it the EOS's
+# thermal term (Gamma rho = gamma0 rho0, fixed) with the cut-off's work p_c dV in the energy
+# gave fog and traces MPa of pressure and sound speeds of 1e5-1.5e6 m/s (c^2 ~ gamma0 rho0 p / rho^2),
+# collapsing the step (decks/underwater_explosion_ale.yaml); with normal energies
+# (E < (K0/2 + p_c)/gamma0 per reference volume) the EOS gives the cut-off there anyway.
+RHO_CAVITATED = 0.5
 
 # local faces of a quad4: face k joins corners k and k+1. Sweep direction 0 (xi) crosses faces
 # 3 (side "a") and 1 (side "b"); direction 1 (eta) crosses faces 0 (a) and 2 (b).
@@ -161,6 +169,9 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
                     rho = mass_m[e, m] / vol_m[e, m]
                     p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m])
                     p = max(p * pscale[e, m], p_cut)
+                    if p_cut > -math.inf and mat_eos[m] == EOS_GRUNEISEN and rho < RHO_CAVITATED * mat_rho0[m]:
+                        p = p_cut
+                        c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], mat_rho0[m], 0.0)[1]
                     pres_m[e, m] = p
                     bulk_m[e, m] = rho * c * c
                     p_mix += vol_m[e, m] / vtot * p

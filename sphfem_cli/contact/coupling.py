@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..ale.kernels import RHO_VOID
 from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, eos_sound_speed
 from ..model.build import VOID
 from . import coupling_kernels as ck
@@ -56,6 +57,7 @@ class LagrangeInSolidCoupling:
             if model.material_type[m] != VOID and (wanted is None or model.material_names[m] in wanted)
         ], dtype=np.int64)
         self.mat_bulk = np.zeros(len(mats))
+        self.mat_rho0 = np.array([float(model.material_param[m][0]) for m in mats])
         for j in self.coupling_mats:
             row = model.material_param[mats[j]]
             q = np.ascontiguousarray(row[EOS_OFFSET:])
@@ -77,13 +79,27 @@ class LagrangeInSolidCoupling:
 
     # ------------------------------------------------------------------ forces
     def _fluid_fields(self, ale):
-        """(fraction of coupling fluid, its bulk modulus, element area) per ALE element."""
+        """(fraction of coupling fluid, its bulk modulus, element area) per ALE element.
+
+        The bulk modulus is K = sum_m V_m K0_m min(1, rho_m / rho0_m) / sum_m V_m over the coupling
+        materials: each material's reference modulus scaled by how much of its volume its mass fills
+        at reference density. A host whose fluid has expanded to a trace of its reference density
+        (cavitated water at 1e-5 rho0 filling an element, detonation products far expanded) is a
+        correspondingly soft spring, so k / m of its nodes stays bounded (about 4 pfac c0^2 l^2 / A^2
+        with the host's own mass on its nodes) instead of growing as 1 / rho.
+        """
         vol = ale.vol_m.sum(axis=1)
         cm = self.coupling_mats
-        vc = ale.vol_m[:, cm].sum(axis=1)
+        vol_c = ale.vol_m[:, cm]
+        # as in the ALE kernels, a material below RHO_VOID of its reference density is void (fog the
+        # remap left without mass: 1e-15 rho0 of detonation products filled elements above the plate)
+        vol_c = np.where(ale.mass_m[:, cm] > RHO_VOID * self.mat_rho0[cm] * vol_c, vol_c, 0.0)
+        vc = vol_c.sum(axis=1)
         frac = vc / vol
+        # V_m min(1, rho_m / rho0_m) = min(V_m, M_m / rho0_m)
+        filled = np.minimum(vol_c, ale.mass_m[:, cm] / self.mat_rho0[cm])
         with np.errstate(invalid="ignore", divide="ignore"):
-            bulk = np.where(vc > 0, (ale.vol_m[:, cm] * self.mat_bulk[cm]).sum(axis=1) / np.where(vc > 0, vc, 1.0), 0.0)
+            bulk = np.where(vc > 0, (filled * self.mat_bulk[cm]).sum(axis=1) / np.where(vc > 0, vc, 1.0), 0.0)
         return np.ascontiguousarray(frac), np.ascontiguousarray(bulk), np.ascontiguousarray(vol)
 
     def _bins(self, ale):
@@ -123,9 +139,18 @@ class LagrangeInSolidCoupling:
             return np.inf
         ale = self.sim.ale.system
         model = self.sim.model
+        # the stiffness each host would give now, against the nodal masses of now: the step's remap
+        # has moved mass since the force pass, and the stored stiffness over the new masses is no
+        # bound (a host emptied by the remap: k of before over 1e-17 kg of after)
+        _, bulk, area = self._fluid_fields(ale)
+        x = self.sim.state.x
+        ell = np.linalg.norm(x[self.segments[:, 1]] - x[self.segments[:, 0]], axis=1) / self.nquad
+        ell = np.repeat(ell, self.nquad)
+        h = np.maximum(self.host, 0)
+        stiff = np.where(self.host >= 0, float(self.spec.pfac) * bulk[h] * ell * ell / area[h], 0.0)
         sum_s = np.zeros(model.n_nodes)
         sum_a = np.zeros(ale.x.shape[0])
-        ck.stiffness_sums(self.segments, self.nquad, ale.conn, self.host, self.stiff, self.sim.state.x, ale.x,
+        ck.stiffness_sums(self.segments, self.nquad, ale.conn, self.host, stiff, x, ale.x,
                           sum_s, sum_a)
         ratios = [sum_a[sum_a > 0] / ale.node_mass[sum_a > 0]]
         mass_s = model.mass.copy()

@@ -92,3 +92,31 @@ def test_coupling_state_pickles(tmp_path):
     state = pickle.loads(pickle.dumps({k: getattr(coupling, k) for k in ("depth", "host", "stiff", "work")}))
     assert np.array_equal(state["depth"], coupling.depth) and state["work"] == coupling.work
     assert np.isfinite(coupling.stable_dt()) and coupling.stable_dt() > 0.0
+
+
+def test_coupling_step_bounded_when_hosts_empty(tmp_path):
+    """The coupling's stable step with near-empty hosts (decks/underwater_explosion_ale.yaml).
+
+    Cavitated water thinned to 1e-5 of its reference density in every host (volume kept) must not
+    shrink the step: the stiffness scales with the host's mass fill, so k / m of the host's nodes
+    does not grow (before: the reference bulk modulus over 1e-5 of the mass, 300 x smaller step).
+    The step is taken against the state of now, not the stiffness of the last force pass. Fog
+    below RHO_VOID of the reference density is no fluid: such an element hosts nothing.
+    """
+    from sphfem_cli.ale import kernels as K
+
+    sim = _sim(tmp_path)
+    while np.count_nonzero(sim.interactions[0].host >= 0) < 10:
+        sim.step()
+    coupling, ale = sim.interactions[0], sim.ale.system
+    dt_full = coupling.stable_dt()
+    hosts = np.unique(coupling.host[coupling.host >= 0])
+    ale.mass_m[hosts, 1] *= 1e-5  # no force pass since: the stored stiffness is the full hosts'
+    K.nodal_mass(ale.mass_m, ale.topo["node_elem_ptr"], ale.topo["node_elem_idx"], ale.node_mass)
+    assert coupling.stable_dt() >= dt_full * (1.0 - 1e-9)
+    frac, bulk, _ = coupling._fluid_fields(ale)
+    np.testing.assert_allclose(bulk[hosts], 1e-5 * coupling.mat_bulk[1], rtol=1e-6)
+    assert np.all(frac[hosts] > 0.99)
+    ale.mass_m[hosts, 1] *= 1e-6  # 1e-11 of the reference density: fog
+    frac, bulk, _ = coupling._fluid_fields(ale)
+    assert np.all(frac[hosts] == 0.0) and np.all(bulk[hosts] == 0.0)
