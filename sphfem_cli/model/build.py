@@ -123,6 +123,7 @@ class Model:
     rigid_bodies: list[RigidBody] = field(default_factory=list)
     particles: ParticleSet | None = None
     ale: "AleMesh | None" = None
+    element_dt_factor: np.ndarray | None = None  # (E,) see free_dilatation_factor; None: all 1
 
     @property
     def n_nodes(self) -> int:
@@ -306,12 +307,14 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     np.add.at(mass, connectivity, (material_param[element_material, 0] * volume0 / npe)[:, None])
 
     ptr, idx = _node_element_map(connectivity, len(coordinates))
+    dt_factor = free_dilatation_factor(connectivity, dim, material_param[element_material])
     model = Model(
         deck=deck, deck_path=deck_path, dim=dim, coordinates=coordinates, connectivity=connectivity,
         parts=parts, element_part=element_part, element_material=element_material,
         element_section=element_section, element_active=element_active,
         material_names=material_names, material_type=material_type, material_param=material_param,
         section_param=section_param, volume0=volume0, mass=mass, node_elem_ptr=ptr, node_elem_idx=idx,
+        element_dt_factor=dt_factor,
     )
     model.node_sets.update(file_sets)
     _resolve_sets(model, deck)
@@ -321,6 +324,42 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     if any(p.kind == "ale" for p in parts):
         model.ale = _ale_mesh(model, deck, deck_path)
     return model
+
+
+K_MARGIN = 0.3  # see free_dilatation_factor
+
+
+def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarray) -> np.ndarray | None:
+    """Per element, the factor on its stable step V/A_max c for the directions it can dilate freely.
+
+    An element whose two opposite faces are both exterior along k of its directions can stretch
+    along them without its neighbours resisting: the one-point element's highest mode is then the
+    dilatation in those directions, omega^2 = 4 (k lambda + 2 mu) / (rho h^2) with lumped mass,
+    against 4 (lambda + 2 mu) / (rho h^2) for a confined element, so its step is
+    sqrt((lambda + 2 mu) / (k lambda + 2 mu)) of the usual one (an isolated hex8 at nu = 0.3: 0.734,
+    an isolated quad4: 0.836, the exact limits in tests/verification/test_stable_step.py).
+    k carries a margin of K_MARGIN where it is not 0, for what the element-wise mode leaves out:
+    neighbours moving in opposition couple into the free mode (a plate one element thick, without
+    hourglass control, needs 0.994 of its k = 1 step at nu = 0.3: tests/verification/test_stable_step.py),
+    and hourglass stiffness adds to it (the same plate struck at 10 m/s with stiffness hourglass
+    control 0.1 still grew at a margin of 0.1, and runs at 0.3: benchmarks/stability_extremes.py,
+    group "thin 3D parts"). With the margin a k = 1 element takes 0.941 of the step at nu = 0.3.
+    None when every factor is 1 (a mesh without thin parts).
+    """
+    from ..materials.kernels import P_G, P_K
+
+    if not len(connectivity):
+        return None
+    exterior = selection.exterior_faces(connectivity, dim)
+    k = np.zeros(len(connectivity))
+    for a, b in selection.OPPOSITE_FACES[dim]:
+        k += exterior[:, a] & exterior[:, b]
+    g = params[:, P_G]
+    lam = params[:, P_K] - 2.0 * g / 3.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        factor = np.sqrt((lam + 2.0 * g) / ((k + np.where(k > 0, K_MARGIN, 0.0)) * lam + 2.0 * g))
+    factor = np.where(np.isfinite(factor) & (factor > 0.0), np.minimum(factor, 1.0), 1.0)
+    return factor if np.any(factor < 1.0) else None
 
 
 def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:

@@ -80,7 +80,29 @@ def boundary_faces(elements: np.ndarray, dim: int) -> tuple[np.ndarray, np.ndarr
     faces = elements[:, local].reshape(-1, local.shape[1])  # element-major
     if faces.shape[0] == 0:
         return faces, np.zeros(0, dtype=np.int64)
+    picked = np.flatnonzero(_exterior(faces, dim))
+    return faces[picked], (picked // nf).astype(np.int64)
 
+
+def exterior_faces(elements: np.ndarray, dim: int) -> np.ndarray:
+    """(E, 4) in 2D / (E, 6) in 3D bool: which local faces of each element are exterior.
+
+    Local faces in the order of the module's tables; opposite faces are (0, 2), (1, 3) in 2D and
+    (0, 1), (2, 4), (3, 5) in 3D (OPPOSITE_FACES).
+    """
+    elements = np.asarray(elements, dtype=np.int64)
+    local = _QUAD_EDGES if dim == 2 else _HEX_FACES
+    faces = elements[:, local].reshape(-1, local.shape[1])
+    if faces.shape[0] == 0:
+        return np.zeros((0, local.shape[0]), dtype=bool)
+    return _exterior(faces, dim).reshape(len(elements), local.shape[0])
+
+
+OPPOSITE_FACES = {2: ((0, 2), (1, 3)), 3: ((0, 1), (2, 4), (3, 5))}
+
+
+def _exterior(faces: np.ndarray, dim: int) -> np.ndarray:
+    """Mask of the faces (rows of node ids) no other face shares the node set of."""
     key = np.sort(faces, axis=1)
     base = np.int64(key.max()) + 1
     if dim == 2:
@@ -95,8 +117,9 @@ def boundary_faces(elements: np.ndarray, dim: int) -> tuple[np.ndarray, np.ndarr
     unique = np.ones(order.size, dtype=bool)
     unique[1:] &= ~same_as_next
     unique[:-1] &= ~same_as_next
-    picked = np.sort(order[unique])
-    return faces[picked], (picked // nf).astype(np.int64)
+    mask = np.zeros(order.size, dtype=bool)
+    mask[order[unique]] = True
+    return mask
 
 
 def _default_tol(nodes: np.ndarray, tol: float | None) -> float:

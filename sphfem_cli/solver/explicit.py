@@ -225,6 +225,8 @@ class Simulation:
         )
         fem.gather_nodal_forces(self._f_elem, m.node_elem_ptr, m.node_elem_idx, st.f_int)
         self._check_elements(st)
+        if m.element_dt_factor is not None:  # elements free to dilate (thin parts): model.build.free_dilatation_factor
+            self._dt_elem *= m.element_dt_factor
 
     def _solid_dt(self, st: State) -> float:
         """timestep_scale times the smallest element step; +inf without deformable elements."""

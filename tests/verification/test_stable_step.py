@@ -14,8 +14,10 @@ freely. An isolated hex8 has omega_max^2 = 8 (3 lambda + 2 mu) / (2 rho h^2), no
 4 (lambda + 2 mu) / (rho h^2): its limit is 0.734 h/c at nu = 0.3 (quad4: 0.837 h/c). Meshes one
 element thick in 3D inherit part of this: a 1 x 1 cross-section bar needs timestep_scale <= 0.81,
 a plate one element thick <= 0.90, so at the default 0.9 they blow up (a 1 x 1 bar struck at
-10 m/s inverts an element within 20 steps). Those cases are marked xfail (strict) below until
-the step estimate accounts for it.
+10 m/s inverts an element within 20 steps). The step now accounts for it: an element free to
+dilate along k of its directions (both opposite faces exterior) takes sqrt((lambda + 2 mu) /
+(k lambda + 2 mu)) of the usual step (model.build.free_dilatation_factor), the one-point element's
+dilatation mode with lumped mass; these cases pass.
 """
 from __future__ import annotations
 
@@ -30,10 +32,6 @@ from sphfem_cli.solver.explicit import Simulation
 pytestmark = pytest.mark.usefixtures("single_thread")
 
 E, NU, RHO = 2.0e11, 0.3, 7850.0
-
-KNOWN_UNSTABLE = pytest.mark.xfail(
-    strict=True, reason="element length V/A_max overestimates the stable step where elements can dilate freely")
-
 
 def internal_force(model, x, v):
     """Nodal internal force after one unit step from a stress-free state, x = X + v."""
@@ -88,10 +86,10 @@ parts:
     [12, 1],
     [8, 2, 2],
     [3, 3, 3],
-    pytest.param([1, 1], marks=KNOWN_UNSTABLE),
-    pytest.param([1, 1, 1], marks=KNOWN_UNSTABLE),
-    pytest.param([12, 1, 1], marks=KNOWN_UNSTABLE),
-    pytest.param([6, 4, 1], marks=KNOWN_UNSTABLE),
+    [1, 1],
+    [1, 1, 1],
+    [12, 1, 1],
+    [6, 4, 1],
 ], ids=lambda d: "x".join(map(str, d)))
 def test_first_step_within_stability_limit(divisions, tmp_path):
     model = load_deck(tmp_path, deck(divisions))
