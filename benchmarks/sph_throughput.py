@@ -17,6 +17,18 @@ and the growth of the peak resident memory while the case was built and first st
 (temporaries included; meaningful for the large cases, where it is not hidden by the
 interpreter and the compiler).
 Target (issue 3): >= 2.5 M particle-steps/s per thread in 2D, <= 1 KB per particle.
+
+Measured (November 2026, 1 thread, the 2-core machine shared with two other jobs, load average
+5-8; wall figures swing by +-30 % there, process-CPU figures in brackets are steadier), before ->
+after the specialised rates, vectorised ghost search and time-step change (docs/theory/sph.md):
+
+* small: 1.85 M (CPU 1.87-1.90 M) -> 1.5-2.3 M (CPU 2.26-2.29 M), 319 bytes/particle held;
+* large: 1.3 M (CPU 1.87-1.94 M) -> 1.6-2.3 M (CPU 2.26-2.34 M), 312 bytes/particle held,
+  peak resident memory +427 bytes/particle;
+* 3d: 0.4 M (CPU 0.55-0.62 M) -> 0.45-0.66 M (CPU 0.64-0.67 M), 381 bytes/particle held.
+
+The 2D target is not reached (about 2.3 M by CPU time); the memory target is met. Two threads
+were not measured: both cores were busy with other work.
 """
 from __future__ import annotations
 
