@@ -1,10 +1,12 @@
 """Underwater explosion on a clamped steel plate: decks/underwater_explosion_ale.yaml and its SPH
-twin decks/underwater_explosion_sph.yaml (particles at the ALE element centres), both to 0.5 ms.
+twin decks/underwater_explosion_sph.yaml (particles at the ALE element centres), both to 1.3 ms,
+past the plate's maximum.
 
-Checks: the histories are written, the plate centre moves away from the charge (+y) and is still
-moving at 0.5 ms (its maximum, 46 mm at 0.69 ms, is past the deck's end: see the ALE header), it
-yields (von Mises above the 300 MPa yield stress); the ALE energy ratio falls as the waves leave
-through the open sides (0.74 at 0.5 ms, so only a lower bound), the SPH one stays near 1; the
+Checks: the histories are written, the plate centre moves away from the charge (+y), reaches its
+maximum before the end and is coming back at it (ALE 63.3 mm at 1.14 ms, SPH first maximum
+38.0 mm at 0.77 ms, measured), it yields (von Mises above the 300 MPa yield stress); the ALE
+energy ratio falls as the waves leave through the open sides (0.57 at 1.3 ms, so only a lower
+bound), the SPH one stays near 1; the
 peak water pressure falls with distance from the charge: at half the stand-off it exceeds the
 peak at the plate, and both are below the CJ pressure (21 GPa). No absolute pressure reference:
 Cole's P = 52.4 (W^(1/3)/R)^1.13 MPa is for a spherical charge; the 2D charge is an infinite
@@ -32,12 +34,15 @@ def run(deck: Path, out: Path):
     assert result.exit_code == 0, result.output
     h = np.genfromtxt(out / "histories" / "centre.csv", delimiter=",", names=True)
     g = np.genfromtxt(out / "histories" / "glstat.csv", delimiter=",", names=True)
-    assert h["time"][-1] == pytest.approx(5.0e-4)
-    assert h["displacement_y"][-1] > 0.02  # away from the charge (below the plate): 37 / 31.5 mm measured
-    assert h["velocity_y"][-1] > 0.0  # still moving at the end
-    assert h["von_mises"].max() > 3.0e8  # yielded (326 / 328 MPa measured)
-    print(f"\n{deck.stem}: max displacement {h['displacement_y'].max() * 1e3:.2f} mm, peak velocity "
-          f"{h['velocity_y'].max():.1f} m/s, peak von Mises {h['von_mises'].max() / 1e6:.0f} MPa")
+    assert h["time"][-1] == pytest.approx(1.3e-3)
+    assert np.interp(5.0e-4, h["time"], h["displacement_y"]) > 0.02  # away from the charge: 37.1 / 31.4 mm
+    # past the maximum: the plate has stopped and turned back (ALE 1.14 ms, SPH 0.77 ms measured)
+    first_back = h["time"][np.argmax((h["time"] > 3.0e-4) & (h["velocity_y"] <= 0.0))]
+    assert 6.0e-4 < first_back < 1.25e-3
+    assert h["von_mises"].max() > 3.0e8  # yielded (400 / 340 MPa measured)
+    print(f"\n{deck.stem}: max displacement {h['displacement_y'].max() * 1e3:.2f} mm "
+          f"(first at {first_back * 1e3:.3f} ms), peak velocity {h['velocity_y'].max():.1f} m/s, "
+          f"peak von Mises {h['von_mises'].max() / 1e6:.0f} MPa")
     return h, g["energy_ratio"]
 
 
@@ -45,7 +50,8 @@ def run(deck: Path, out: Path):
 def test_underwater_explosion_ale_run(tmp_path):
     h, ratio = run(DECK, tmp_path / "out")
     assert np.interp(1.0e-4, h["time"], h["displacement_y"]) == pytest.approx(U100_ALE, rel=0.05)
-    assert 0.6 < ratio[-1] < 1.01  # waves leave through the open sides (0.735 measured)
+    assert 0.055 < h["displacement_y"].max() < 0.07  # 63.3 mm measured
+    assert 0.45 < ratio[-1] < 1.01  # waves leave through the open sides (0.572 measured)
 
 
 @pytest.mark.validation
@@ -54,8 +60,11 @@ def test_underwater_explosion_sph_run(tmp_path):
     h, ratio = run(DECK_SPH, out)
     assert np.interp(1.0e-4, h["time"], h["displacement_y"]) == pytest.approx(U100_ALE, rel=0.25)
     assert 0.95 < ratio[-1] < 1.05  # 1.003 measured
+    assert 0.03 < h["displacement_y"].max() < 0.045  # 38.6 mm measured (first maximum 38.0 mm)
     plate = np.genfromtxt(out / "histories" / "plate_pressure.csv", delimiter=",", names=True)["pressure"]
     half = np.genfromtxt(out / "histories" / "half_pressure.csv", delimiter=",", names=True)["pressure"]
+    plate = plate[np.isfinite(plate)]
+    half = half[np.isfinite(half)]  # NaN where no particle reaches the probe (cavitated water, late)
     print(f"SPH peak pressure: {half.max() / 1e6:.1f} MPa at 50 mm from the charge, {plate.max() / 1e6:.1f} MPa "
           "at the plate")
     assert 21e9 > half.max() > plate.max() > 1e6  # 374 > 348 MPa measured
@@ -71,7 +80,7 @@ def test_underwater_explosion_ale_pressure_falls_with_distance():
     half_row = near_x & (np.abs(c[:, 1] + 0.05) < 0.00125)
     water = ale.n_mat and sim.ale.names.index("water")
     peak_plate = peak_half = 0.0
-    while sim.state.time < 1.0e-4 * (1 - 1e-9):  # the first loading (the plate leaves the ALE mesh after)
+    while sim.state.time < 1.0e-4 * (1 - 1e-9):  # the first loading
         sim.step()
         p = ale.pressure()[:, water]
         peak_plate = max(peak_plate, p[plate_row].max())
