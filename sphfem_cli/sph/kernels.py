@@ -51,8 +51,8 @@ F_MU_DIL, F_PMIN = 13, 14
 NF = 15
 
 # slots of the integer parameter vector iprm
-I_DIM, I_KERNEL, I_NX, I_NY, I_NZ, I_VISCOUS, I_DELTA_HYDRO, I_NREAL = 0, 1, 2, 3, 4, 5, 6, 7
-NI = 8
+I_DIM, I_KERNEL, I_NX, I_NY, I_NZ, I_VISCOUS, I_DELTA_HYDRO, I_NREAL, I_NWALL = 0, 1, 2, 3, 4, 5, 6, 7, 8
+NI = 9
 
 # slots of the fluid parameter row used here (materials.tables)
 P_VISCOSITY = 5
@@ -501,6 +501,7 @@ def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
     iprm[I_NY] = ny
     iprm[I_NZ] = nz
     iprm[I_NREAL] = x.shape[0]
+    iprm[I_NWALL] = wpos.shape[0]
     return perm, cell_start, sx, sd
 
 
@@ -659,16 +660,17 @@ _FMV = {"nsz", "arcp", "contract", "reassoc"}  # reassoc: LLVM may vectorise the
 
 
 @njit(cache=True, fastmath=_FMV, error_model="numpy")
-def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mati,
+def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mati,
                alpha, beta, eps, gx, gy, gz, dhydro):
     """Branch-free sums over the neighbour slots ``nbj[:cnt]`` of one particle (LLVM vectorises it).
 
     ``sxf``, ``sdf``: ``sx``, ``sd`` flattened (rows of 4 and ``ND`` = 8), indexed with the unsigned
-    slots of ``nbj`` (no negative-index handling in the gathers). The kernel and the dimension
-    are compile-time constants, the numbers of dimensions of the empty arrays ``kshape`` and
-    ``dshape`` (see ``fluid_rates``): one compiled version per kernel and dimension, in which the
-    other kernel's shape and the coordinates and velocities above ``dim`` are not computed (in
-    2D they are exactly 0, so the sums are those of the general form).
+    slots of ``nbj`` (no negative-index handling in the gathers). The kernel, the dimension and
+    the term set are compile-time constants, the numbers of dimensions of the empty arrays
+    ``kshape``, ``dshape`` and ``tshape`` (see ``fluid_rates``): one compiled version per
+    combination, in which the other kernel's shape, the coordinates and velocities above ``dim``
+    (in 2D exactly 0) and, with ``tshape.ndim == 2``, the wall work and XSPH sums (then exactly 0)
+    are not computed.
 
     Returns (ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw): the pressure + artificial-viscosity
     acceleration -sum m_j S grad W (S = p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij), sum V_j v_ij.grad W,
@@ -677,6 +679,7 @@ def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, sig, xi, yi, zi, hi, ui, vi, 
     """
     kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
     dim = dshape.ndim
+    full = tshape.ndim == 1
     ax = ay = az = 0.0
     cont = work = wall_work = diff = 0.0
     sxu = sxv = sxw = 0.0
@@ -753,7 +756,8 @@ def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, sig, xi, yi, zi, hi, ui, vi, 
         mk = sdf[jd + D_MK]  # mat * 4 + kind, decoded in floating point (exact for these integers)
         matj = np.floor(0.25 * mk)
         notwall = 1.0 if mk - 4.0 * matj != KIND_WALL else 0.0
-        wall_work += (1.0 - notwall) * coef * vdotg
+        if full:
+            wall_work += (1.0 - notwall) * coef * vdotg
         same = notwall if matj == fmati else 0.0
         psi = rhoj - rhoi
         if dhydro:
@@ -764,16 +768,16 @@ def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, sig, xi, yi, zi, hi, ui, vi, 
                 gr += gz * dz
             psi += rij * gr / (cij * cij)
         diff += same * hij * cij * psi * f * vol
-        wr = notwall * norm * th * mj * (dd * dd * rcp)
-        sxu -= wr * du
-        if dim > 1:
-            sxv -= wr * dv
-        if dim > 2:
-            sxw -= wr * dw
+        if full:
+            wr = notwall * norm * th * mj * (dd * dd * rcp)
+            sxu -= wr * du
+            if dim > 1:
+                sxv -= wr * dv
+            if dim > 2:
+                sxw -= wr * dw
     return ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw
 
 
-@njit(cache=True)
 def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power):
     """Continuity, momentum, energy, delta-SPH and XSPH rates of every real (fluid) point.
 
@@ -802,32 +806,26 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph,
     neighbour list, so the result does not depend on the thread count. Equations and
     references: docs/theory/sph.md.
 
-    The work is done by ``_fluid_rates``, compiled once per kernel and dimension: both are
-    compile-time constants there, the numbers of dimensions of two empty arrays (``kshape``: 1
-    cubic spline, 2 Wendland C2; ``dshape``: dim). This function only picks the specialisation.
-    (Array types rather than ``numba.literally``: code loaded from the cache was measured to
-    differ from freshly compiled code with literal arguments.)
+    The work is done by ``_fluid_rates``, compiled once per kernel, dimension and term set: these
+    are compile-time constants there, the numbers of dimensions of three empty arrays
+    (``kshape``: 1 cubic spline, 2 Wendland C2; ``dshape``: dim; ``tshape``: 1 every term, 2 no
+    dummy wall points and no XSPH, whose sums are then not computed: they would be exactly 0).
+    This function, plain Python (the one exception to the module's rule), only picks the
+    specialisation, so that numba compiles just the ones a run uses.
     """
-    kernel, dim = iprm[I_KERNEL], iprm[I_DIM]
-    args = (sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power)
-    if kernel == WENDLAND_C2:
-        if dim == 1:
-            _fluid_rates(*args, np.empty((0, 0)), np.empty(0))
-        elif dim == 2:
-            _fluid_rates(*args, np.empty((0, 0)), np.empty((0, 0)))
-        else:
-            _fluid_rates(*args, np.empty((0, 0)), np.empty((0, 0, 0)))
-    elif dim == 1:
-        _fluid_rates(*args, np.empty(0), np.empty(0))
-    elif dim == 2:
-        _fluid_rates(*args, np.empty(0), np.empty((0, 0)))
-    else:
-        _fluid_rates(*args, np.empty(0), np.empty((0, 0, 0)))
+    kernel, dim = int(iprm[I_KERNEL]), int(iprm[I_DIM])
+    lean = iprm[I_NWALL] == 0 and fprm[F_XSPH] == 0.0
+    _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power,
+                 _SHAPES[2 if kernel == WENDLAND_C2 else 1], _SHAPES[dim], _SHAPES[2 if lean else 1])
+
+
+_SHAPES = {1: np.empty(0), 2: np.empty((0, 0)), 3: np.empty((0, 0, 0))}
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, kshape, dshape):
-    """``fluid_rates`` for one kernel and dimension (``kshape.ndim``, ``dshape.ndim``)."""
+def _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power, kshape, dshape,
+                 tshape):
+    """``fluid_rates`` for one kernel, dimension and term set (``kshape``, ``dshape``, ``tshape``)."""
     kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
     dim = dshape.ndim
     nx, ny, nz = iprm[I_NX], iprm[I_NY], iprm[I_NZ]
@@ -884,7 +882,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph
             ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
             rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]
             ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw = _pair_sums(
-                nbj, npad, sxf, sdf, kshape, dshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
+                nbj, npad, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
                 alpha, beta, eps, gx, gy, gz, dhydro)
             if viscous:
                 irho2 = 1.0 / (rhoi * rhoi)
