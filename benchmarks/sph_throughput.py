@@ -18,17 +18,18 @@ and the growth of the peak resident memory while the case was built and first st
 interpreter and the compiler).
 Target (issue 3): >= 2.5 M particle-steps/s per thread in 2D, <= 1 KB per particle.
 
-Measured (November 2026, 1 thread, the 2-core machine shared with two other jobs, load average
-5-8; wall figures swing by +-30 % there, process-CPU figures in brackets are steadier), before ->
-after the specialised rates, vectorised ghost search and time-step change (docs/theory/sph.md):
+Measured (November 2026, 1 thread, the 2-core machine with one core taken by other work, load
+average 1.8; wall figures, process-CPU in brackets), before -> after the specialised rates,
+vectorised ghost search and time-step change (docs/theory/sph.md):
 
-* small: 1.85 M (CPU 1.87-1.90 M) -> 1.5-2.3 M (CPU 2.26-2.29 M), 319 bytes/particle held;
-* large: 1.3 M (CPU 1.87-1.94 M) -> 1.6-2.3 M (CPU 2.26-2.34 M), 312 bytes/particle held,
-  peak resident memory +427 bytes/particle;
-* 3d: 0.4 M (CPU 0.55-0.62 M) -> 0.45-0.66 M (CPU 0.64-0.67 M), 381 bytes/particle held.
+* small: 1.92-1.93 M (CPU 1.93-1.94 M) -> 2.55-2.67 M (CPU 2.56-2.68 M), 319 bytes/particle held;
+* large: 1.95-1.98 M (CPU 1.96-1.99 M) -> 2.55-2.73 M (CPU 2.68-2.74 M), 312 bytes/particle
+  held, peak resident memory +427 bytes/particle;
+* 3d: 0.59-0.60 M (CPU 0.60-0.61 M) -> 0.66-0.68 M (CPU 0.68-0.69 M), 381 bytes/particle held.
 
-The 2D target is not reached (about 2.3 M by CPU time); the memory target is met. Two threads
-were not measured: both cores were busy with other work.
+The 2D target is met on this lightly loaded machine, the memory target too. Under heavy load
+(load average 5-8) the wall figures swing by +-30 %. Two threads were slower than one while the
+other work held a core (not a measurement of the code).
 """
 from __future__ import annotations
 
