@@ -59,10 +59,14 @@ def quantity_series(histories: Path, quantity: str) -> tuple[np.ndarray, np.ndar
 
 
 def default_quantities(histories: Path) -> list[str]:
-    """Every requested history's quantities (vector families as magnitudes); glstat kinetic if none."""
+    """Every requested history's quantities (vector families as magnitudes); glstat kinetic if none.
+
+    The tables every run writes (glstat, matsum, and ale_materials of ALE runs, which SPH runs lack)
+    are not requested histories.
+    """
     out: list[str] = []
     for path in sorted(Path(histories).glob("*.csv")):
-        if path.stem in ("glstat", "matsum"):
+        if path.stem in ("glstat", "matsum", "ale_materials"):
             continue
         columns, _ = read_history(path)
         seen: list[str] = []
