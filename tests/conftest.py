@@ -71,3 +71,23 @@ def crossing_times(t: np.ndarray, y: np.ndarray, level: float = 0.0, rising: boo
         i = i[(s[i + 1] > s[i]) == rising]
     frac = s[i] / (s[i] - s[i + 1])
     return t[i] + frac * (t[i + 1] - t[i])
+
+
+DECKS = Path(__file__).resolve().parents[1] / "decks"
+
+
+def run_shipped_deck(name: str, tmp_path: Path) -> Path:
+    """Run decks/<name>.yaml to its end through the CLI path into tmp_path/<name>; its histories folder."""
+    from sphfem_cli.cli import execute, load_model
+
+    out = tmp_path / name
+    out.mkdir()
+    code = execute(load_model(str(DECKS / f"{name}.yaml")), out, quiet=True)
+    assert code == 0, (out / "run.log").read_text()
+    return out / "histories"
+
+
+def read_history(folder: Path, name: str) -> dict[str, np.ndarray]:
+    """histories/<name>.csv as {column: array}."""
+    data = np.genfromtxt(folder / f"{name}.csv", delimiter=",", names=True)
+    return {k: data[k] for k in data.dtype.names}

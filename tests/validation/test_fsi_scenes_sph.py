@@ -31,26 +31,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import read_history as history, run_shipped_deck as run_deck
+
 pytestmark = [pytest.mark.validation, pytest.mark.usefixtures("single_thread")]
 
-DECKS = Path(__file__).resolve().parents[2] / "decks"
 G, D, V, RHO = 9.81, 0.11, 2.955, 1000.0
 GAP = 0.005  # cylinder bottom above the free surface at t = 0 in the cylinder decks [m]
-
-
-def run_deck(name: str, tmp_path: Path) -> Path:
-    from sphfem_cli.cli import execute, load_model
-
-    out = tmp_path / name
-    out.mkdir()
-    code = execute(load_model(str(DECKS / f"{name}.yaml")), out, quiet=True)
-    assert code == 0, (out / "run.log").read_text()
-    return out / "histories"
-
-
-def history(folder: Path, name: str) -> dict[str, np.ndarray]:
-    data = np.genfromtxt(folder / f"{name}.csv", delimiter=",", names=True)
-    return {k: data[k] for k in data.dtype.names}
 
 
 def test_cylinder_constant_speed_slamming(tmp_path):
