@@ -42,3 +42,28 @@ def test_identical_run_after_run_and_on_1_or_2_threads(tmp_path, kind):
         assert np.array_equal(table, again[name]), f"{kind} {name}: differs between two runs"
         assert np.array_equal(table, two[name]), f"{kind} {name}: differs between 1 and 2 threads"
     numba.set_num_threads(1)
+
+
+def test_a_run_that_compiles_its_kernels_equals_one_that_loads_them(tmp_path):
+    """The first run after a kernel change compiles the kernels and writes numba's cache, later runs
+    load it: both must give the same bits (FMA contraction differed between the two: see
+    sphfem_cli/sph/kernels.py, _FM). Two fresh interpreters on one empty cache folder; the SPH
+    kernels are the ones with fast-math flags."""
+    import os
+    import subprocess
+    import sys
+
+    deck = decks.write(tmp_path, "sph")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba_cache"))
+    runs = []
+    for name in ("compiles", "loads"):
+        out = tmp_path / name
+        code = subprocess.run([sys.executable, "-c", "import sys; from sphfem_cli.cli import main; sys.argv[0] = 'sphfem'; main()",
+                               "run", "-q", str(deck), "-o", str(out), "--threads", "1"], env=env, timeout=900).returncode
+        assert code == 0, (out / "run.log").read_text()
+        with h5py.File(out / "results.h5", "r") as f:
+            group = f["histories/histories"]
+            runs.append({name: group[name][()] for name in group})
+    assert any((tmp_path / "numba_cache").rglob("*.nbi")), "the first run wrote no cache"
+    for name, table in runs[0].items():
+        assert np.array_equal(table, runs[1][name]), f"{name}: a compiling run and a cache-loading run differ"
