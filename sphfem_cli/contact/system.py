@@ -22,6 +22,7 @@ class NodesToSurfaceContact:
         self.sim, self.spec, self.name = sim, spec, f"{spec.nodes}->{spec.surface}"
         self.dim = model.dim
         self.faces, owner = master_segments(model, spec.surface)
+        self.master_nodes = np.unique(self.faces)
         x0 = model.coordinates
         self.particle_slaves = spec.nodes in model.deck.parts and model.parts[model.part_index(spec.nodes)].kind == "sph"
         if self.particle_slaves:
@@ -38,7 +39,7 @@ class NodesToSurfaceContact:
             thickness = 0.1 * edge if spec.thickness is None else spec.thickness
             self._slave_mask = np.zeros(model.n_nodes, dtype=bool)
             self._slave_mask[self.slave_nodes] = True
-            self._slave_mask[np.unique(self.faces)] = False  # a node is never its own master
+            self._slave_mask[self.master_nodes] = False  # a node is never its own master
             self.slave_thickness = np.full(model.n_nodes, thickness)
         self.slave_mass_min = float(slave_mass.min()) if len(slave_mass) else np.inf
 
@@ -120,7 +121,7 @@ class NodesToSurfaceContact:
 
     def _grid(self, x: np.ndarray) -> tuple[np.ndarray, float, np.ndarray]:
         """A cell grid over the master surface grown by the reach; cells about one segment wide."""
-        used = x[np.unique(self.faces)]
+        used = x[self.master_nodes]
         lo = used.min(axis=0) - 2.0 * self.reach
         hi = used.max(axis=0) + 2.0 * self.reach
         size = float(np.median(self._segment_areas(x))) ** (1.0 / (self.dim - 1))
@@ -151,7 +152,3 @@ class NodesToSurfaceContact:
         if self.particle_slaves:
             return float(inside[i]), f"particle {int(self.sim.particles.system.ids[i])} of contact {self.name}"
         return float(inside[i]), f"node {i} of contact {self.name}"
-
-    def resultant(self) -> np.ndarray:
-        """Total contact force on the master side (dim,)."""
-        return self._f_master.sum(axis=0)

@@ -139,17 +139,12 @@ def run_cases(cases: Sequence[Case], config: StudyConfig, echo: Callable[[str], 
 def reference_histories(config: StudyConfig, cases: Sequence[Case]) -> tuple[str, Path]:
     """(label, histories folder) of the reference."""
     ok = [c for c in cases if c.status.get("state") == "done"]
-    if config.reference == "ale":
-        ale = [c for c in ok if c.kind == "ale"]
-        if not ale:
-            raise derive.StudyError("no ALE case finished, so there is no ALE reference")
-        best = min(ale, key=lambda c: c.size)
-        return best.name, best.histories
-    if config.reference == "finest":
-        sph = [c for c in ok if c.kind == "sph"]
-        if not sph:
-            raise derive.StudyError("no SPH case finished, so there is no finest reference")
-        best = min(sph, key=lambda c: c.size)
+    if config.reference in ("ale", "finest"):  # the finest finished case of that kind
+        kind, what = ("ale", "ALE") if config.reference == "ale" else ("sph", "finest")
+        finished = [c for c in ok if c.kind == kind]
+        if not finished:
+            raise derive.StudyError(f"no {kind.upper()} case finished, so there is no {what} reference")
+        best = min(finished, key=lambda c: c.size)
         return best.name, best.histories
     path = Path(config.reference)
     for candidate in (path / runner.RUN / "histories", path / "histories", path):
