@@ -227,12 +227,18 @@ def count_ghosts(x, active, walls, valid, reach, counts):
 
 
 @njit(cache=True)
-def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hydrostatic, gpos, gvel, gsrc, gdp, gdr):
-    """Ghost positions, velocities, source particles and pressure offsets (see ``count_ghosts``).
+def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hydrostatic, gpos, gvel, gflip, gsrc,
+                gdp, gdr):
+    """Ghost positions, velocities, viscous flips, source particles and pressure offsets (see ``count_ghosts``).
 
-    Position mirrored through each wall of the subset; velocity: normal component reversed on a
-    slip wall, whole vector reversed on a no-slip wall (zero wall velocity). The ghost carries
-    its source's density and pressure; with ``hydrostatic`` they get the hydrostatic increments
+    Position mirrored through each wall of the subset. Velocity: the free-slip mirror (normal
+    component reversed) on every wall, slip or no-slip: that is the velocity the continuity,
+    pressure and delta-SPH terms see, so a wall is impermeable without being a source of volume.
+    ``gflip`` holds the factors (+-1 per component) that turn it into the no-slip velocity
+    (whole vector reversed per no-slip wall, wall at rest) which the viscous terms see
+    (``ghost_friction``, ``viscous_stress``): the tangential components are negated once per
+    no-slip wall (Marrone et al. 2011, fixed ghost particles). The ghost carries its source's
+    density and pressure; with ``hydrostatic`` they get the hydrostatic increments
     dp = rho_i g.(x_ghost - x_i) (``gdp``) and drho = dp / c_i^2 (``gdr``), otherwise 0.
     """
     dim = x.shape[1]
@@ -251,6 +257,7 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
             if not (valid[s] and (s & mask) == s):
                 continue
             p0, p1, p2, u0, u1, u2 = x0, x1, x2, v0, v1, v2
+            f0 = f1 = f2 = 1.0
             for w in range(walls.shape[0]):
                 if s & (1 << w):
                     ax = int(walls[w, 0])
@@ -258,20 +265,20 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
                     noslip = walls[w, 3] != 0.0
                     if ax == 0:
                         p0 = pos2 - p0
-                    elif ax == 1:
-                        p1 = pos2 - p1
-                    else:
-                        p2 = pos2 - p2
-                    if noslip:
-                        u0, u1, u2 = -u0, -u1, -u2
-                    elif ax == 0:
                         u0 = -u0
                     elif ax == 1:
+                        p1 = pos2 - p1
                         u1 = -u1
                     else:
+                        p2 = pos2 - p2
                         u2 = -u2
+                    if noslip:
+                        f0 = f0 if ax == 0 else -f0
+                        f1 = f1 if ax == 1 else -f1
+                        f2 = f2 if ax == 2 else -f2
             gpos[k, 0], gpos[k, 1], gpos[k, 2] = p0, p1, p2
             gvel[k, 0], gvel[k, 1], gvel[k, 2] = u0, u1, u2
+            gflip[k, 0], gflip[k, 1], gflip[k, 2] = f0, f1, f2
             gsrc[k] = i
             if hydrostatic:
                 dp = rho[i] * (gravity[0] * (p0 - x0) + gravity[1] * (p1 - x1) + gravity[2] * (p2 - x2))
@@ -285,7 +292,7 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
 
 @njit(cache=True)
 def make_ghosts(x, v, rho, c, active, walls, valid, reach, gravity, hydrostatic):
-    """Ghost particles of the planar walls: ``(gpos, gvel, gsrc, gdp, gdr)`` (see ``fill_ghosts``)."""
+    """Ghost particles of the planar walls: ``(gpos, gvel, gflip, gsrc, gdp, gdr)`` (see ``fill_ghosts``)."""
     n = x.shape[0]
     # the particles near a wall (few) are found first, wall by wall (loops over the particles
     # that LLVM vectorises; the test of _near_mask); their images are counted and filled for
@@ -314,14 +321,15 @@ def make_ghosts(x, v, rho, c, active, walls, valid, reach, gravity, hydrostatic)
     ng = offsets[nnear]
     gpos = np.empty((ng, 3))
     gvel = np.empty((ng, 3))
+    gflip = np.empty((ng, 3))
     gsrc = np.empty(ng, dtype=np.int64)
     gdp = np.empty(ng)
     gdr = np.empty(ng)
     fill_ghosts(x[sub], v[sub], rho[sub], c[sub], np.ones(nnear, dtype=np.bool_), walls, valid, reach, offsets, gravity,
-                hydrostatic, gpos, gvel, gsrc, gdp, gdr)
+                hydrostatic, gpos, gvel, gflip, gsrc, gdp, gdr)
     for g in range(ng):
         gsrc[g] = sub[gsrc[g]]
-    return gpos, gvel, gsrc, gdp, gdr
+    return gpos, gvel, gflip, gsrc, gdp, gdr
 
 
 # ------------------------------------------------------------------------- cell-linked list
@@ -595,12 +603,14 @@ def wall_pressure(sx, sd, cell_start, fprm, iprm, params):
 
 
 @njit(cache=True, parallel=True, fastmath=_FM, error_model="numpy")
-def viscous_stress(sx, sd, cell_start, fprm, iprm, params, stau):
+def viscous_stress(sx, sd, svf, cell_start, fprm, iprm, params, stau):
     """Newtonian viscous stress at every point from the SPH velocity gradient.
 
     L_ab = sum_j V_j (v_j,a - v_i,a) dW_ij/dx_i,b (paper eq. 3.6 form), D = (L + L^T)/2,
     tau = mu (2D - (2/3) tr(D) I) + mu' tr(D) I (paper eq. 3.16), mu from the material row and
     the dilatational viscosity mu' from ``fprm[F_MU_DIL]``. Writes stau[k] for every slot.
+    Velocities are ``sd``'s times the per-slot factors ``svf`` (the no-slip velocity of the
+    ghosts of no-slip walls, ``fill_ghosts``); a (1, 3) ``svf`` means no factors.
     """
     kernel, dim = iprm[I_KERNEL], iprm[I_DIM]
     nx, ny, nz = iprm[I_NX], iprm[I_NY], iprm[I_NZ]
@@ -609,6 +619,7 @@ def viscous_stress(sx, sd, cell_start, fprm, iprm, params, stau):
     mu_dil = fprm[F_MU_DIL]
     inv_cell = 1.0 / cell
     sig = kernel_sigma(kernel, dim)
+    flips = svf.shape[0] > 1
     for k in prange(cell_start[-1]):
         mat = int(sd[k, D_MK]) >> 2
         mu = params[mat, P_VISCOSITY]
@@ -617,7 +628,8 @@ def viscous_stress(sx, sd, cell_start, fprm, iprm, params, stau):
                 stau[k, a] = 0.0
             continue
         xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
-        ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
+        fk = np.int64(k) if flips else np.int64(0)
+        ui, vi, wi = sd[k, D_VX] * svf[fk, 0], sd[k, D_VY] * svf[fk, 1], sd[k, D_VZ] * svf[fk, 2]
         reach = hi + hmax
         x0, x1 = _cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = _cell_range(yi, reach, oy, inv_cell, ny)
@@ -638,9 +650,10 @@ def viscous_stress(sx, sd, cell_start, fprm, iprm, params, stau):
                     f = sig * _inv_pow(inv, dim) * inv * inv * _theta(kernel, dim, math.sqrt(r2) * inv)[1]
                     vol = sd[j, D_VOL] * f
                     gx, gy, gz = vol * dx, vol * dy, vol * dz
-                    du = sd[j, D_VX] - ui
-                    dv = sd[j, D_VY] - vi
-                    dw = sd[j, D_VZ] - wi
+                    fj = np.int64(j) if flips else np.int64(0)
+                    du = sd[j, D_VX] * svf[fj, 0] - ui
+                    dv = sd[j, D_VY] * svf[fj, 1] - vi
+                    dw = sd[j, D_VZ] * svf[fj, 2] - wi
                     l00 += du * gx
                     l01 += du * gy
                     l02 += du * gz
@@ -915,7 +928,10 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph
                     ax += tx
                     ay += ty
                     az += tz
-                    work -= (ui - sd[j, D_VX]) * tx + (vi - sd[j, D_VY]) * ty + (wi - sd[j, D_VZ]) * tz
+                    if (int(sd[j, D_MK]) & 3) == KIND_GHOST:  # a wall at rest does no work: all of it to i
+                        work -= 2.0 * (ui * tx + vi * ty + wi * tz)
+                    else:
+                        work -= (ui - sd[j, D_VX]) * tx + (vi - sd[j, D_VY]) * ty + (wi - sd[j, D_VZ]) * tz
             i = perm[k]
             acc[i, 0] = ax
             if dim > 1:
@@ -930,6 +946,74 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph
                 xsph[i, 1] = exsph * sxv
             if dim > 2:
                 xsph[i, 2] = exsph * sxw
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def ghost_friction(sx, sd, svf, slots, perm, cell_start, fprm, iprm, acc, de):
+    """No-slip correction of the artificial viscosity between fluid particles and ghosts.
+
+    ``fluid_rates`` evaluates every ghost with its free-slip velocity v_g (``fill_ghosts``). Near
+    a no-slip wall the viscous term must see the no-slip velocity v_g' = svf_g * v_g instead; for
+    the fluid slots ``slots`` (the particles with a no-slip ghost) this adds, over the ghosts g
+    within 2 h_ig whose factors are not all 1,
+
+      acc_i -= sum_g m_g (Pi_ig' - Pi_ig) grad_i W_ig,     de_i += sum_g m_g (Pi_ig' - Pi_ig) v_i . grad_i W_ig
+
+    with Pi_ig' and Pi_ig the Monaghan viscosity of ``fluid_rates`` with v_i - v_g' and v_i - v_g.
+    The wall is at rest and does no work: the kinetic energy the friction takes from particle i
+    goes, all of it, into its internal energy (so ghost walls conserve energy, no-slip or not).
+    """
+    kernel, dim = iprm[I_KERNEL], iprm[I_DIM]
+    nx, ny, nz = iprm[I_NX], iprm[I_NY], iprm[I_NZ]
+    alpha, beta, eps = fprm[F_ALPHA], fprm[F_BETA], fprm[F_EPS]
+    hmax, cell = fprm[F_HMAX], fprm[F_CELL]
+    ox, oy, oz = fprm[F_OX], fprm[F_OY], fprm[F_OZ]
+    inv_cell = 1.0 / cell
+    for t in prange(slots.shape[0]):
+        k = slots[t]
+        xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
+        ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
+        rhoi, ci = sd[k, D_RHO], sd[k, D_C]
+        reach = hi + hmax
+        x0, x1 = _cell_range(xi, reach, ox, inv_cell, nx)
+        y0, y1 = _cell_range(yi, reach, oy, inv_cell, ny)
+        z0, z1 = _cell_range(zi, reach, oz, inv_cell, nz)
+        ax = ay = az = power = 0.0
+        for cz in range(z0, z1 + 1):
+            for cy in range(y0, y1 + 1):
+                base = (cz * ny + cy) * nx
+                for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
+                    if (int(sd[j, D_MK]) & 3) != KIND_GHOST:
+                        continue
+                    f0, f1, f2 = svf[j, 0], svf[j, 1], svf[j, 2]
+                    if f0 == 1.0 and f1 == 1.0 and f2 == 1.0:
+                        continue
+                    dx, dy, dz = xi - sx[j, 0], yi - sx[j, 1], zi - sx[j, 2]
+                    hij = 0.5 * (hi + sx[j, 3])
+                    r2 = dx * dx + dy * dy + dz * dz
+                    if r2 >= 4.0 * hij * hij:
+                        continue
+                    uj, vj, wj = sd[j, D_VX], sd[j, D_VY], sd[j, D_VZ]
+                    slip = min((ui - uj) * dx + (vi - vj) * dy + (wi - wj) * dz, 0.0)
+                    stuck = min((ui - f0 * uj) * dx + (vi - f1 * vj) * dy + (wi - f2 * wj) * dz, 0.0)
+                    dd = r2 + eps * hij * hij
+                    scale = hij / (dd * 0.5 * (rhoi + sd[j, D_RHO]))
+                    cij = 0.5 * (ci + sd[j, D_C])
+                    mu_s, mu_n = scale * slip, scale * stuck  # mu_ij / rho_ij
+                    rhoij = 0.5 * (rhoi + sd[j, D_RHO])
+                    dpi = (beta * rhoij * (mu_n * mu_n - mu_s * mu_s) - alpha * cij * (mu_n - mu_s))
+                    coef = sd[j, D_VOL] * sd[j, D_RHO] * dpi * kernel_f(kernel, dim, math.sqrt(r2), hij)
+                    ax -= coef * dx
+                    ay -= coef * dy
+                    az -= coef * dz
+                    power += coef * (ui * dx + vi * dy + wi * dz)
+        i = perm[k]
+        acc[i, 0] += ax
+        if dim > 1:
+            acc[i, 1] += ay
+        if dim > 2:
+            acc[i, 2] += az
+        de[i] += power
 
 
 # ------------------------------------------------------------------------------- search utils

@@ -49,35 +49,39 @@ def neighbour_pairs(x: np.ndarray, h: np.ndarray) -> set[tuple[int, int]]:
 def ghosts(x, v, rho, p, c, walls, reach, gravity=None, hydrostatic=False):
     """Mirror particles: one per subset (one wall per axis) of the walls within ``reach``.
 
-    Returns (positions (G, 3), velocities (G, 3), source index (G,), pressure (G,), density (G,)).
+    Returns (positions (G, 3), free-slip velocities (G, 3), source index (G,), pressure (G,),
+    density (G,), viscous velocities (G, 3)): the free-slip velocity mirrors the normal component
+    through every wall; the viscous one reverses the whole vector at a no-slip wall.
     """
     n, dim = x.shape
     x3 = np.zeros((n, 3))
     v3 = np.zeros((n, 3))
     x3[:, :dim], v3[:, :dim] = x, v
     g = np.zeros(3) if gravity is None else np.asarray(gravity, float)
-    out_x, out_v, src, pg, rg = [], [], [], [], []
+    out_x, out_v, out_vv, src, pg, rg = [], [], [], [], [], []
     for i in range(n):
         near = [w for w in walls if 0.0 <= w.side * (x3[i, w.axis] - w.position) < reach]
         for size in range(1, len(near) + 1):
             for sub in itertools.combinations(near, size):
                 if len({w.axis for w in sub}) < size:
                     continue
-                xg, vg = x3[i].copy(), v3[i].copy()
+                xg, vg, vv = x3[i].copy(), v3[i].copy(), v3[i].copy()
                 for w in sub:
                     xg[w.axis] = 2.0 * w.position - xg[w.axis]
+                    vg[w.axis] = -vg[w.axis]
                     if w.condition == "no_slip":
-                        vg = -vg
+                        vv = -vv
                     else:
-                        vg[w.axis] = -vg[w.axis]
+                        vv[w.axis] = -vv[w.axis]
                 out_x.append(xg)
                 out_v.append(vg)
+                out_vv.append(vv)
                 src.append(i)
                 dp = rho[i] * g @ (xg - x3[i]) if hydrostatic else 0.0
                 pg.append(p[i] + dp)
                 rg.append(rho[i] + dp / c[i] ** 2)
     return (np.array(out_x).reshape(-1, 3), np.array(out_v).reshape(-1, 3), np.array(src, dtype=int),
-            np.array(pg), np.array(rg))
+            np.array(pg), np.array(rg), np.array(out_vv).reshape(-1, 3))
 
 
 def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
@@ -104,12 +108,14 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
     # point set: fluid, ghosts, walls
     X = [np.pad(x, ((0, 0), (0, 3 - dim)))]
     V = [np.pad(v, ((0, 0), (0, 3 - dim)))]
+    VV = [V[0]]  # velocities the viscous terms see
     R, M, P, C, H, MAT, KIND = [rho], [m], [p], [c], [h], [mat], [np.zeros(n, int)]
     if opt.walls:
         wr = max(hmax, opt.smoothing_ratio * wall[1]) if wall is not None else hmax
-        gx, gv, gs, gp, gr = ghosts(x, v, rho, p, c, list(opt.walls), 2.0 * wr, g, opt.ghost_hydrostatic)
+        gx, gv, gs, gp, gr, gvv = ghosts(x, v, rho, p, c, list(opt.walls), 2.0 * wr, g, opt.ghost_hydrostatic)
         X.append(gx)
         V.append(gv)
+        VV.append(gvv)
         R.append(gr)
         M.append(m[gs])
         P.append(gp)
@@ -134,6 +140,7 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
         cw = np.array([mk.eos_sound_speed(eos, q, r / row[0], q[1]) for r in rw])
         X.append(wx3)
         V.append(np.zeros((nw, 3)))
+        VV.append(np.zeros((nw, 3)))
         R.append(rw)
         M.append(np.full(nw, row[0] * spacing**dim))
         P.append(pw)
@@ -141,7 +148,7 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
         H.append(hw)
         MAT.append(np.full(nw, wmat))
         KIND.append(np.full(nw, 2))
-    X, V, R, M, P, C, H, MAT, KIND = map(np.concatenate, (X, V, R, M, P, C, H, MAT, KIND))
+    X, V, VV, R, M, P, C, H, MAT, KIND = map(np.concatenate, (X, V, VV, R, M, P, C, H, MAT, KIND))
 
     rij = X[:n, None, :] - X[None, :, :]  # fluid i, point j
     r = np.sqrt((rij**2).sum(-1))
@@ -161,23 +168,34 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
         rr = np.sqrt((ra**2).sum(-1))
         ha = 0.5 * (H[:, None] + H[None, :])
         Fa = np.where((rr < 2 * ha) & (rr > 0), kernel_f(kern, dim, rr, ha), 0.0)
-        L = np.einsum("j,ija,ijb->iab", vol, V[None, :, :] - V[:, None, :], Fa[:, :, None] * ra)
+        L = np.einsum("j,ija,ijb->iab", vol, VV[None, :, :] - VV[:, None, :], Fa[:, :, None] * ra)
         D = 0.5 * (L + L.transpose(0, 2, 1))
         div = np.trace(L, axis1=1, axis2=2)
         tau = 2.0 * mu[:, None, None] * D + ((opt.dilatational_viscosity - 2.0 / 3.0 * mu) * div)[:, None, None] * np.eye(3)
     else:
         tau = np.zeros((len(X), 3, 3))
 
-    vdotr = (vij * rij).sum(-1)
     cbar = 0.5 * (c[:, None] + C[None, :])
     rbar = 0.5 * (rho[:, None] + R[None, :])
-    muij = hij * np.minimum(vdotr, 0.0) / (r**2 + opt.eps * hij**2)
-    Pi = (-opt.alpha * cbar * muij + opt.beta * muij**2) / rbar
+
+    def monaghan(vel):
+        mu_ij = hij * np.minimum(((vel * rij).sum(-1)), 0.0) / (r**2 + opt.eps * hij**2)
+        return (-opt.alpha * cbar * mu_ij + opt.beta * mu_ij**2) / rbar
+
+    Pi_slip = monaghan(vij)  # every pair as fluid_rates evaluates it
+    Pi = monaghan(V[:n, None, :] - VV[None, :, :])  # no-slip ghosts: the viscous velocity
     S = (p / rho**2)[:, None] + (P / R**2)[None, :] + Pi  # pressure part, times -I
     T = tau[:n, None] / (rho**2)[:, None, None, None] + tau[None, :] / (R**2)[None, :, None, None]
     sig = -S[:, :, None, None] * np.eye(3) + T  # sigma_i/rho_i^2 + sigma_j/rho_j^2 - Pi I
     acc = np.einsum("j,ijab,ijb->ia", M, sig * inside[:, :, None, None], gradW)
-    de = -0.5 * np.einsum("j,ijab,ija,ijb->i", M, sig * inside[:, :, None, None], vij, gradW)
+    # energy: half of each pair's work, except what a ghost wall (at rest, no work) takes from i:
+    # the viscous stress and the no-slip part of Pi put all of it into i's internal energy
+    ghost = (KIND == 1)[None, :, None]
+    vi = np.broadcast_to(V[:n, None, :], vij.shape)
+    S_shared = (p / rho**2)[:, None] + (P / R**2)[None, :] + Pi_slip
+    de = 0.5 * np.einsum("j,ij,ija,ija->i", M, S_shared * inside, vij, gradW)
+    de += np.einsum("j,ij,ija,ija->i", M, (Pi - Pi_slip) * inside, vi, gradW)
+    de -= 0.5 * np.einsum("j,ijab,ija,ijb->i", M, T * inside[:, :, None, None], np.where(ghost, 2.0 * vi, vij), gradW)
     drho = rho * np.einsum("j,ija,ija->i", vol, vij, gradW)
     if opt.delta:
         psi = R[None, :] - rho[:, None]

@@ -225,7 +225,9 @@ class ParticleSystem:
             self.wall_mat = np.zeros(0, dtype=np.int64)
 
         self._wall_hmax = float(self.wall_h.max()) if len(self.wall_h) else 0.0
-        self._no_ghosts = (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0))
+        self._no_ghosts = (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=np.int64),
+                           np.zeros(0), np.zeros(0))
+        self._no_flips = np.ones((1, 3))
         self._no_stress = np.zeros((1, 6))
         self.viscous = bool(np.any(self.params[:, k.P_VISCOSITY] > 0.0) or opt.dilatational_viscosity > 0.0)
         self.fprm = np.zeros(k.NF)
@@ -312,16 +314,28 @@ class ParticleSystem:
         if len(self.wall_h):
             hmax = max(hmax, self._wall_hmax)
         if len(self.walls):
-            gpos, gvel, gsrc, gdp, gdr = k.make_ghosts(self.x, self.v, self.rho, self.c, self.active, self.walls,
-                                                       self._valid, 2.0 * hmax, self.gravity, bool(opt.ghost_hydrostatic))
+            gpos, gvel, gflip, gsrc, gdp, gdr = k.make_ghosts(
+                self.x, self.v, self.rho, self.c, self.active, self.walls, self._valid, 2.0 * hmax, self.gravity,
+                bool(opt.ghost_hydrostatic))
         else:
-            gpos, gvel, gsrc, gdp, gdr = self._no_ghosts
+            gpos, gvel, gflip, gsrc, gdp, gdr = self._no_ghosts
         perm, cell_start, sx, sd = k.sort_points(
             self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat, self.active, gpos, gvel, gsrc,
             gdp, gdr, self.wall_x, self.wall_v, self.wall_rho, self.wall_m, self.wall_h, self.wall_mat,
             int(opt.max_cells_per_point), self.fprm, self.iprm)
+        # no-slip ghosts: per-slot velocity factors (fill_ghosts) and the fluid slots next to them
+        svf, friction_slots = self._no_flips, np.zeros(0, dtype=np.int64)
+        stuck = np.flatnonzero((gflip != 1.0).any(axis=1))
+        if stuck.size:
+            n = self.n
+            svf = np.ones((len(sx), 3))
+            slot_of = np.empty(len(perm), dtype=np.int64)
+            slot_of[perm] = np.arange(len(perm))
+            svf[slot_of[n + stuck]] = gflip[stuck]
+            friction_slots = np.sort(slot_of[np.unique(gsrc[stuck])])
         return {"perm": perm, "cell_start": cell_start, "sx": sx, "sd": sd, "n_ghost": len(gsrc),
-                "ghost_source": gsrc, "fprm": self.fprm.copy(), "iprm": self.iprm.copy()}
+                "ghost_source": gsrc, "fprm": self.fprm.copy(), "iprm": self.iprm.copy(),
+                "svf": svf, "friction_slots": friction_slots}
 
     def compute_rates(self) -> None:
         """Neighbour search and every rate at the current state (x, v, rho, e).
@@ -340,13 +354,16 @@ class ParticleSystem:
             k.wall_pressure(sx, sd, cs, self.fprm, self.iprm, self.params)
         if self.viscous:
             stau = np.zeros((len(sx), 6))
-            k.viscous_stress(sx, sd, cs, self.fprm, self.iprm, self.params, stau)
+            k.viscous_stress(sx, sd, pts["svf"], cs, self.fprm, self.iprm, self.params, stau)
         else:
             stau = self._no_stress
         pts["stau"] = stau
         self.wall_power[:] = 0.0
         k.fluid_rates(sx, sd, stau, perm, cs, self.fprm, self.iprm, self.acc, self.drho, self.de, self.xsph,
                       self.wall_power)
+        if pts["friction_slots"].size and (self.options.alpha or self.options.beta):
+            k.ghost_friction(sx, sd, pts["svf"], pts["friction_slots"], perm, cs, self.fprm, self.iprm, self.acc,
+                             self.de)
         self._sorted = pts
         self._evaluations += 1
         self._rates_valid = True

@@ -112,17 +112,22 @@ def test_particle_behind_a_ghost_wall_is_mirrored_back_and_counted():
 
 
 def test_ghost_images_of_a_corner_particle():
-    """A particle near two walls has three images: one per wall and the corner one."""
+    """A particle near two walls has three images: one per wall and the corner one. Ghosts carry
+    the free-slip mirror velocity; their viscous factors give the no-slip one (reversed per wall)."""
     walls = box_walls([0.0, 0.0], [1.0, 1.0], ["left", "bottom"], "no_slip")
     ps = lone_particle([0.02, 0.03], [1.0, 2.0], walls=walls)
     ps.compute_rates()
     s = ps._sorted
     npts = len(s["perm"])
-    ghosts = s["sx"][:npts][s["perm"] >= 1, :2]
-    vel = s["sd"][:npts][s["perm"] >= 1, :2]
+    is_ghost = s["perm"] >= 1
+    ghosts = s["sx"][:npts][is_ghost, :2]
+    vel = s["sd"][:npts][is_ghost, :2]
     order = np.lexsort(ghosts.T)
     np.testing.assert_allclose(ghosts[order], [[-0.02, -0.03], [0.02, -0.03], [-0.02, 0.03]])
-    np.testing.assert_allclose(vel[order], [[1.0, 2.0], [-1.0, -2.0], [-1.0, -2.0]])
+    np.testing.assert_allclose(vel[order], [[-1.0, -2.0], [1.0, -2.0], [-1.0, 2.0]])
+    viscous = (s["sd"][:npts, :2] * s["svf"][:npts, :2])[is_ghost]
+    np.testing.assert_allclose(viscous[order], [[1.0, 2.0], [-1.0, -2.0], [-1.0, -2.0]])
+    assert s["friction_slots"].tolist() == np.flatnonzero(s["perm"] == 0).tolist()
 
 
 def test_lattice_generators():
