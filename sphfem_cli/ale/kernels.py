@@ -1,4 +1,4 @@
-"""Multi-material ALE (operator split) on quad4 meshes: numba kernels.
+"""Multi-material ALE (operator split) on quad4 and hex8 meshes: numba kernels.
 
 State (per element e, material m, extensive so that conservation is a matter of bookkeeping):
 ``vol_m[e, m]`` material volume, ``mass_m[e, m]`` material mass, ``ener_m[e, m]`` material
@@ -29,6 +29,12 @@ One step (paper section 2, eqs. 2.5-2.8; Benson 1992):
    with the same mass fluxes, and the kinetic energy lost by the remap returned to the elements
    (DeBar's fix) so that total energy is conserved.
 
+3D (hex8): the same steps, with ``*_3d`` kernels where the geometry differs (mean gradient and
+hourglass modes of the hex8, exact swept volume of a quad face, three sweep directions); the
+mixture state, closure, face flux of a given swept volume (``_mixture_pressure``,
+``_closure_energy``, ``_face_flux``) and the element-face, dual-mesh and nodal-mass kernels are
+shared (their loops take the corner count and dimension from the arrays).
+
 Every parallel loop is a gather: faces write face arrays, elements their own rows, nodes their
 own entries. Equations and references: docs/theory/ale.md.
 """
@@ -39,7 +45,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..fem.kernels import _QUAD_GAMMA, _bulk_viscosity, _stable_dt, quad4_char_length, quad4_gradient
+from ..fem.kernels import (_HEX_DV, _HEX_GAMMA, _QUAD_GAMMA, _bulk_viscosity, _stable_dt, hex8_char_length,
+                           hex8_gradient, quad4_char_length, quad4_gradient)
 from ..materials.kernels import EOS_GRUNEISEN, _eos_state
 
 # boundary condition codes per node
@@ -47,6 +54,7 @@ BC_FREE = 0
 BC_SLIP = 1
 BC_FIXED = 2
 BC_VELOCITY = 3  # prescribed velocity (inflow): bc_normal holds the velocity itself
+BC_LINE = 4  # 3D: a node on two slip planes moves along their intersection, bc_normal its unit direction
 
 # interface (material volume flux) modes
 IFACE_DONOR = 0
@@ -113,6 +121,44 @@ def van_leer(qd, qa, qu, courant):
     return qd + (1.0 - courant) * d1 * d2 / (d1 + d2)
 
 
+@njit(cache=True, inline="always")
+def _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps, pscale, p_cut, pres_m, bulk_m):
+    """Material pressures and bulk moduli of element e, and its mixture state (shared by 2D and 3D).
+
+    Each present material's pressure p_m from its EOS at its own density and specific energy (times
+    pscale, at least p_cut; a cavitated Gruneisen liquid at the cut-off); writes pres_m[e], bulk_m[e]
+    (rho c^2). Returns (p_mix, c_e, M): the volume-weighted pressure sum_m phi_m p_m (the paper's
+    mixture theory), the equal-strain mixture sound speed c_e^2 = sum_m M_m c_m^2 / M (see
+    ``lagrange_forces``) and the element's mass.
+    """
+    n_mat = vol_m.shape[1]
+    vtot = 0.0
+    mtot = 0.0
+    for m in range(n_mat):
+        vtot += vol_m[e, m]
+        mtot += mass_m[e, m]
+    p_mix = 0.0
+    mc2 = 0.0
+    m_in = 0.0
+    for m in range(n_mat):
+        pres_m[e, m] = 0.0
+        bulk_m[e, m] = 0.0
+        if vol_m[e, m] > phi_eps * vtot and mass_m[e, m] > RHO_VOID * mat_rho0[m] * vol_m[e, m]:
+            rho = mass_m[e, m] / vol_m[e, m]
+            p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m])
+            p = max(p * pscale[e, m], p_cut)
+            if p_cut > -math.inf and mat_eos[m] == EOS_GRUNEISEN and rho < RHO_CAVITATED * mat_rho0[m]:
+                p = p_cut
+                c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], mat_rho0[m], 0.0)[1]
+            pres_m[e, m] = p
+            bulk_m[e, m] = rho * c * c
+            p_mix += vol_m[e, m] / vtot * p
+            mc2 += mass_m[e, m] * c * c
+            m_in += mass_m[e, m]
+    c_max = math.sqrt(mc2 / m_in) if m_in > 0.0 else 0.0
+    return p_mix, c_max, mtot
+
+
 # ------------------------------------------------------------------------------ Lagrangian phase
 
 
@@ -136,7 +182,6 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
     bulk_m (E, N) material bulk moduli rho c^2, q_elem (E,) bulk viscosity, dt_elem (E,) stable step.
     """
     n_elem = conn.shape[0]
-    n_mat = vol_m.shape[1]
     n_chunks = min(n_elem, 512)
     for chunk in prange(n_chunks):
         start = chunk * n_elem // n_chunks
@@ -154,30 +199,8 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
                 ve[a, 1] = v[n, 1]
                 vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1])
             area = quad4_gradient(xe, b)
-            vtot = 0.0
-            mtot = 0.0
-            for m in range(n_mat):
-                vtot += vol_m[e, m]
-                mtot += mass_m[e, m]
-            p_mix = 0.0
-            mc2 = 0.0
-            m_in = 0.0
-            for m in range(n_mat):
-                pres_m[e, m] = 0.0
-                bulk_m[e, m] = 0.0
-                if vol_m[e, m] > phi_eps * vtot and mass_m[e, m] > RHO_VOID * mat_rho0[m] * vol_m[e, m]:
-                    rho = mass_m[e, m] / vol_m[e, m]
-                    p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m])
-                    p = max(p * pscale[e, m], p_cut)
-                    if p_cut > -math.inf and mat_eos[m] == EOS_GRUNEISEN and rho < RHO_CAVITATED * mat_rho0[m]:
-                        p = p_cut
-                        c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], mat_rho0[m], 0.0)[1]
-                    pres_m[e, m] = p
-                    bulk_m[e, m] = rho * c * c
-                    p_mix += vol_m[e, m] / vtot * p
-                    mc2 += mass_m[e, m] * c * c
-                    m_in += mass_m[e, m]
-            c_max = math.sqrt(mc2 / m_in) if m_in > 0.0 else 0.0
+            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
+                                                   pscale, p_cut, pres_m, bulk_m)
             rho_e = mtot / area
             trace_d = 0.0
             for a in range(4):
@@ -261,6 +284,69 @@ def _apply_bc(kind, nx, ny, w0, w1):
     return w0, w1
 
 
+@njit(cache=True, inline="always")
+def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps, dvm, dev):
+    """Mixed-element closure of element e over the Lagrangian step (shared by 2D and 3D).
+
+    The volume change dV = v_lag - sum_m V_m split between the materials (``lagrange_energy``:
+    equal strain, or pressure relaxation limited by beta), each material's energy changed by its
+    own -p_m dV_m plus its mass share of the rest of the element's work w (viscous and hourglass
+    work). dvm, dev: scratch (N,).
+    """
+    n_mat = vol_m.shape[1]
+    vtot = 0.0
+    for m in range(n_mat):
+        vtot += vol_m[e, m]
+    dv = v_lag - vtot
+    n_present = 0
+    s_comp = 0.0
+    s_p = 0.0
+    kmax = 0.0
+    for m in range(n_mat):
+        dvm[m] = dv * vol_m[e, m] / vtot
+        dev[m] = 0.0
+        if vol_m[e, m] > phi_eps * vtot:
+            n_present += 1
+            kmax = max(kmax, bulk_m[e, m])
+    if closure == CLOSURE_RELAX and n_present > 1 and kmax > 0.0:
+        kmin = 1e-9 * kmax  # void (or a material without stiffness) takes the volume change
+        for m in range(n_mat):
+            if vol_m[e, m] > phi_eps * vtot:
+                k = max(bulk_m[e, m], kmin)
+                s_comp += vol_m[e, m] / k
+                s_p += vol_m[e, m] * pres_m[e, m] / k
+        pbar = s_p / s_comp
+        scale = 1.0
+        for m in range(n_mat):
+            if vol_m[e, m] > phi_eps * vtot:
+                k = max(bulk_m[e, m], kmin)
+                target = dv * vol_m[e, m] / k / s_comp + alpha * vol_m[e, m] * (pres_m[e, m] - pbar) / k
+                dev[m] = target - dvm[m]
+                if dev[m] < 0.0:
+                    room = beta * vol_m[e, m] + dvm[m]
+                    if room <= 0.0:
+                        scale = 0.0
+                    else:
+                        scale = min(scale, room / -dev[m])
+        for m in range(n_mat):
+            dvm[m] += scale * dev[m]
+    # energy: each material its own -p_m dV_m; the remainder of W_e (the shock viscosity's
+    # and hourglass work) by mass fraction, so that a trace of material with volume but
+    # almost no mass is not heated to an unbounded specific energy by q dV_m
+    own = 0.0
+    for m in range(n_mat):
+        if mass_m[e, m] > 0.0:
+            own -= pres_m[e, m] * dvm[m]
+    rest = w - own
+    mass_e = 0.0
+    for m in range(n_mat):
+        mass_e += mass_m[e, m]
+    for m in range(n_mat):
+        if mass_m[e, m] > 0.0:
+            ener_m[e, m] += -pres_m[e, m] * dvm[m] + rest * mass_m[e, m] / mass_e
+        vol_m[e, m] += dvm[m]
+
+
 @njit(parallel=True, cache=True)
 def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, q_elem,
                     closure, alpha, beta, phi_eps, work_elem):
@@ -293,60 +379,123 @@ def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pr
             w *= dt
             work_elem[e] = w
             v_lag = quad_area(px[0], py[0], px[1], py[1], px[2], py[2], px[3], py[3])
-            vtot = 0.0
-            for m in range(n_mat):
-                vtot += vol_m[e, m]
-            dv = v_lag - vtot
-            n_present = 0
-            s_comp = 0.0
-            s_p = 0.0
-            kmax = 0.0
-            for m in range(n_mat):
-                dvm[m] = dv * vol_m[e, m] / vtot
-                dev[m] = 0.0
-                if vol_m[e, m] > phi_eps * vtot:
-                    n_present += 1
-                    kmax = max(kmax, bulk_m[e, m])
-            if closure == CLOSURE_RELAX and n_present > 1 and kmax > 0.0:
-                kmin = 1e-9 * kmax  # void (or a material without stiffness) takes the volume change
-                for m in range(n_mat):
-                    if vol_m[e, m] > phi_eps * vtot:
-                        k = max(bulk_m[e, m], kmin)
-                        s_comp += vol_m[e, m] / k
-                        s_p += vol_m[e, m] * pres_m[e, m] / k
-                pbar = s_p / s_comp
-                scale = 1.0
-                for m in range(n_mat):
-                    if vol_m[e, m] > phi_eps * vtot:
-                        k = max(bulk_m[e, m], kmin)
-                        target = dv * vol_m[e, m] / k / s_comp + alpha * vol_m[e, m] * (pres_m[e, m] - pbar) / k
-                        dev[m] = target - dvm[m]
-                        if dev[m] < 0.0:
-                            room = beta * vol_m[e, m] + dvm[m]
-                            if room <= 0.0:
-                                scale = 0.0
-                            else:
-                                scale = min(scale, room / -dev[m])
-                for m in range(n_mat):
-                    dvm[m] += scale * dev[m]
-            # energy: each material its own -p_m dV_m; the remainder of W_e (the shock viscosity's
-            # and hourglass work) by mass fraction, so that a trace of material with volume but
-            # almost no mass is not heated to an unbounded specific energy by q dV_m
-            own = 0.0
-            for m in range(n_mat):
-                if mass_m[e, m] > 0.0:
-                    own -= pres_m[e, m] * dvm[m]
-            rest = w - own
-            mass_e = 0.0
-            for m in range(n_mat):
-                mass_e += mass_m[e, m]
-            for m in range(n_mat):
-                if mass_m[e, m] > 0.0:
-                    ener_m[e, m] += -pres_m[e, m] * dvm[m] + rest * mass_m[e, m] / mass_e
-                vol_m[e, m] += dvm[m]
+            _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps,
+                            dvm, dev)
 
 
 # ------------------------------------------------------------------------------ remap
+
+
+@njit(cache=True, inline="always")
+def _face_flux(f, amount, donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener,
+               dvm, g, used):
+    """Material volume, mass and energy fluxes of face f for a swept volume ``amount`` (shared by 2D and 3D).
+
+    donor gives, acc receives, far is the element upwind of the donor (-1: none); sgn +1 when the
+    acceptor is the face's owner. See ``face_fluxes``: a donor of -1 (inflow through an open face)
+    is a copy of the acceptor, an acceptor of -1 (outflow) a copy of the donor; material volumes by
+    SLIC or donor fractions, mass and energy by donor cell or van Leer. Writes fvol, fmass, fener
+    rows of f (already zero); dvm, g, used: scratch (N,).
+    """
+    n_mat = vol_m.shape[1]
+    if donor < 0:
+        # inflow through an open boundary: the outside is a copy of the acceptor
+        vt = 0.0
+        for m in range(n_mat):
+            vt += vol_m[acc, m]
+        for m in range(n_mat):
+            if vol_m[acc, m] > 0.0:
+                dvol = amount * vol_m[acc, m] / vt
+                dmass = dvol * mass_m[acc, m] / vol_m[acc, m]
+                fvol[f, m] = sgn * dvol
+                fmass[f, m] = sgn * dmass
+                if mass_m[acc, m] > 0.0:
+                    fener[f, m] = sgn * dmass * ener_m[acc, m] / mass_m[acc, m]
+        return
+    if acc < 0:
+        acc = donor  # outflow: zero gradient outside
+    vd = 0.0
+    va = 0.0
+    vu = 0.0
+    for m in range(n_mat):
+        vd += vol_m[donor, m]
+        va += vol_m[acc, m]
+        if far >= 0:
+            vu += vol_m[far, m]
+    amount = min(amount, vd)
+    # material volumes
+    sharp = False
+    if iface == IFACE_SLIC:
+        gmin = 1.0
+        gmax = -1.0
+        for m in range(n_mat):
+            used[m] = vol_m[donor, m] <= 0.0
+            dvm[m] = 0.0
+            fu = vol_m[far, m] / vu if far >= 0 else vol_m[donor, m] / vd
+            g[m] = vol_m[acc, m] / va - fu
+            if not used[m]:
+                gmin = min(gmin, g[m])
+                gmax = max(gmax, g[m])
+        # an interface across the sweep shows as a fraction jump; without one (interface
+        # along the sweep, or an isolated fragment) the donor's fractions are used
+        sharp = gmax - gmin >= SLIC_JUMP
+    if sharp:
+        left = amount
+        for it in range(n_mat):
+            best = -1
+            for m in range(n_mat):
+                if not used[m] and (best < 0 or g[m] > g[best]):
+                    best = m
+            if best < 0:
+                break
+            used[best] = True
+            take = min(left, vol_m[donor, best])
+            dvm[best] = take
+            left -= take
+            if left <= 0.0:
+                break
+    else:
+        for m in range(n_mat):
+            dvm[m] = amount * vol_m[donor, m] / vd
+    for m in range(n_mat):
+        if dvm[m] <= 0.0:
+            continue
+        vdm = vol_m[donor, m]
+        if dvm[m] >= vdm * (1.0 - 1e-12):
+            dmass = mass_m[donor, m]
+            dener = ener_m[donor, m]
+            dvol = vdm
+        else:
+            dvol = dvm[m]
+            mdm = mass_m[donor, m]
+            if mdm > 0.0:
+                rho_d = mdm / vdm
+                e_d = ener_m[donor, m] / mdm
+                rho_f = rho_d
+                e_f = e_d
+                ha = False
+                hu = False
+                if order == 2 and far >= 0:
+                    ha = vol_m[acc, m] > phi_eps * va and mass_m[acc, m] > 0.0
+                    hu = vol_m[far, m] > phi_eps * vu and mass_m[far, m] > 0.0
+                    if ha and hu:
+                        # Courant number of the material itself, so that what stays in the
+                        # donor keeps a density between its neighbours' (no mass without volume)
+                        rho_f = van_leer(rho_d, mass_m[acc, m] / vol_m[acc, m],
+                                         mass_m[far, m] / vol_m[far, m], dvol / vdm)
+                dmass = min(rho_f * dvol, mdm)
+                if order == 2 and far >= 0 and ha and hu:
+                    e_f = van_leer(e_d, ener_m[acc, m] / mass_m[acc, m],
+                                   ener_m[far, m] / mass_m[far, m], dmass / mdm)
+                dener = e_f * dmass
+                if ener_m[donor, m] > 0.0:
+                    dener = min(dener, ener_m[donor, m])
+            else:
+                dmass = 0.0
+                dener = 0.0
+        fvol[f, m] = sgn * dvol
+        fmass[f, m] = sgn * dmass
+        fener[f, m] = sgn * dener
 
 
 @njit(parallel=True, cache=True)
@@ -398,114 +547,15 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
                 acc = er
                 sgn = -1.0
                 far = elem_nbr[el, (face_local[f, 0] + 2) % 4]
-            amount = abs(dv)
-            if donor < 0:
-                # inflow through an open boundary: the outside is a copy of the acceptor
-                vt = 0.0
-                for m in range(n_mat):
-                    vt += vol_m[acc, m]
-                for m in range(n_mat):
-                    if vol_m[acc, m] > 0.0:
-                        dvol = amount * vol_m[acc, m] / vt
-                        dmass = dvol * mass_m[acc, m] / vol_m[acc, m]
-                        fvol[f, m] = sgn * dvol
-                        fmass[f, m] = sgn * dmass
-                        if mass_m[acc, m] > 0.0:
-                            fener[f, m] = sgn * dmass * ener_m[acc, m] / mass_m[acc, m]
-                continue
-            if acc < 0:
-                acc = donor  # outflow: zero gradient outside
-            vd = 0.0
-            va = 0.0
-            vu = 0.0
-            for m in range(n_mat):
-                vd += vol_m[donor, m]
-                va += vol_m[acc, m]
-                if far >= 0:
-                    vu += vol_m[far, m]
-            amount = min(amount, vd)
-            # material volumes
-            sharp = False
-            if iface == IFACE_SLIC:
-                gmin = 1.0
-                gmax = -1.0
-                for m in range(n_mat):
-                    used[m] = vol_m[donor, m] <= 0.0
-                    dvm[m] = 0.0
-                    fu = vol_m[far, m] / vu if far >= 0 else vol_m[donor, m] / vd
-                    g[m] = vol_m[acc, m] / va - fu
-                    if not used[m]:
-                        gmin = min(gmin, g[m])
-                        gmax = max(gmax, g[m])
-                # an interface across the sweep shows as a fraction jump; without one (interface
-                # along the sweep, or an isolated fragment) the donor's fractions are used
-                sharp = gmax - gmin >= SLIC_JUMP
-            if sharp:
-                left = amount
-                for it in range(n_mat):
-                    best = -1
-                    for m in range(n_mat):
-                        if not used[m] and (best < 0 or g[m] > g[best]):
-                            best = m
-                    if best < 0:
-                        break
-                    used[best] = True
-                    take = min(left, vol_m[donor, best])
-                    dvm[best] = take
-                    left -= take
-                    if left <= 0.0:
-                        break
-            else:
-                for m in range(n_mat):
-                    dvm[m] = amount * vol_m[donor, m] / vd
-            for m in range(n_mat):
-                if dvm[m] <= 0.0:
-                    continue
-                vdm = vol_m[donor, m]
-                if dvm[m] >= vdm * (1.0 - 1e-12):
-                    dmass = mass_m[donor, m]
-                    dener = ener_m[donor, m]
-                    dvol = vdm
-                else:
-                    dvol = dvm[m]
-                    mdm = mass_m[donor, m]
-                    if mdm > 0.0:
-                        rho_d = mdm / vdm
-                        e_d = ener_m[donor, m] / mdm
-                        rho_f = rho_d
-                        e_f = e_d
-                        ha = False
-                        hu = False
-                        if order == 2 and far >= 0:
-                            ha = vol_m[acc, m] > phi_eps * va and mass_m[acc, m] > 0.0
-                            hu = vol_m[far, m] > phi_eps * vu and mass_m[far, m] > 0.0
-                            if ha and hu:
-                                # Courant number of the material itself, so that what stays in the
-                                # donor keeps a density between its neighbours' (no mass without volume)
-                                rho_f = van_leer(rho_d, mass_m[acc, m] / vol_m[acc, m],
-                                                 mass_m[far, m] / vol_m[far, m], dvol / vdm)
-                        dmass = min(rho_f * dvol, mdm)
-                        if order == 2 and far >= 0 and ha and hu:
-                            e_f = van_leer(e_d, ener_m[acc, m] / mass_m[acc, m],
-                                           ener_m[far, m] / mass_m[far, m], dmass / mdm)
-                        dener = e_f * dmass
-                        if ener_m[donor, m] > 0.0:
-                            dener = min(dener, ener_m[donor, m])
-                    else:
-                        dmass = 0.0
-                        dener = 0.0
-                fvol[f, m] = sgn * dvol
-                fmass[f, m] = sgn * dmass
-                fener[f, m] = sgn * dener
+            _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
+                       fvol, fmass, fener, dvm, g, used)
 
 
 @njit(parallel=True, cache=True)
-def apply_face_fluxes(direction, elem_face, elem_sign, fvol, fmass, fener, vol_m, mass_m, ener_m):
-    """Each element adds the fluxes of its two faces of this sweep direction (a gather)."""
+def apply_face_fluxes(ka, kb, elem_face, elem_sign, fvol, fmass, fener, vol_m, mass_m, ener_m):
+    """Each element adds the fluxes of its two faces ka, kb (local numbers) of this sweep direction (a gather)."""
     n_elem = elem_face.shape[0]
     n_mat = vol_m.shape[1]
-    ka = _SIDE_A[direction]
-    kb = _SIDE_B[direction]
     for e in prange(n_elem):
         for k in (ka, kb):
             f = elem_face[e, k]
@@ -516,121 +566,157 @@ def apply_face_fluxes(direction, elem_face, elem_sign, fvol, fmass, fener, vol_m
                 ener_m[e, m] += s * fener[f, m]
 
 
-@njit(parallel=True, cache=True)
-def dual_fluxes(direction, conn, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass, node_line,
-                mnode, pnode, order, gm, gp, gk, bm, bp, bk):
-    """Mass, momentum and kinetic-energy fluxes of the dual (nodal) cells in this sweep.
-
-    Inside element e the dual face between the corners (src, dst) of half h carries the mass
-    G/2, G = (F_a,in + F_b,out) / 2 the mean of the element's mass fluxes through its side-a and
-    side-b faces (half-index shift); the momentum G/2 v_face and kinetic energy G/4 |v_face|^2 with
-    v_face the upwind node's velocity (order 1) or van Leer along the node line
-    node_line[e, direction, h] = (before src, src, dst, after dst). On open boundary faces the
-    boundary nodes also receive half the face's mass flux with their own velocity (bm, bp, bk:
-    [e, h, 0] into src through side a, [e, h, 1] into dst through side b); without open faces
-    (any_open False) bm, bp, bk are left as they are (zero).
-    """
-    n_elem = conn.shape[0]
+@njit(cache=True, inline="always")
+def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass, node_line,
+                  mnode, pnode, order, gm, gp, gk, bm, bp, bk, dim, n_edges):
+    """``dual_fluxes`` of element e; dim and n_edges are constants at the call (unrolled loops)."""
     n_mat = fmass.shape[1]
-    ka = _SIDE_A[direction]
-    kb = _SIDE_B[direction]
-    for e in prange(n_elem):
-        fa = elem_face[e, ka]
-        fb = elem_face[e, kb]
-        fa_in = 0.0
-        fb_in = 0.0
-        for m in range(n_mat):
-            fa_in += fmass[fa, m]
-            fb_in += fmass[fb, m]
-        fa_in *= elem_sign[e, ka]
-        fb_in *= elem_sign[e, kb]
-        gh = 0.25 * (fa_in - fb_in)
-        open_a = elem_nbr[e, ka] < 0 and face_open[fa]
-        open_b = elem_nbr[e, kb] < 0 and face_open[fb]
-        for h in range(2):
-            src = node_line[e, direction, h, 1]
-            dst = node_line[e, direction, h, 2]
-            gm[e, h] = gh
-            if gh >= 0.0:
-                donor = src
-                acc = dst
-                up = node_line[e, direction, h, 0]
-            else:
-                donor = dst
-                acc = src
-                up = node_line[e, direction, h, 3]
-            md = mnode[donor]
-            ke = 0.0
-            for k in range(2):
-                vd = pnode[donor, k] / md if md > 0.0 else 0.0
-                vf = vd
-                if order == 2 and up >= 0 and md > 0.0 and mnode[acc] > 0.0 and mnode[up] > 0.0:
-                    courant = min(1.0, 2.0 * abs(gh) / md)
-                    vf = van_leer(vd, pnode[acc, k] / mnode[acc], pnode[up, k] / mnode[up], courant)
-                gp[e, h, k] = gh * vf
-                ke += vf * vf
-            gk[e, h] = 0.5 * gh * ke
-            if not any_open:
-                continue
+    share = 1.0 / n_edges
+    fa = elem_face[e, ka]
+    fb = elem_face[e, kb]
+    fa_in = 0.0
+    fb_in = 0.0
+    for m in range(n_mat):
+        fa_in += fmass[fa, m]
+        fb_in += fmass[fb, m]
+    fa_in *= elem_sign[e, ka]
+    fb_in *= elem_sign[e, kb]
+    gh = 0.5 * share * (fa_in - fb_in)
+    open_a = elem_nbr[e, ka] < 0 and face_open[fa]
+    open_b = elem_nbr[e, kb] < 0 and face_open[fb]
+    for h in range(n_edges):
+        src = node_line[e, direction, h, 1]
+        dst = node_line[e, direction, h, 2]
+        gm[e, h] = gh
+        if gh >= 0.0:
+            donor = src
+            acc = dst
+            up = node_line[e, direction, h, 0]
+        else:
+            donor = dst
+            acc = src
+            up = node_line[e, direction, h, 3]
+        md = mnode[donor]
+        ke = 0.0
+        for k in range(dim):
+            vd = pnode[donor, k] / md if md > 0.0 else 0.0
+            vf = vd
+            if order == 2 and up >= 0 and md > 0.0 and mnode[acc] > 0.0 and mnode[up] > 0.0:
+                courant = min(1.0, n_edges * abs(gh) / md)
+                vf = van_leer(vd, pnode[acc, k] / mnode[acc], pnode[up, k] / mnode[up], courant)
+            gp[e, h, k] = gh * vf
+            ke += vf * vf
+        gk[e, h] = 0.5 * gh * ke
+        if any_open:
             for side in range(2):
                 bm[e, h, side] = 0.0
-                bp[e, h, side, 0] = 0.0
-                bp[e, h, side, 1] = 0.0
+                for k in range(dim):
+                    bp[e, h, side, k] = 0.0
                 bk[e, h, side] = 0.0
             for side in range(2):
                 if side == 0:
                     if not open_a:
                         continue
-                    flux = 0.5 * fa_in
+                    flux = share * fa_in
                     n = src
                 else:
                     if not open_b:
                         continue
-                    flux = 0.5 * fb_in
+                    flux = share * fb_in
                     n = dst
                 mn = mnode[n]
-                if mn > 0.0:
-                    u0 = pnode[n, 0] / mn
-                    u1 = pnode[n, 1] / mn
-                else:
-                    u0 = 0.0
-                    u1 = 0.0
                 bm[e, h, side] = flux
-                bp[e, h, side, 0] = flux * u0
-                bp[e, h, side, 1] = flux * u1
-                bk[e, h, side] = 0.5 * flux * (u0 * u0 + u1 * u1)
+                u2 = 0.0
+                for k in range(dim):
+                    u = pnode[n, k] / mn if mn > 0.0 else 0.0
+                    bp[e, h, side, k] = flux * u
+                    u2 += u * u
+                bk[e, h, side] = 0.5 * flux * u2
 
 
 @njit(parallel=True, cache=True)
-def apply_dual_fluxes(direction, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk, mnode, pnode,
-                      knode):
-    """Each node adds the dual fluxes of its element corners (a gather); open-face terms if any_open."""
+def dual_fluxes(ka, kb, direction, conn, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass, node_line,
+                mnode, pnode, order, gm, gp, gk, bm, bp, bk):
+    """Mass, momentum and kinetic-energy fluxes of the dual (nodal) cells in this sweep (2D and 3D).
+
+    The element's H edges along the sweep direction (H = 2 for a quad4, 4 for a hex8) join a
+    corner src on its side-a face ka to a corner dst on its side-b face kb. The dual face that
+    cuts edge h inside element e carries the mass G/H, G = (F_a,in + F_b,out) / 2 the mean of the
+    element's mass fluxes through its side-a and side-b faces (half-index shift, Benson 1992
+    sec. 5.4, generalised to 3D: the dual cell of a node gains what its 2^dim corner shares
+    M_e / 2^dim gain, so that the remapped nodal masses are those of the remapped elements); the
+    momentum G/H v_face and kinetic energy G/(2H) |v_face|^2 with v_face the upwind node's velocity
+    (order 1) or van Leer along the node line node_line[e, direction, h] = (before src, src, dst,
+    after dst), with the dual Courant number H |G/H| / m_donor. On open boundary faces each of the
+    face's H nodes also receives 1/H of the face's mass flux with its own velocity (bm, bp, bk:
+    [e, h, 0] into src through side a, [e, h, 1] into dst through side b); without open faces
+    (any_open False) bm, bp, bk are left as they are (zero).
+    """
+    n_elem = conn.shape[0]
+    three = pnode.shape[1] == 3
+    for e in prange(n_elem):
+        if three:
+            _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass,
+                          node_line, mnode, pnode, order, gm, gp, gk, bm, bp, bk, 3, 4)
+        else:
+            _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass,
+                          node_line, mnode, pnode, order, gm, gp, gk, bm, bp, bk, 2, 2)
+
+
+@njit(cache=True, inline="always")
+def _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
+               mnode, pnode, knode, dim, npe):
+    """``apply_dual_fluxes`` of node n; dim and npe are constants at the call."""
+    dm = 0.0
+    dp0 = 0.0
+    dp1 = 0.0
+    dp2 = 0.0
+    dk = 0.0
+    for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+        ea = node_elem_idx[r]
+        e = ea // npe
+        a = ea - npe * e
+        h = corner_edge[a]
+        side = corner_dst[a]
+        s = 1.0 if side == 1 else -1.0
+        dm += s * gm[e, h]
+        dp0 += s * gp[e, h, 0]
+        dp1 += s * gp[e, h, 1]
+        if dim == 3:
+            dp2 += s * gp[e, h, 2]
+        dk += s * gk[e, h]
+        if any_open:
+            dm += bm[e, h, side]
+            dp0 += bp[e, h, side, 0]
+            dp1 += bp[e, h, side, 1]
+            if dim == 3:
+                dp2 += bp[e, h, side, 2]
+            dk += bk[e, h, side]
+    mnode[n] += dm
+    pnode[n, 0] += dp0
+    pnode[n, 1] += dp1
+    if dim == 3:
+        pnode[n, 2] += dp2
+    knode[n] += dk
+
+
+@njit(parallel=True, cache=True)
+def apply_dual_fluxes(corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
+                      mnode, pnode, knode):
+    """Each node adds the dual fluxes of its element corners (a gather); open-face terms if any_open.
+
+    corner_edge[a], corner_dst[a]: the edge along this sweep that corner a of an element lies on,
+    and 1 when it is the edge's dst end (on the side-b face).
+    """
     n_nodes = mnode.shape[0]
+    three = pnode.shape[1] == 3
     for n in prange(n_nodes):
-        dm = 0.0
-        dp0 = 0.0
-        dp1 = 0.0
-        dk = 0.0
-        for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
-            ea = node_elem_idx[r]
-            e = ea // 4
-            a = ea - 4 * e
-            h = _CORNER_HALF[direction, a]
-            side = _CORNER_DST[direction, a]
-            s = 1.0 if side == 1 else -1.0
-            dm += s * gm[e, h]
-            dp0 += s * gp[e, h, 0]
-            dp1 += s * gp[e, h, 1]
-            dk += s * gk[e, h]
-            if any_open:
-                dm += bm[e, h, side]
-                dp0 += bp[e, h, side, 0]
-                dp1 += bp[e, h, side, 1]
-                dk += bk[e, h, side]
-        mnode[n] += dm
-        pnode[n, 0] += dp0
-        pnode[n, 1] += dp1
-        knode[n] += dk
+        if three:
+            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
+                       mnode, pnode, knode, 3, 8)
+        else:
+            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
+                       mnode, pnode, knode, 2, 4)
 
 
 @njit(parallel=True, cache=True)
@@ -665,9 +751,10 @@ def finish_remap_nodes(mnode, pnode, knode, m_floor, bc_type, bc_normal, v, impu
 
 @njit(parallel=True, cache=True)
 def finish_remap_elements(conn, mass_m, ener_m, node_mass, dissip, ke_fix):
-    """Element share of the nodal kinetic-energy loss, by corner mass, into material energies."""
-    n_elem = conn.shape[0]
+    """Element share of the nodal kinetic-energy loss, by corner mass M_e / n_corners, into material energies."""
+    n_elem, npe = conn.shape
     n_mat = mass_m.shape[1]
+    corner = 1.0 / npe
     if not ke_fix:
         return
     for e in prange(n_elem):
@@ -677,23 +764,336 @@ def finish_remap_elements(conn, mass_m, ener_m, node_mass, dissip, ke_fix):
         if me <= 0.0:
             continue
         add = 0.0
-        for a in range(4):
+        for a in range(npe):
             n = conn[e, a]
             if node_mass[n] > 0.0:
-                add += dissip[n] * 0.25 * me / node_mass[n]
+                add += dissip[n] * corner * me / node_mass[n]
         for m in range(n_mat):
             ener_m[e, m] += add * mass_m[e, m] / me
 
 
-@njit(parallel=True, cache=True)
-def nodal_mass(mass_m, node_elem_ptr, node_elem_idx, out):
-    """m_I = sum over the node's elements of M_e / 4 (gather)."""
-    n_mat = mass_m.shape[1]
-    for n in prange(out.shape[0]):
-        s = 0.0
-        for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
-            e = node_elem_idx[r] // 4
-            for m in range(n_mat):
-                s += 0.25 * mass_m[e, m]
-        out[n] = s
+@njit(cache=True, inline="always")
+def _node_mass(n, mass_m, node_elem_ptr, node_elem_idx, npe):
+    s = 0.0
+    for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+        e = node_elem_idx[r] // npe
+        for m in range(mass_m.shape[1]):
+            s += (1.0 / npe) * mass_m[e, m]
+    return s
 
+
+@njit(parallel=True, cache=True)
+def nodal_mass(mass_m, node_elem_ptr, node_elem_idx, npe, out):
+    """m_I = sum over the node's elements of M_e / npe (gather; node_elem_idx lists e * npe + corner)."""
+    for n in prange(out.shape[0]):
+        if npe == 8:
+            out[n] = _node_mass(n, mass_m, node_elem_ptr, node_elem_idx, 8)
+        else:
+            out[n] = _node_mass(n, mass_m, node_elem_ptr, node_elem_idx, 4)
+
+
+# ------------------------------------------------------------------------------ 3D (hex8)
+#
+# hex8 corners in VTK order (model.mesh.box_mesh): 0 (-,-,-), 1 (+,-,-), 2 (+,+,-), 3 (-,+,-), then
+# 4..7 above 0..3. Local faces, each listed with its normal (right-hand rule) pointing out of the
+# element: 0 xi-, 1 xi+, 2 eta-, 3 eta+, 4 zeta-, 5 zeta+; face k crosses sweep direction k // 2,
+# on side a (k even) or b (k odd); the opposite face is k ^ 1.
+HEX_FACE_NODES = np.array([[0, 4, 7, 3], [1, 2, 6, 5], [0, 1, 5, 4], [3, 7, 6, 2], [0, 3, 2, 1], [4, 5, 6, 7]],
+                          dtype=np.int64)
+# HEX_EDGES[d, h] = (src, dst): the four edges along direction d, src on face 2d, dst on face 2d + 1
+HEX_EDGES = np.array([
+    [[0, 1], [3, 2], [4, 5], [7, 6]],
+    [[0, 3], [1, 2], [4, 7], [5, 6]],
+    [[0, 4], [1, 5], [2, 6], [3, 7]],
+], dtype=np.int64)
+# the three corners joined to each corner by an edge
+HEX_CORNER_NBR = np.array([[1, 3, 4], [0, 2, 5], [1, 3, 6], [0, 2, 7], [0, 5, 7], [1, 4, 6], [2, 5, 7], [3, 4, 6]],
+                          dtype=np.int64)
+
+
+@njit(cache=True)
+def hex_volume(p):
+    """Exact volume of the trilinear hexahedron with corners p (8, 3) (VTK order).
+
+    V = sum_I x_I dV/dx_I (V is linear in the x components), with the rows of fem.kernels._HEX_DV:
+    V = (1/12) sum_rows s x_I (y_j z_k - y_k z_j), the same exact formula as fem.kernels.hex8_gradient.
+    Callers pass corners relative to one of them (translation-invariant; less cancellation).
+    """
+    v = 0.0
+    for r in range(_HEX_DV.shape[0]):
+        i = _HEX_DV[r, 0]
+        j = _HEX_DV[r, 1]
+        k = _HEX_DV[r, 2]
+        v += _HEX_DV[r, 3] * p[i, 0] * (p[j, 1] * p[k, 2] - p[k, 1] * p[j, 2])
+    return v / 12.0
+
+
+@njit(cache=True)
+def swept_volume_3d(face_nodes, f, x_lag, x_new, p):
+    """Signed volume swept by the quad face f from x_lag to x_new: the trilinear hexahedron whose
+    bottom is the face at x_lag and top the face at x_new (face_nodes[f] ordered with the normal
+    out of the owner element), positive when the face moves out of the owner, which then gains
+    that volume from its neighbour. The six swept volumes of an element sum exactly to its new
+    minus its Lagrangian volume (each lateral bilinear side is shared by two swept hexahedra with
+    opposite orientations). p: scratch (8, 3)."""
+    r = face_nodes[f, 0]
+    for a in range(4):
+        n = face_nodes[f, a]
+        for k in range(3):
+            p[a, k] = x_lag[n, k] - x_lag[r, k]
+            p[a + 4, k] = x_new[n, k] - x_lag[r, k]
+    return hex_volume(p)
+
+
+@njit(parallel=True, cache=True)
+def swept_volumes_3d(faces, face_nodes, x_lag, x_new, out):
+    """out[i] = swept_volume_3d of faces[i] (used for the inflow faces)."""
+    for i in prange(faces.shape[0]):
+        p = np.empty((8, 3))
+        out[i] = swept_volume_3d(face_nodes, faces[i], x_lag, x_new, p)
+
+
+@njit(parallel=True, cache=True)
+def element_volumes_3d(x, conn, out):
+    """Exact trilinear volume of every hex8 (``hex_volume``), (E,)."""
+    n_elem = conn.shape[0]
+    n_chunks = min(n_elem, 512)
+    for chunk in prange(n_chunks):
+        p = np.empty((8, 3))
+        for e in range(chunk * n_elem // n_chunks, (chunk + 1) * n_elem // n_chunks):
+            r = conn[e, 0]
+            for a in range(8):
+                n = conn[e, a]
+                for k in range(3):
+                    p[a, k] = x[n, k] - x[r, k]
+            out[e] = hex_volume(p)
+
+
+@njit(parallel=True, cache=True)
+def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
+                       phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
+    """``lagrange_forces`` on hex8: element forces at x^n with v^{n-1/2}.
+
+    Mean-gradient (Flanagan & Belytschko 1981) b = (1/V) dV/dx_I (fem.kernels.hex8_gradient),
+    f_eI = V (p_mix + q) b_I with the same mixture pressure (``_mixture_pressure``), bulk viscosity
+    and stable step (length V / largest face area, fem.kernels.hex8_char_length); viscous
+    hourglass on the four hex8 modes gamma_j = Gamma_j - (Gamma_j . x) b, force
+    -c_hg (gamma_j . v) gamma_j with c_hg = qhg rho c V^(2/3) / 4 (the FEM solid's viscous form).
+    Written: f_elem (E, 8, 3), pres_m, bulk_m, q_elem, dt_elem as in 2D.
+    """
+    n_elem = conn.shape[0]
+    n_chunks = min(n_elem, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * n_elem // n_chunks
+        stop = (chunk + 1) * n_elem // n_chunks
+        xe = np.empty((8, 3))
+        ve = np.empty((8, 3))
+        b = np.empty((3, 8))
+        gam = np.empty(8)
+        for e in range(start, stop):
+            vmax2 = 0.0
+            for a in range(8):
+                n = conn[e, a]
+                for k in range(3):
+                    xe[a, k] = x[n, k]
+                    ve[a, k] = v[n, k]
+                vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1] + v[n, 2] * v[n, 2])
+            vol = hex8_gradient(xe, b)
+            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
+                                                   pscale, p_cut, pres_m, bulk_m)
+            rho_e = mtot / vol
+            trace_d = 0.0
+            for a in range(8):
+                trace_d += ve[a, 0] * b[0, a] + ve[a, 1] * b[1, a] + ve[a, 2] * b[2, a]
+            length = hex8_char_length(xe, vol)
+            q = _bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
+            q_elem[e] = q
+            c_eff = c_max + math.sqrt(vmax2)
+            dt_elem[e] = _stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
+            s = vol * (p_mix + q)
+            for a in range(8):
+                for k in range(3):
+                    f_elem[e, a, k] = s * b[k, a]
+            if qhg > 0.0 and rho_e > 0.0:
+                coef = 0.25 * qhg * rho_e * c_max * vol ** (2.0 / 3.0)
+                for mode in range(4):
+                    gx0 = 0.0
+                    gx1 = 0.0
+                    gx2 = 0.0
+                    for a in range(8):
+                        gx0 += _HEX_GAMMA[mode, a] * xe[a, 0]
+                        gx1 += _HEX_GAMMA[mode, a] * xe[a, 1]
+                        gx2 += _HEX_GAMMA[mode, a] * xe[a, 2]
+                    h0 = 0.0
+                    h1 = 0.0
+                    h2 = 0.0
+                    for a in range(8):
+                        g = _HEX_GAMMA[mode, a] - gx0 * b[0, a] - gx1 * b[1, a] - gx2 * b[2, a]
+                        gam[a] = g
+                        h0 += g * ve[a, 0]
+                        h1 += g * ve[a, 1]
+                        h2 += g * ve[a, 2]
+                    for a in range(8):
+                        f_elem[e, a, 0] -= coef * h0 * gam[a]
+                        f_elem[e, a, 1] -= coef * h1 * gam[a]
+                        f_elem[e, a, 2] -= coef * h2 * gam[a]
+
+
+@njit(cache=True)
+def _apply_bc_3d(kind, bc, w):
+    """Velocity conditions on w (3,) in place (``_apply_bc`` in 3D; bc = the node's bc_normal row)."""
+    if kind == BC_FIXED:
+        w[0] = 0.0
+        w[1] = 0.0
+        w[2] = 0.0
+    elif kind == BC_SLIP:
+        vn = w[0] * bc[0] + w[1] * bc[1] + w[2] * bc[2]
+        for k in range(3):
+            w[k] -= vn * bc[k]
+    elif kind == BC_VELOCITY:
+        for k in range(3):
+            w[k] = bc[k]
+    elif kind == BC_LINE:
+        vt = w[0] * bc[0] + w[1] * bc[1] + w[2] * bc[2]
+        for k in range(3):
+            w[k] = vt * bc[k]
+
+
+@njit(parallel=True, cache=True)
+def nodal_update_3d(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
+    """``nodal_update`` in 3D: v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m, then the velocity conditions."""
+    n_nodes = v.shape[0]
+    n_chunks = min(n_nodes, 512)
+    for chunk in prange(n_chunks):
+        w = np.empty(3)
+        u = np.empty(3)
+        for n in range(chunk * n_nodes // n_chunks, (chunk + 1) * n_nodes // n_chunks):
+            f0 = f_ext[n, 0]
+            f1 = f_ext[n, 1]
+            f2 = f_ext[n, 2]
+            for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+                ea = node_elem_idx[r]
+                e = ea // 8
+                a = ea - 8 * e
+                f0 += f_elem[e, a, 0]
+                f1 += f_elem[e, a, 1]
+                f2 += f_elem[e, a, 2]
+            m = mass[n]
+            if m > 0.0:
+                w[0] = v[n, 0] + dt * f0 / m
+                w[1] = v[n, 1] + dt * f1 / m
+                w[2] = v[n, 2] + dt * f2 / m
+            else:
+                w[0] = 0.0
+                w[1] = 0.0
+                w[2] = 0.0
+            for k in range(3):
+                u[k] = w[k]
+            if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
+                _apply_bc_3d(bc_type[n], bc_normal[n], u)
+            else:
+                u[0] = 0.0
+                u[1] = 0.0
+                u[2] = 0.0
+            for k in range(3):
+                impulse[n, k] = m * (u[k] - w[k])
+                v[n, k] = u[k]
+
+
+@njit(parallel=True, cache=True)
+def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, q_elem,
+                       closure, alpha, beta, phi_eps, work_elem):
+    """``lagrange_energy`` on hex8: compatible work W_e = -dt sum_I f_eI . (v_I^{n-1/2} + v_I^{n+1/2}) / 2,
+    the Lagrangian volume (``hex_volume``) at x + dt v^{n+1/2}, then the same closure (``_closure_energy``)."""
+    n_elem = conn.shape[0]
+    n_mat = vol_m.shape[1]
+    n_chunks = min(n_elem, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * n_elem // n_chunks
+        stop = (chunk + 1) * n_elem // n_chunks
+        dvm = np.empty(n_mat)
+        dev = np.empty(n_mat)
+        p = np.empty((8, 3))
+        for e in range(start, stop):
+            w = 0.0
+            r = conn[e, 0]
+            for a in range(8):
+                n = conn[e, a]
+                for k in range(3):
+                    w -= f_elem[e, a, k] * 0.5 * (v_old[n, k] + v_new[n, k])
+                    p[a, k] = (x[n, k] + dt * v_new[n, k]) - (x[r, k] + dt * v_new[r, k])
+            w *= dt
+            work_elem[e] = w
+            v_lag = hex_volume(p)
+            _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps,
+                            dvm, dev)
+
+
+@njit(parallel=True, cache=True)
+def face_fluxes_3d(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x_lag, x_new,
+                   vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener):
+    """``face_fluxes`` on hex8 meshes: the volume through a quad face is its exact swept volume
+    (``swept_volume_3d``), the upwind element of a donor is its neighbour across the opposite face
+    (local face k ^ 1); the rest is ``_face_flux``."""
+    nf = faces.shape[0]
+    n_mat = vol_m.shape[1]
+    n_chunks = min(nf, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * nf // n_chunks
+        stop = (chunk + 1) * nf // n_chunks
+        dvm = np.empty(n_mat)
+        g = np.empty(n_mat)
+        used = np.empty(n_mat, dtype=np.bool_)
+        p = np.empty((8, 3))
+        for i in range(start, stop):
+            f = faces[i]
+            for m in range(n_mat):
+                fvol[f, m] = 0.0
+                fmass[f, m] = 0.0
+                fener[f, m] = 0.0
+            el = face_elem[f, 0]
+            er = face_elem[f, 1]
+            if er < 0 and not face_open[f]:
+                continue
+            dv = swept_volume_3d(face_nodes, f, x_lag, x_new, p)
+            if dv == 0.0:
+                continue
+            if dv > 0.0:
+                donor = er
+                acc = el
+                sgn = 1.0
+                far = elem_nbr[er, face_local[f, 1] ^ 1] if er >= 0 else -1
+            else:
+                donor = el
+                acc = er
+                sgn = -1.0
+                far = elem_nbr[el, face_local[f, 0] ^ 1]
+            _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
+                       fvol, fmass, fener, dvm, g, used)
+
+
+@njit(parallel=True, cache=True)
+def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, bc_type, bc_normal, v, impulse, dissip):
+    """``finish_remap_nodes`` in 3D: v = p / m, velocity conditions, kinetic energy lost (DeBar)."""
+    n_nodes = mnode.shape[0]
+    n_chunks = min(n_nodes, 512)
+    for chunk in prange(n_chunks):
+        w = np.empty(3)
+        u = np.empty(3)
+        for n in range(chunk * n_nodes // n_chunks, (chunk + 1) * n_nodes // n_chunks):
+            m = mnode[n]
+            for k in range(3):
+                w[k] = pnode[n, k] / m if m > 0.0 else 0.0
+                u[k] = w[k]
+            if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
+                _apply_bc_3d(bc_type[n], bc_normal[n], u)
+            else:
+                u[0] = 0.0
+                u[1] = 0.0
+                u[2] = 0.0
+            u2 = 0.0
+            for k in range(3):
+                impulse[n, k] = -pnode[n, k] if m <= 0.0 else m * (u[k] - w[k])
+                v[n, k] = u[k]
+                u2 += u[k] * u[k]
+            dissip[n] = knode[n] - 0.5 * m * u2 if m > 0.0 else knode[n]

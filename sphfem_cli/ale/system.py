@@ -1,4 +1,4 @@
-"""``AleSystem``: a multi-material ALE (Eulerian by default) fluid on a quad4 mesh.
+"""``AleSystem``: a multi-material ALE (Eulerian by default) fluid on a quad4 (2D) or hex8 (3D) mesh.
 
 Usage::
 
@@ -18,7 +18,10 @@ Usage::
 
 Constructor arguments:
 
-- ``nodes`` (N, 2), ``conn`` (E, 4) counter-clockwise quad4 (``model.mesh.box_mesh`` order);
+- ``nodes`` (N, 2), ``conn`` (E, 4) counter-clockwise quad4 (``model.mesh.box_mesh`` order), or
+  ``nodes`` (N, 3), ``conn`` (E, 8) hex8 in VTK order (``box_mesh`` in 3D): the same method with
+  three sweep directions (docs/theory/ale.md, "3D"); a 3D smoothed mesh takes smoothing "average"
+  with fixed boundary nodes only; vectors below have 3 components there;
 - ``materials``: one entry per material, a parameter row of ``materials.tables.pack_material``
   (or its ``(type id, row)`` pair), or ``None`` for void (no mass, no pressure);
 - ``fractions`` (E, N) initial volume fractions (rows summing to 1; see ``fill_fractions``);
@@ -51,7 +54,8 @@ Boundaries (node index arrays): ``set_slip(nodes, normal)`` normal velocity zero
 the set are open (outflow / zero-gradient inflow, with the inside pressure applied outside),
 ``set_inflow(nodes, material, velocity, density, energy | pressure)`` inflow of a material at a
 given state (ghost donor, prescribed nodal velocity).
-Nodes in two slip sets with different normals become fixed.
+Nodes in two slip sets with different normals become fixed (3D: they slide along the two walls'
+intersection; a third wall makes them fixed).
 
 Body force and structure coupling: ``gravity`` (2,) acceleration on the nodal masses;
 ``f_couple`` (N, 2) coupling forces of the step (contact.coupling), with their work accumulated
@@ -79,13 +83,16 @@ _CLOSURES = {"equal_strain": K.CLOSURE_EQUAL_STRAIN, "relax": K.CLOSURE_RELAX}
 
 
 def fill_fractions(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, samples: int = 3) -> np.ndarray:
-    """Fraction of each quad4 inside a region, by samples x samples points per element.
+    """Fraction of each quad4 (hex8) inside a region, by samples^2 (samples^3) points per element.
 
-    ``inside_fn(x, y)`` takes coordinate arrays and returns a boolean array. Sample points are the
-    bilinear images of the midpoints of a samples x samples grid on the reference square, each
-    weighted by the Jacobian there, so the result is the exact fraction for a region made of
-    whole sub-cells of a parallelogram element.
+    ``inside_fn(x, y)`` (``inside_fn(x, y, z)`` in 3D) takes coordinate arrays and returns a
+    boolean array. Sample points are the bilinear (trilinear) images of the midpoints of a
+    samples^dim grid on the reference square (cube), each weighted by the Jacobian there, so the
+    result is the exact fraction for a region made of whole sub-cells of a parallelogram
+    (parallelepiped) element.
     """
+    if np.shape(conn)[1] == 8:
+        return _fill_fractions_3d(np.asarray(nodes, dtype=float), np.asarray(conn), inside_fn, samples)
     x = nodes[conn]  # (E, 4, 2)
     t = (np.arange(samples) + 0.5) / samples * 2.0 - 1.0
     xi, eta = np.meshgrid(t, t, indexing="ij")
@@ -101,6 +108,30 @@ def fill_fractions(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, sam
            - np.einsum("sa,ea->es", deta, x[:, :, 0]) * np.einsum("sa,ea->es", dxi, x[:, :, 1]))
     inside = np.asarray(inside_fn(px, py), dtype=bool)
     return (jac * inside).sum(axis=1) / jac.sum(axis=1)
+
+
+def _fill_fractions_3d(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, samples: int) -> np.ndarray:
+    """fill_fractions on hex8 (VTK corner order): samples^3 Jacobian-weighted points per element."""
+    t = (np.arange(samples) + 0.5) / samples * 2.0 - 1.0
+    xi = np.stack([g.ravel() for g in np.meshgrid(t, t, t, indexing="ij")], axis=1)  # (S, 3)
+    sn = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                   [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
+    lin = 1.0 + xi[:, None, :] * sn[None, :, :]  # (S, 8, 3) factors (1 + xi_k s_k)
+    shape = 0.125 * lin.prod(axis=2)  # (S, 8)
+    dshape = np.empty((3,) + shape.shape)  # dN/dxi_k
+    for k in range(3):
+        others = [j for j in range(3) if j != k]
+        dshape[k] = 0.125 * sn[None, :, k] * lin[:, :, others[0]] * lin[:, :, others[1]]
+    out = np.empty(len(conn))
+    chunk = max(1, 200_000 // max(1, xi.shape[0]))
+    for lo in range(0, len(conn), chunk):
+        x = nodes[conn[lo:lo + chunk]]  # (e, 8, 3)
+        pts = np.einsum("sa,eak->esk", shape, x)
+        jac = np.einsum("jsa,eak->esjk", dshape, x)  # d x_k / d xi_j
+        det = np.linalg.det(jac)
+        inside = np.asarray(inside_fn(pts[..., 0], pts[..., 1], pts[..., 2]), dtype=bool)
+        out[lo:lo + chunk] = (det * inside).sum(axis=1) / det.sum(axis=1)
+    return out
 
 
 def energy_from_pressure(row: np.ndarray, rho: np.ndarray, p: np.ndarray) -> np.ndarray:
@@ -120,8 +151,15 @@ def energy_from_pressure(row: np.ndarray, rho: np.ndarray, p: np.ndarray) -> np.
 
 
 def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
-    """Faces, element-face and node-element maps and dual node lines of a quad4 mesh."""
+    """Faces, element-face and node-element maps and dual node lines of a quad4 (or hex8) mesh.
+
+    Besides the maps, per sweep direction d: ``side_a[d]``, ``side_b[d]`` the local faces it
+    crosses, ``corner_edge[d]``, ``corner_dst[d]`` (npe,) the edge along d each corner lies on and
+    whether it is that edge's far (side-b) end, ``faces_by_dir[d]`` the faces it sweeps.
+    """
     conn = np.ascontiguousarray(conn, dtype=np.int64)
+    if conn.shape[1] == 8:
+        return _build_topology_3d(conn, n_nodes)
     n_elem = conn.shape[0]
     a = conn.ravel()
     b = np.roll(conn, -1, axis=1).ravel()
@@ -175,7 +213,83 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
         face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
         node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line,
         faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64) for d in range(2)],
+        side_a=K._SIDE_A, side_b=K._SIDE_B, corner_edge=K._CORNER_HALF, corner_dst=K._CORNER_DST,
     )
+
+
+def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:
+    """build_topology for hex8 (VTK order; local faces, edges: kernels.HEX_FACE_NODES, HEX_EDGES).
+
+    A face is keyed by its sorted four nodes; its first element (owner) gives face_nodes in the
+    owner's outward order, face_local and the sweep direction face_local // 2. node_line[e, d, h]
+    = (before src, src, dst, after dst) along edge h of direction d: "before src" is the node
+    joined to src by the edge of the side-a neighbour that leaves the shared face (-1 without one).
+    """
+    n_elem = conn.shape[0]
+    loc = K.HEX_FACE_NODES
+    quads = conn[:, loc].reshape(6 * n_elem, 4)  # (6E, 4) in outward order
+    key = np.sort(quads, axis=1)
+    uniq, first, inv, counts = np.unique(key, axis=0, return_index=True, return_inverse=True, return_counts=True)
+    inv = inv.ravel()
+    if counts.max(initial=0) > 2:
+        raise ValueError("a face is shared by more than two elements")
+    n_faces = uniq.shape[0]
+    flat = np.arange(6 * n_elem)
+    face_nodes = quads[first]
+    face_elem = -np.ones((n_faces, 2), dtype=np.int64)
+    face_local = -np.ones((n_faces, 2), dtype=np.int64)
+    face_elem[:, 0] = first // 6
+    face_local[:, 0] = first % 6
+    second = flat[flat != first[inv]]
+    face_elem[inv[second], 1] = second // 6
+    face_local[inv[second], 1] = second % 6
+    elem_face = inv.reshape(n_elem, 6).astype(np.int64)
+    elem_sign = np.where(flat == first[inv], 1.0, -1.0).reshape(n_elem, 6)
+    elem_nbr = np.where(elem_sign > 0, face_elem[elem_face, 1], face_elem[elem_face, 0]).astype(np.int64)
+    face_dir = face_local[:, 0] // 2
+
+    a = conn.ravel()
+    order = np.argsort(a, kind="stable")
+    node_elem_idx = np.arange(8 * n_elem, dtype=np.int64)[order]
+    node_elem_ptr = np.zeros(n_nodes + 1, dtype=np.int64)
+    node_elem_ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
+
+    node_line = -np.ones((n_elem, 3, 4, 4), dtype=np.int64)
+    e_all = np.arange(n_elem)
+    for d in range(3):
+        for h in range(4):
+            src = conn[:, K.HEX_EDGES[d, h, 0]]
+            dst = conn[:, K.HEX_EDGES[d, h, 1]]
+            node_line[:, d, h, 1] = src
+            node_line[:, d, h, 2] = dst
+            for col, node, k in ((0, src, 2 * d), (3, dst, 2 * d + 1)):
+                nb = elem_nbr[:, k]
+                ok = nb >= 0
+                shared = conn[e_all[ok][:, None], loc[k][None, :]]  # (M, 4) nodes of the shared face
+                cn = conn[nb[ok]]
+                c = np.argmax(cn == node[ok, None], axis=1)
+                cand = cn[np.arange(cn.shape[0])[:, None], K.HEX_CORNER_NBR[c]]  # (M, 3)
+                off = ~(cand[:, :, None] == shared[:, None, :]).any(axis=2)
+                node_line[ok, d, h, col] = cand[np.arange(cand.shape[0]), np.argmax(off, axis=1)]
+    corner_edge = np.zeros((3, 8), dtype=np.int64)
+    corner_dst = np.zeros((3, 8), dtype=np.int64)
+    for d in range(3):
+        for h in range(4):
+            corner_edge[d, K.HEX_EDGES[d, h]] = h
+            corner_dst[d, K.HEX_EDGES[d, h, 1]] = 1
+    return dict(
+        face_nodes=face_nodes.astype(np.int64), face_elem=face_elem, face_local=face_local,
+        face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
+        node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line,
+        faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64) for d in range(3)],
+        side_a=(0, 2, 4), side_b=(1, 3, 5), corner_edge=corner_edge, corner_dst=corner_dst,
+    )
+
+
+def _hex_edges(conn: np.ndarray) -> np.ndarray:
+    """Unique edges (n, 2) of a hex8 mesh."""
+    e = np.concatenate([conn[:, K.HEX_EDGES[d]].reshape(-1, 2) for d in range(3)])
+    return np.unique(np.sort(e, axis=1), axis=0)
 
 
 def _winslow_stencil(conn: np.ndarray, n_nodes: int, interior: np.ndarray) -> tuple:
@@ -257,6 +371,12 @@ def _sliding_nodes(x0: np.ndarray, boundary_faces: np.ndarray, n_nodes: int) -> 
     return ids.astype(np.int64), nb0[straight].astype(np.int64), nb1[straight].astype(np.int64), t
 
 
+def _largest_face_area(nodes: np.ndarray, conn: np.ndarray) -> np.ndarray:
+    """Largest face area of each hex8 (half the cross product of the face's diagonals)."""
+    q = nodes[conn[:, K.HEX_FACE_NODES]]  # (E, 6, 4, 3)
+    return 0.5 * np.linalg.norm(np.cross(q[:, :, 2] - q[:, :, 0], q[:, :, 3] - q[:, :, 1]), axis=2).max(axis=1)
+
+
 def _per_elem(value, n_elem: int, n_mat: int, name: str) -> np.ndarray:
     arr = np.asarray(value, dtype=float)
     if arr.shape == (n_mat,):
@@ -267,7 +387,7 @@ def _per_elem(value, n_elem: int, n_mat: int, name: str) -> np.ndarray:
 
 
 class AleSystem:
-    """Multi-material ALE fluid on a quad4 mesh (see the module docstring)."""
+    """Multi-material ALE fluid on a quad4 or hex8 mesh (see the module docstring)."""
 
     def __init__(self, nodes, conn, materials: Sequence, fractions, density, energy=None, pressure=None,
                  velocity=None, q1: float = 1.5, q2: float = 0.06, hourglass: float = 0.1, order: int = 2,
@@ -277,11 +397,13 @@ class AleSystem:
                  pressure_cutoff: float | None = None, mass_floor: float = 1e-10, smoothing: str = "average",
                  smooth_iterations: int = 1, smooth_boundary: str = "fixed"):
         self.x0 = np.ascontiguousarray(nodes, dtype=np.float64)
-        if self.x0.ndim != 2 or self.x0.shape[1] != 2:
-            raise ValueError("AleSystem is 2D: nodes must be (N, 2)")
+        if self.x0.ndim != 2 or self.x0.shape[1] not in (2, 3):
+            raise ValueError("AleSystem nodes must be (N, 2) or (N, 3)")
+        self.dim = dim = self.x0.shape[1]
         self.conn = np.ascontiguousarray(conn, dtype=np.int64)
-        if self.conn.shape[1] != 4:
-            raise ValueError("AleSystem needs quad4 connectivity (E, 4)")
+        self.npe = npe = 4 if dim == 2 else 8
+        if self.conn.ndim != 2 or self.conn.shape[1] != npe:
+            raise ValueError(f"AleSystem needs {'quad4 (E, 4)' if dim == 2 else 'hex8 (E, 8)'} connectivity in {dim}D")
         n_nodes, n_elem = self.x0.shape[0], self.conn.shape[0]
         n_mat = len(materials)
         self.n_mat = n_mat
@@ -318,6 +440,8 @@ class AleSystem:
             raise ValueError("smoothing must be 'average' or 'equipotential'")
         if smooth_boundary not in ("fixed", "sliding"):
             raise ValueError("smooth_boundary must be 'fixed' or 'sliding'")
+        if dim == 3 and mesh_motion == "smooth" and (smoothing != "average" or smooth_boundary != "fixed"):
+            raise ValueError("3D smoothed meshes take smoothing 'average' with fixed boundary nodes only")
         self.mesh_motion = mesh_motion
         self.smoothing = smoothing
         self.smooth_iterations = int(smooth_iterations)
@@ -325,20 +449,28 @@ class AleSystem:
         self.smooth_weight = float(smooth_weight)
         self.eulerian_pull = float(eulerian_pull)
         fn = self.topo["face_nodes"]
-        self._nbr_a = np.concatenate([fn[:, 0], fn[:, 1]])
-        self._nbr_b = np.concatenate([fn[:, 1], fn[:, 0]])
+        edges = fn if dim == 2 else _hex_edges(self.conn)
+        self._nbr_a = np.concatenate([edges[:, 0], edges[:, 1]])
+        self._nbr_b = np.concatenate([edges[:, 1], edges[:, 0]])
         self._degree = np.bincount(self._nbr_a, minlength=n_nodes).astype(float)
         on_boundary = np.zeros(n_nodes, dtype=bool)
         bf = fn[self.topo["face_elem"][:, 1] < 0]
         on_boundary[bf.ravel()] = True
         self._interior = ~on_boundary
-        self._stencil = _winslow_stencil(self.conn, n_nodes, self._interior)
-        self._slide = _sliding_nodes(self.x0, bf, n_nodes)
-        x = self.x0[self.conn]
-        self.vol0 = 0.5 * ((x[:, 2, 0] - x[:, 0, 0]) * (x[:, 3, 1] - x[:, 1, 1])
-                           - (x[:, 2, 1] - x[:, 0, 1]) * (x[:, 3, 0] - x[:, 1, 0]))
+        if dim == 2:
+            self._stencil = _winslow_stencil(self.conn, n_nodes, self._interior)
+            self._slide = _sliding_nodes(self.x0, bf, n_nodes)
+            x = self.x0[self.conn]
+            self.vol0 = 0.5 * ((x[:, 2, 0] - x[:, 0, 0]) * (x[:, 3, 1] - x[:, 1, 1])
+                               - (x[:, 2, 1] - x[:, 0, 1]) * (x[:, 3, 0] - x[:, 1, 0]))
+        else:
+            self._stencil = (np.zeros(0, dtype=np.int64), np.zeros((0, 8), dtype=np.int64))
+            self._slide = (np.zeros(0, dtype=np.int64),) * 3 + (np.zeros((0, 3)),)
+            self.vol0 = np.empty(n_elem)
+            K.element_volumes_3d(self.x0, self.conn, self.vol0)
         if np.any(self.vol0 <= 0):
-            raise ValueError("elements with non-positive area (node order must be counter-clockwise)")
+            raise ValueError("elements with non-positive " + ("area (node order must be counter-clockwise)" if dim == 2
+                             else "volume (hex8 corners in VTK order: bottom face counter-clockwise seen from above)"))
 
         fr = np.asarray(fractions, dtype=float)
         if fr.shape != (n_elem, n_mat):
@@ -363,7 +495,7 @@ class AleSystem:
         self.ener_m = self.mass_m * e
 
         self.x = self.x0.copy()
-        self.velocity = np.zeros((n_nodes, 2))
+        self.velocity = np.zeros((n_nodes, dim))
         if velocity is not None:
             self.velocity[:] = np.asarray(velocity, dtype=float)
         self.node_mass = np.zeros(n_nodes)
@@ -371,13 +503,13 @@ class AleSystem:
         # reference density (velocity of a near-empty node is not computed from momentum / mass)
         rho_ref = float(self.mat_rho0.max()) if n_mat else 0.0
         full = np.zeros(n_nodes)
-        np.add.at(full, self.conn.ravel(), np.repeat(0.25 * rho_ref * self.vol0, 4))
+        np.add.at(full, self.conn.ravel(), np.repeat(rho_ref * self.vol0 / npe, npe))
         self.m_floor = float(mass_floor) * full
-        K.nodal_mass(self.mass_m, self.topo["node_elem_ptr"], self.topo["node_elem_idx"], self.node_mass)
+        K.nodal_mass(self.mass_m, self.topo["node_elem_ptr"], self.topo["node_elem_idx"], npe, self.node_mass)
         self.bc_type = np.zeros(n_nodes, dtype=np.int64)
-        self.bc_normal = np.zeros((n_nodes, 2))
+        self.bc_normal = np.zeros((n_nodes, dim))
         self.face_open = np.zeros(len(self.topo["face_nodes"]), dtype=np.bool_)
-        self.wall_impulse = np.zeros(2)
+        self.wall_impulse = np.zeros(dim)
         self.outflow = np.zeros(n_mat)  # net mass leaving through open faces (diagnostic; inflow counts negative)
         # inflow faces: index into the inflow states (-1: none); per state the material fractions,
         # densities, specific energies and pressure of the outside (ghost) donor
@@ -387,7 +519,7 @@ class AleSystem:
         self.n_steps = 0
         self._since_remap = 0
 
-        self.f_elem = np.zeros((n_elem, 4, 2))
+        self.f_elem = np.zeros((n_elem, npe, dim))
         self.pscale = np.ones((n_elem, n_mat))  # pressure factor per material (programmed burn)
         self.burn = None  # [(material, lighting time (E,), D, element size (E,))]: set_burn
         self.pres_m = np.zeros((n_elem, n_mat))
@@ -400,29 +532,37 @@ class AleSystem:
         self._fvol = np.zeros((nf, n_mat))
         self._fmass = np.zeros((nf, n_mat))
         self._fener = np.zeros((nf, n_mat))
-        self._gm = np.zeros((n_elem, 2))
-        self._gp = np.zeros((n_elem, 2, 2))
-        self._gk = np.zeros((n_elem, 2))
-        self._bm = np.zeros((n_elem, 2, 2))
-        self._bp = np.zeros((n_elem, 2, 2, 2))
-        self._bk = np.zeros((n_elem, 2, 2))
-        self._impulse = np.zeros((n_nodes, 2))
-        self._f_ext = np.zeros((n_nodes, 2))
+        n_edges = npe // 2  # element edges along one sweep direction
+        self._gm = np.zeros((n_elem, n_edges))
+        self._gp = np.zeros((n_elem, n_edges, dim))
+        self._gk = np.zeros((n_elem, n_edges))
+        self._bm = np.zeros((n_elem, n_edges, 2))
+        self._bp = np.zeros((n_elem, n_edges, 2, dim))
+        self._bk = np.zeros((n_elem, n_edges, 2))
+        self._impulse = np.zeros((n_nodes, dim))
+        self._f_ext = np.zeros((n_nodes, dim))
         # body acceleration on the nodal masses, and the forces of couplings to structures
         # (contact.coupling): set f_couple before each step; its impulse is couple_dt * f_couple
-        self.gravity = np.zeros(2)
-        self.f_couple = np.zeros((n_nodes, 2))
+        self.gravity = np.zeros(dim)
+        self.f_couple = np.zeros((n_nodes, dim))
         self.gravity_work = 0.0
         self.coupling_work = 0.0
         self.v_lag = self.velocity.copy()  # v^{n+1/2} of the Lagrangian phase, before the remap
-        self.v_mid = np.zeros((n_nodes, 2))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last Lagrangian phase
+        self.v_mid = np.zeros((n_nodes, dim))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last Lagrangian phase
+        # the kernels that differ between quad4 and hex8
+        if dim == 2:
+            self._k_forces, self._k_nodal, self._k_energy = K.lagrange_forces, K.nodal_update, K.lagrange_energy
+            self._k_faces, self._k_finish = K.face_fluxes, K.finish_remap_nodes
+        else:
+            self._k_forces, self._k_nodal, self._k_energy = K.lagrange_forces_3d, K.nodal_update_3d, K.lagrange_energy_3d
+            self._k_faces, self._k_finish = K.face_fluxes_3d, K.finish_remap_nodes_3d
 
     def set_burn(self, materials, velocities, detonations) -> None:
         """Programmed burn (``materials.burn``) of the given materials (indices) with detonation
         velocities D: lighting times at the element centroids of the initial (Eulerian) mesh from
         ``detonations`` [(point, time), ...], element size area / longest edge."""
         centroids = self.x0[self.conn].mean(axis=1)
-        delta = quad_size(self.x0, self.conn)
+        delta = quad_size(self.x0, self.conn) if self.dim == 2 else self.vol0 / _largest_face_area(self.x0, self.conn)
         self.burn = [(int(m), lighting_time(centroids, detonations, float(d)), float(d), delta)
                      for m, d in zip(materials, velocities)] or None
         self._fresh = False
@@ -445,7 +585,16 @@ class AleSystem:
                 self.velocity[i] = self.bc_normal[i]
                 continue
             if self.bc_type[i] == K.BC_SLIP and abs(abs(self.bc_normal[i] @ n) - 1.0) > 1e-12:
-                self.bc_type[i] = K.BC_FIXED
+                if self.dim == 3:  # two walls: along their intersection
+                    t = np.cross(self.bc_normal[i], n)
+                    self.bc_type[i] = K.BC_LINE
+                    self.bc_normal[i] = t / np.linalg.norm(t)
+                else:
+                    self.bc_type[i] = K.BC_FIXED
+                continue
+            if self.bc_type[i] == K.BC_LINE:
+                if abs(self.bc_normal[i] @ n) > 1e-12:  # a third wall across the line: a corner
+                    self.bc_type[i] = K.BC_FIXED
                 continue
             self.bc_type[i] = K.BC_SLIP
             self.bc_normal[i] = n
@@ -454,13 +603,16 @@ class AleSystem:
         slip = self.bc_type == K.BC_SLIP
         vn = (v[slip] * self.bc_normal[slip]).sum(axis=1)
         self.velocity[slip] = v[slip] - vn[:, None] * self.bc_normal[slip]
+        line = self.bc_type == K.BC_LINE
+        vt = (v[line] * self.bc_normal[line]).sum(axis=1)
+        self.velocity[line] = vt[:, None] * self.bc_normal[line]
 
     def set_transmit(self, node_ids) -> None:
         mark = np.zeros(self.x0.shape[0], dtype=bool)
         mark[np.asarray(node_ids, dtype=np.int64)] = True
         fn = self.topo["face_nodes"]
         boundary = self.topo["face_elem"][:, 1] < 0
-        self.face_open |= boundary & mark[fn[:, 0]] & mark[fn[:, 1]]
+        self.face_open |= boundary & mark[fn].all(axis=1)
 
     def set_inflow(self, node_ids, material: int, velocity, density: float | None = None,
                    energy: float | None = None, pressure: float | None = None) -> None:
@@ -500,7 +652,7 @@ class AleSystem:
         mark = np.zeros(self.x0.shape[0], dtype=bool)
         mark[ids] = True
         fn = self.topo["face_nodes"]
-        faces = (self.topo["face_elem"][:, 1] < 0) & mark[fn[:, 0]] & mark[fn[:, 1]]
+        faces = (self.topo["face_elem"][:, 1] < 0) & mark[fn].all(axis=1)
         self.face_open |= faces
         self.face_inflow[faces] = k
         u = np.asarray(velocity, dtype=float)
@@ -510,6 +662,8 @@ class AleSystem:
             w = u.copy()
             if self.bc_type[i] == K.BC_SLIP:
                 w -= (w @ self.bc_normal[i]) * self.bc_normal[i]
+            elif self.bc_type[i] == K.BC_LINE:
+                w = (w @ self.bc_normal[i]) * self.bc_normal[i]
             self.bc_type[i] = K.BC_VELOCITY
             self.bc_normal[i] = w
             self.velocity[i] = w
@@ -519,9 +673,9 @@ class AleSystem:
         if self.burn is not None:
             for m, t_light, d, delta in self.burn:
                 self.pscale[:, m] = burn_fraction(self.time, t_light, d, delta)
-        K.lagrange_forces(self.x, self.velocity, self.conn, self.vol_m, self.mass_m, self.ener_m,
-                          self.mat_eos, self.mat_q, self.mat_rho0, self.q1, self.q2, self.qhg, self.phi_eps,
-                          self.pscale, self.p_cut, self.f_elem, self.pres_m, self.bulk_m, self.q_elem, self.dt_elem)
+        self._k_forces(self.x, self.velocity, self.conn, self.vol_m, self.mass_m, self.ener_m,
+                       self.mat_eos, self.mat_q, self.mat_rho0, self.q1, self.q2, self.qhg, self.phi_eps,
+                       self.pscale, self.p_cut, self.f_elem, self.pres_m, self.bulk_m, self.q_elem, self.dt_elem)
         self._fresh = True
 
     def stable_dt(self, scale: float = 0.5) -> float:
@@ -536,7 +690,7 @@ class AleSystem:
         if not self.face_open.any():
             return f
         fo = np.flatnonzero(self.face_open)
-        n0, n1 = self.topo["face_nodes"][fo].T
+        n0, n1 = self.topo["face_nodes"][fo, :2].T
         e = self.topo["face_elem"][fo, 0]
         vt = self.vol_m[e].sum(axis=1)
         p = (self.vol_m[e] * self.pres_m[e]).sum(axis=1) / vt
@@ -544,6 +698,15 @@ class AleSystem:
         if np.any(ghost >= 0):  # inflow faces: the ghost's own pressure
             p_in = np.array([st[3] for st in self.inflow_states])
             p = np.where(ghost >= 0, p_in[np.maximum(ghost, 0)], p)
+        if self.dim == 3:
+            # -p A / 4 per node, A = (x2 - x0) x (x3 - x1) / 2 the bilinear face's outward area vector
+            fnodes = self.topo["face_nodes"][fo]
+            q = self.x[fnodes]
+            area = 0.5 * np.cross(q[:, 2] - q[:, 0], q[:, 3] - q[:, 1])
+            for a in range(4):
+                for k in range(3):
+                    np.add.at(f[:, k], fnodes[:, a], -0.25 * p * area[:, k])
+            return f
         t = self.x[n1] - self.x[n0]
         # the outside, a copy of the inside, pushes inward with its pressure: -p n L / 2 per node
         fx = -0.5 * p * t[:, 1]
@@ -576,8 +739,8 @@ class AleSystem:
         has_couple = bool(np.any(self.f_couple))
         if has_couple:
             f_ext += self.f_couple * (w_couple / dt)
-        K.nodal_update(self.f_elem, topo["node_elem_ptr"], topo["node_elem_idx"], f_ext,
-                       self.node_mass, self.m_floor, self.velocity, self.bc_type, self.bc_normal, dt, self._impulse)
+        self._k_nodal(self.f_elem, topo["node_elem_ptr"], topo["node_elem_idx"], f_ext,
+                      self.node_mass, self.m_floor, self.velocity, self.bc_type, self.bc_normal, dt, self._impulse)
         self.v_lag[:] = self.velocity
         v_mid = self.v_mid
         np.add(v_old, self.velocity, out=v_mid)
@@ -587,9 +750,9 @@ class AleSystem:
         if has_couple:
             self.coupling_work += w_couple * float(np.sum(self.f_couple * v_mid))
         self.wall_impulse += self._impulse.sum(axis=0)
-        K.lagrange_energy(self.x, v_old, self.velocity, dt, self.conn, self.f_elem, self.vol_m, self.mass_m,
-                          self.ener_m, self.pres_m, self.bulk_m, self.q_elem, self.closure, self.relax_alpha,
-                          self.relax_beta, self.phi_eps, self.work_elem)
+        self._k_energy(self.x, v_old, self.velocity, dt, self.conn, self.f_elem, self.vol_m, self.mass_m,
+                       self.ener_m, self.pres_m, self.bulk_m, self.q_elem, self.closure, self.relax_alpha,
+                       self.relax_beta, self.phi_eps, self.work_elem)
         x_lag = self.x + dt * self.velocity
         self._since_remap += 1
         if self.mesh_motion == "lagrangian":
@@ -655,10 +818,14 @@ class AleSystem:
         """
         if faces.size == 0:
             return
-        n0, n1 = self.topo["face_nodes"][faces].T
-        l0, l1, w0, w1 = x_lag[n0], x_lag[n1], x_new[n0], x_new[n1]
-        # quad (l0, w0, w1, l1): half the cross product of its diagonals (kernels.quad_area)
-        dv = 0.5 * ((w1[:, 0] - l0[:, 0]) * (l1[:, 1] - w0[:, 1]) - (w1[:, 1] - l0[:, 1]) * (l1[:, 0] - w0[:, 0]))
+        if self.dim == 3:
+            dv = np.empty(faces.size)
+            K.swept_volumes_3d(faces, self.topo["face_nodes"], x_lag, x_new, dv)
+        else:
+            n0, n1 = self.topo["face_nodes"][faces].T
+            l0, l1, w0, w1 = x_lag[n0], x_lag[n1], x_new[n0], x_new[n1]
+            # quad (l0, w0, w1, l1): half the cross product of its diagonals (kernels.quad_area)
+            dv = 0.5 * ((w1[:, 0] - l0[:, 0]) * (l1[:, 1] - w0[:, 1]) - (w1[:, 1] - l0[:, 1]) * (l1[:, 0] - w0[:, 0]))
         inward = dv > 0.0
         for k, (frac, rho_m, e_m, _) in enumerate(self.inflow_states):
             sel = faces[inward & (self.face_inflow[faces] == k)]
@@ -667,32 +834,43 @@ class AleSystem:
             self._fmass[sel] = vol * rho_m
             self._fener[sel] = vol * rho_m * e_m
 
+    def _sweep_order(self) -> tuple:
+        """Directions of this step's remap sweeps: 2D (x, y) and (y, x) on alternate steps; 3D the six
+        orders over six steps, (x, y, z) cycled by one every second step and reversed on odd steps
+        (xyz, zyx, yzx, xzy, zxy, yxz), so each direction leads, and follows each other, equally often."""
+        if self.dim == 2:
+            return (0, 1) if self.n_steps % 2 == 0 else (1, 0)
+        shift = (self.n_steps // 2) % 3
+        order = tuple((shift + i) % 3 for i in range(3))
+        return order[::-1] if self.n_steps % 2 else order
+
     def _remap(self, x_lag: np.ndarray, x_new: np.ndarray) -> None:
         topo = self.topo
         mnode = self.node_mass.copy()
         pnode = mnode[:, None] * self.velocity
         knode = 0.5 * mnode * (self.velocity ** 2).sum(axis=1)
-        dirs = (0, 1) if self.n_steps % 2 == 0 else (1, 0)
         any_open = bool(self.face_open.any())
-        for d in dirs:
-            K.face_fluxes(topo["faces_by_dir"][d], topo["face_nodes"], topo["face_elem"], topo["face_local"],
+        for d in self._sweep_order():
+            ka, kb = topo["side_a"][d], topo["side_b"][d]
+            self._k_faces(topo["faces_by_dir"][d], topo["face_nodes"], topo["face_elem"], topo["face_local"],
                           topo["elem_nbr"], self.face_open, x_lag, x_new, self.vol_m, self.mass_m, self.ener_m,
                           self.order, self.iface, self.phi_eps, self._fvol, self._fmass, self._fener)
             if any_open:
                 fo = np.flatnonzero(self.face_open & (topo["face_dir"] == d))
                 self._inflow_fluxes(fo[self.face_inflow[fo] >= 0], x_lag, x_new)
                 self.outflow -= self._fmass[fo].sum(axis=0)
-            K.apply_face_fluxes(d, topo["elem_face"], topo["elem_sign"], self._fvol, self._fmass, self._fener,
+            K.apply_face_fluxes(ka, kb, topo["elem_face"], topo["elem_sign"], self._fvol, self._fmass, self._fener,
                                 self.vol_m, self.mass_m, self.ener_m)
-            K.dual_fluxes(d, self.conn, topo["elem_face"], topo["elem_sign"], topo["elem_nbr"], self.face_open,
+            K.dual_fluxes(ka, kb, d, self.conn, topo["elem_face"], topo["elem_sign"], topo["elem_nbr"], self.face_open,
                           any_open, self._fmass, topo["node_line"], mnode, pnode, self.order,
                           self._gm, self._gp, self._gk, self._bm, self._bp, self._bk)
-            K.apply_dual_fluxes(d, topo["node_elem_ptr"], topo["node_elem_idx"], any_open, self._gm, self._gp, self._gk,
+            K.apply_dual_fluxes(topo["corner_edge"][d], topo["corner_dst"][d], topo["node_elem_ptr"],
+                                topo["node_elem_idx"], any_open, self._gm, self._gp, self._gk,
                                 self._bm, self._bp, self._bk, mnode, pnode, knode)
         dissip = np.empty_like(mnode)
-        K.finish_remap_nodes(mnode, pnode, knode, self.m_floor, self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)
+        self._k_finish(mnode, pnode, knode, self.m_floor, self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)
         self.wall_impulse += self._impulse.sum(axis=0)
-        K.nodal_mass(self.mass_m, topo["node_elem_ptr"], topo["node_elem_idx"], self.node_mass)
+        K.nodal_mass(self.mass_m, topo["node_elem_ptr"], topo["node_elem_idx"], self.npe, self.node_mass)
         K.finish_remap_elements(self.conn, self.mass_m, self.ener_m, self.node_mass, dissip, self.ke_fix)
 
     # ---------------------------------------------------------------- output
@@ -711,13 +889,13 @@ class AleSystem:
     def material_totals(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(mass, internal energy, kinetic energy) per material, each (N,).
 
-        Kinetic energy per material: each element corner carries M_em / 4 of material m at its
-        node's velocity, KE_m = sum_e sum_a M_em |v_a|^2 / 8; over the materials these sum to the
-        nodal kinetic energy of totals() (m_I = sum_e M_e / 4).
+        Kinetic energy per material: each element corner carries M_em / n of material m at its
+        node's velocity (n = 4 corners, 8 in 3D), KE_m = sum_e sum_a M_em |v_a|^2 / 2n; over the
+        materials these sum to the nodal kinetic energy of totals() (m_I = sum_e M_e / n).
         """
         v2 = (self.velocity ** 2).sum(axis=1)
         corner = v2[self.conn].sum(axis=1)  # (E,) sum of |v|^2 over the element's corners
-        kinetic = 0.125 * (self.mass_m * corner[:, None]).sum(axis=0)
+        kinetic = 0.5 / self.npe * (self.mass_m * corner[:, None]).sum(axis=0)
         return self.mass_m.sum(axis=0), self.ener_m.sum(axis=0), kinetic
 
     def fractions(self) -> np.ndarray:

@@ -112,7 +112,7 @@ def test_coupling_step_bounded_when_hosts_empty(tmp_path):
     dt_full = coupling.stable_dt()
     hosts = np.unique(coupling.host[coupling.host >= 0])
     ale.mass_m[hosts, 1] *= 1e-5  # no force pass since: the stored stiffness is the full hosts'
-    K.nodal_mass(ale.mass_m, ale.topo["node_elem_ptr"], ale.topo["node_elem_idx"], ale.node_mass)
+    K.nodal_mass(ale.mass_m, ale.topo["node_elem_ptr"], ale.topo["node_elem_idx"], ale.npe, ale.node_mass)
     assert coupling.stable_dt() >= dt_full * (1.0 - 1e-9)
     frac, bulk, _ = coupling._fluid_fields(ale)
     np.testing.assert_allclose(bulk[hosts], 1e-5 * coupling.mat_bulk[1], rtol=1e-6)
