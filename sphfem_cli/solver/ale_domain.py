@@ -101,8 +101,23 @@ class AleDomain:
         return ale.x, {"velocity": ale.velocity}, cell
 
     def probe(self, probe) -> float:
-        """A pressure probe: the mixture pressure of the element whose centroid is nearest `probe.point`."""
+        """A deck probe in the ALE part.
+
+        pressure: the mixture pressure of the element whose centroid is nearest `probe.point`.
+        front: the furthest reach of `probe.material` along `probe.axis`, each element's material
+        volume packed against its face on the -axis side: max over the elements holding a fraction
+        phi > 1e-3 of x_min + phi (x_max - x_min) (a full element reaches its far face).
+        """
         ale = self.system
+        if probe.type == "front":
+            axis = "xyz".index(probe.axis)
+            phi = ale.fractions()[:, self.names.index(probe.material)]
+            held = np.flatnonzero(phi > 1e-3)
+            if held.size == 0:
+                return float("nan")
+            coord = ale.x[ale.conn[held], axis]
+            lo, hi = coord.min(axis=1), coord.max(axis=1)
+            return float(np.max(lo + phi[held] * (hi - lo)))
         k = int(np.argmin(np.sum((ale.centroids() - np.array(probe.point)) ** 2, axis=1)))
         return float(ale.pressure(mixture=True)[k])
 

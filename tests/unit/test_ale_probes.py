@@ -1,6 +1,7 @@
-"""Pressure probes in an ALE part (output.probes with type pressure): the mixture pressure of the
-element at the point, written as a history. Checked on a water column at rest under gravity
-(hydrostatic ALE fill) against rho g (H - y) at the element centre."""
+"""Probes in an ALE part (output.probes): pressure, the mixture pressure of the element at the
+point, checked on a water column at rest under gravity (hydrostatic ALE fill) against
+rho g (H - y) at the element centre; front, the furthest reach of a material, checked on the same
+column (its top, exactly) and the dam break (tests/verification/test_dam_break_methods.py)."""
 from __future__ import annotations
 
 import numpy as np
@@ -23,7 +24,8 @@ DECK = {
     "loads": [{"type": "gravity", "acceleration": [0.0, -9.81]}],
     "output": {"history_interval": 0.002, "probes": [
         {"name": "deep", "type": "pressure", "point": [0.1, 0.125]},
-        {"name": "mid", "type": "pressure", "point": [0.1, 0.525], "part": "tank"}]},
+        {"name": "mid", "type": "pressure", "point": [0.1, 0.525], "part": "tank"},
+        {"name": "top", "type": "front", "axis": "y", "material": "water"}]},
 }
 
 
@@ -36,10 +38,15 @@ def test_ale_pressure_probes_read_the_hydrostatic_pressure(tmp_path):
         h = np.genfromtxt(tmp_path / "out" / "histories" / f"{name}.csv", delimiter=",", names=True)
         assert len(h) > 5
         np.testing.assert_allclose(h["pressure"], 1000.0 * 9.81 * (1.0 - y), rtol=1e-3)
+    top = np.genfromtxt(tmp_path / "out" / "histories" / "top.csv", delimiter=",", names=True)
+    np.testing.assert_allclose(top["front"], 1.0, atol=1e-6)
 
 
 @pytest.mark.parametrize("probe, message", [
-    ({"name": "f", "type": "front"}, "front probes measure SPH parts"),
+    ({"name": "f", "type": "front"}, "a front probe in an ALE part needs 'material'"),
+    ({"name": "f", "type": "front", "material": "air"}, "unknown material 'air'"),
+    ({"name": "f", "type": "surface_height", "gauge": 0.1}, "surface_height probes measure SPH parts"),
+    ({"name": "p", "type": "pressure", "point": [0.1, 0.1], "material": "water"}, "only a front probe"),
     ({"name": "p", "type": "pressure", "point": [0.1, 0.1], "part": "nope"}, "unknown part 'nope'"),
 ])
 def test_probes_an_ale_part_cannot_take(tmp_path, probe, message):

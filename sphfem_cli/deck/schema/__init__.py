@@ -205,17 +205,32 @@ def _check_references(deck: Deck) -> None:
     names = set()
     for i, probe in enumerate(deck.output.probes):
         _ref(probe.part, deck.parts, f"output.probes.{i}.part", "part")
+        front_in_ale = probe.type == "front" and (probe.part in ale_parts or (probe.part is None and not sph_parts))
+        if front_in_ale and probe.material is None:
+            raise ValueError(f"@output.probes.{i}: a front probe in an ALE part needs 'material' (whose front)")
+        if probe.material is not None:
+            _ref(probe.material, deck.materials, f"output.probes.{i}.material", "material")
+            if not front_in_ale:
+                raise ValueError(f"@output.probes.{i}.material: only a front probe in an ALE part takes a material")
+            held = {m for name in ({probe.part} if probe.part else ale_parts)
+                    for m in [deck.parts[name].material, *(f.material for f in deck.parts[name].fill or [])]}
+            held |= {b.material for b in deck.boundaries if getattr(b, "condition", None) == "inflow"}
+            if probe.material not in held:
+                raise ValueError(f"@output.probes.{i}.material: '{probe.material}' is not a material of the ALE part "
+                                 f"(it holds: {', '.join(sorted(m for m in held if m))})")
         if probe.type == "pressure" and probe.part in ale_parts:
             pass  # the ALE element at the point
-        elif probe.type == "pressure" and probe.part is None and ale_parts and not sph_parts:
+        elif probe.type in ("pressure", "front") and probe.part is None and ale_parts and not sph_parts:
+            pass
+        elif front_in_ale:
             pass
         elif not sph_parts:
             raise ValueError(f"@output.probes.{i}: {probe.type} probes measure SPH parts and this deck has none"
-                             + (" (an ALE part takes pressure probes)" if ale_parts else ""))
+                             + (" (an ALE part takes pressure and front probes)" if ale_parts else ""))
         elif probe.part is not None and probe.part not in sph_parts:
             raise ValueError(f"@output.probes.{i}.part: '{probe.part}' is not an SPH part "
                              f"(SPH parts: {', '.join(sorted(sph_parts))}"
-                             + (f"; pressure probes may name the ALE part" if ale_parts else "") + ")")
+                             + (f"; pressure and front probes may name the ALE part" if ale_parts else "") + ")")
         if probe.name in names:
             raise ValueError(f"@output.probes.{i}.name: duplicate history name '{probe.name}'")
         names.add(probe.name)

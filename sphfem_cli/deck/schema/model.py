@@ -183,8 +183,9 @@ class SphSection(DeckModel):
 
 
 class AleSection(DeckModel):
-    """Multi-material ALE (2D): a Lagrangian phase on the mesh, then a remap back (Eulerian) or to a
-    smoothed mesh, moving each material's volume, mass and energy across element faces."""
+    """Multi-material ALE (quad4 in 2D, hex8 in 3D): a Lagrangian phase on the mesh, then a remap back
+    (Eulerian) or to a smoothed mesh, moving each material's volume, mass and energy across element
+    faces. In 3D a smoothed mesh takes smoothing average with fixed boundary nodes."""
 
     type: Literal["ale_multi_material"] = Field(description="Section selector: multi-material ALE.")
     advection: Literal["donor_cell", "van_leer"] = Field(
@@ -327,12 +328,22 @@ class HalfSpace(DeckModel):
     normal: Vector = Field(description="Outward normal of the filled side [-].")
 
 
+class FillCylinder(DeckModel):
+    """A circular cylinder (3D): points within `radius` of the axis line through `center`."""
+
+    center: Vector = Field(description="A point on the axis, the middle of the cylinder [length].")
+    radius: PositiveFloat = Field(description="Radius [length].")
+    axis: Literal["x", "y", "z"] = Field("z", description="Axis direction. Default z.")
+    length: PositiveFloat | None = Field(None, description="Length along the axis, centred on `center` [length]. Default unbounded.")
+
+
 class Fill(DeckModel):
     """A region of an ALE part holding one material, at a given state."""
 
     material: str = Field(description="Name of a fluid or void material.")
     box: Box | None = Field(None, description="{min, max} box.")
-    ball: BallGeometry | None = Field(None, description="A disc (2D).")
+    ball: BallGeometry | None = Field(None, description="A disc (2D) or sphere (3D).")
+    cylinder: FillCylinder | None = Field(None, description="A cylinder (3D).")
     polygon: PolygonGeometry | None = Field(None, description="A 2D polygon.")
     half_space: HalfSpace | None = Field(None, description="A half-space.")
     density: PositiveFloat | None = Field(None, description="Initial density [mass/length^3]. Default the material's.")
@@ -341,7 +352,7 @@ class Fill(DeckModel):
 
     @model_validator(mode="after")
     def _one_region(self) -> "Fill":
-        exactly_one(self, ("box", "ball", "polygon", "half_space"), "region")
+        exactly_one(self, ("box", "ball", "cylinder", "polygon", "half_space"), "region")
         return self
 
 
@@ -541,7 +552,9 @@ class AleBoundary(DeckModel):
 
     type: Literal["ale_boundary"] = Field(description="Boundary selector: sides of an ALE mesh.")
     part: str = Field(description="An ALE part.")
-    sides: list[Literal["left", "right", "bottom", "top"]] = Field(min_length=1, description="Sides of the part's mesh.")
+    sides: list[Literal["left", "right", "bottom", "top", "front", "back"]] = Field(
+        min_length=1, description="Sides of the part's mesh (front and back: z-min and z-max, 3D)."
+    )
     condition: Literal["slip", "fixed", "transmit", "inflow"] = Field(
         "slip", description="slip, fixed, transmit (open, zero gradient) or inflow (a ghost element outside, reset to the inflow state every step, is the donor of the advection through the side; the side's nodes move at `velocity`). Default slip."
     )
@@ -648,14 +661,18 @@ class Probe(DeckModel):
     name: str = Field(description="Name of the CSV table written.")
     type: Literal["pressure", "surface_height", "front"] = Field(
         description="pressure: kernel-interpolated at `point`; surface_height: free-surface height at the "
-        "gauge position `gauge` along `axis`; front: the furthest particle of `part` (all SPH parts by default) along `axis`."
+        "gauge position `gauge` along `axis`; front: the furthest particle of `part` (all SPH parts by default) along `axis`, "
+        "or in an ALE part the furthest reach of `material` (each element's material volume packed against its "
+        "face on the -axis side: x_min + phi (x_max - x_min) over the elements holding more than 1e-3 of it)."
     )
     point: Vector | None = Field(None, description="pressure: where [length].")
     gauge: float | None = Field(None, description="surface_height: gauge position along `axis` [length].")
     axis: Literal["x", "y", "z"] = Field("x", description="surface_height and front: the horizontal axis. Default x.")
-    part: str | None = Field(None, description="front: an SPH part (default all SPH parts); pressure: the ALE part "
-                             "to measure instead of the SPH particles (the mixture pressure of the element at `point`; "
-                             "the default in a deck whose only fluid is ALE).")
+    part: str | None = Field(None, description="front: an SPH part (default all SPH parts) or the ALE part; pressure: "
+                             "the ALE part to measure instead of the SPH particles (the mixture pressure of the element "
+                             "at `point`; the default in a deck whose only fluid is ALE).")
+    material: str | None = Field(None, description="front in an ALE part: the material whose front is measured "
+                                 "(required there).")
 
     @model_validator(mode="after")
     def _needs(self) -> "Probe":
