@@ -2,9 +2,10 @@
 
 Cases: a single-material ideal gas with a pressure bump, and water (stiffened gas) with an air
 column (two materials, mixed cells along the interface), both on an n x n quad4 mesh with slip
-walls. Prints element-steps/s on 1 and 2 threads (Lagrangian phase + remap, van Leer, SLIC).
+walls; and the single-material gas in 3D on an n3 x n3 x n3 hex8 mesh (slip walls, a spherical
+bump). Prints element-steps/s on 1 and 2 threads (Lagrangian phase + remap, van Leer, SLIC).
 
-    python benchmarks/ale_throughput.py [n] [steps]      (defaults 480, 20)
+    python benchmarks/ale_throughput.py [n] [steps] [--n3 N] [--threads 1 2]   (defaults 480, 20, 60, 1 2)
 """
 from __future__ import annotations
 
@@ -17,6 +18,17 @@ import numpy as np
 from sphfem_cli.ale import AleSystem, fill_fractions
 from sphfem_cli.materials.tables import gas_row
 from sphfem_cli.model.mesh import box_mesh
+
+
+def build_3d(n):
+    mesh = box_mesh([0.0, 0.0, 0.0], [1.0, 1.0, 1.0], divisions=[n, n, n])
+    nodes, conn = mesh.nodes, mesh.elements
+    r2 = ((nodes[conn].mean(axis=1) - 0.5) ** 2).sum(axis=1)
+    p = np.where(r2 < 0.01, 10.0, 1.0)
+    ale = AleSystem(nodes, conn, [gas_row(1.4, 1.0)], np.ones((len(conn), 1)), [1.0], pressure=p[:, None])
+    for axis in range(3):
+        ale.set_slip(np.flatnonzero((nodes[:, axis] == 0.0) | (nodes[:, axis] == 1.0)), np.eye(3)[axis])
+    return ale
 
 
 def build(n, two):
@@ -37,9 +49,9 @@ def build(n, two):
     return ale
 
 
-def measure(n, steps, two, threads):
+def measure(n, steps, two, threads, dim=2):
     numba.set_num_threads(threads)
-    ale = build(n, two)
+    ale = build(n, two) if dim == 2 else build_3d(n)
     for _ in range(2):  # compile / warm up
         ale.step(ale.stable_dt(0.5))
     t0 = time.perf_counter()
@@ -54,16 +66,24 @@ def main():
                                                  "one and two materials, on 1 and 2 threads.")
     parser.add_argument("n", nargs="?", type=int, default=480, help="elements per side (default 480)")
     parser.add_argument("steps", nargs="?", type=int, default=20, help="timed steps (default 20)")
+    parser.add_argument("--n3", type=int, default=60, help="3D case: elements per side (default 60; 0 skips it)")
+    parser.add_argument("--threads", type=int, nargs="+", default=[1, 2], help="thread counts (default 1 2)")
     args = parser.parse_args()
     n, steps = args.n, args.steps
     max_threads = numba.config.NUMBA_NUM_THREADS
+    threads_list = [t for t in args.threads if t <= max_threads]
     print(f"ALE throughput, {n} x {n} quad4 = {n * n} elements, {steps} steps, van Leer + SLIC")
     for two, name in ((False, "single-material gas"), (True, "two-material water/air")):
-        for threads in (1, 2):
-            if threads > max_threads:
-                continue
+        for threads in threads_list:
             rate = measure(n, steps, two, threads)
             print(f"  {name:24s} threads={threads}: {rate / 1e6:6.2f} M element-steps/s "
+                  f"({rate / threads / 1e6:5.2f} M per thread)")
+    if args.n3 > 0:
+        n3 = args.n3
+        print(f"3D: {n3} x {n3} x {n3} hex8 = {n3 ** 3} elements, {steps} steps")
+        for threads in threads_list:
+            rate = measure(n3, steps, False, threads, dim=3)
+            print(f"  {'single-material gas 3D':24s} threads={threads}: {rate / 1e6:6.2f} M element-steps/s "
                   f"({rate / threads / 1e6:5.2f} M per thread)")
 
 

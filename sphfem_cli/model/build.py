@@ -85,7 +85,7 @@ class AleMesh:
     """The ALE part's mesh and initial material layout.
 
     `materials` are indices into the model's material table; `fractions`, `density`, `pressure`
-    are (E, len(materials)); `velocity` (N, 2) nodal.
+    are (E, len(materials)); `velocity` (N, dim) nodal.
     """
 
     part: int
@@ -388,7 +388,7 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     fractions[:, 0] = 1.0
     density = np.tile(rho0, (n_elem, 1))
     pressure = np.array([[state(m, rho0[j]) for j, m in enumerate(mats)]] * n_elem)
-    velocity = np.zeros((len(nodes), 2))
+    velocity = np.zeros((len(nodes), model.dim))
     for j, fill in enumerate(part.fill):
         inside = _region(fill)
         try:
@@ -403,7 +403,7 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
         density[hit, k] = rho
         pressure[hit, k] = fill.pressure if fill.pressure is not None else state(mats[k], rho)
         if fill.velocity is not None:
-            velocity[inside(nodes[:, 0], nodes[:, 1])] = fill.velocity
+            velocity[inside(*nodes.T)] = fill.velocity
         if part.hydrostatic and model.material_type[mats[k]] != VOID:
             _hydrostatic_fill(model, deck, name, j, nodes, conn, f, mats[k], density[:, k], pressure[:, k])
     return AleMesh(index, nodes, conn, mats, fractions, density, pressure, velocity)
@@ -421,15 +421,16 @@ def _hydrostatic_fill(model: Model, deck: Deck, name: str, j: int, nodes, conn, 
     from ..deck.schema.model import Gravity
     from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, eos_pressure, eos_sound_speed
 
-    g = sum((np.array(l.acceleration[:2], dtype=float) for l in deck.loads
-             if isinstance(l, Gravity) and (l.parts is None or name in l.parts)), np.zeros(2))
+    dim = nodes.shape[1]
+    g = sum((np.array(l.acceleration[:dim], dtype=float) for l in deck.loads
+             if isinstance(l, Gravity) and (l.parts is None or name in l.parts)), np.zeros(dim))
     if not np.any(g):
         raise ModelError(f"parts.{name}.hydrostatic", "a hydrostatic start needs a gravity load on the part")
     up = -g / np.linalg.norm(g)
     hit = np.flatnonzero(f > 0)
     if not len(hit):  # a fill that covers no element has no hydrostatic state (found by fuzzing)
         return
-    heights = nodes[conn[hit]] @ up  # (n, 4)
+    heights = nodes[conn[hit]] @ up  # (n, corners)
     lo, hi = heights.min(axis=1), heights.max(axis=1)
     top = lo + f[hit] * (hi - lo)
     surface = top.max()
@@ -454,20 +455,30 @@ def _hydrostatic_fill(model: Model, deck: Deck, name: str, j: int, nodes, conn, 
 
 
 def _region(fill):
-    """inside(x, y) -> bool array for a fill's region."""
+    """inside(x, y) (2D) or inside(x, y, z) (3D) -> bool array for a fill's region."""
     if fill.box is not None:
-        (x0, y0), (x1, y1) = fill.box.min, fill.box.max
-        return lambda x, y: (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1)
+        lo, hi = fill.box.min, fill.box.max
+        return lambda *c: np.logical_and.reduce([(ck >= a) & (ck <= b) for ck, a, b in zip(c, lo, hi)])
     if fill.ball is not None:
-        (cx, cy), r = fill.ball.center, fill.ball.radius
-        return lambda x, y: (x - cx) ** 2 + (y - cy) ** 2 <= r * r
+        center, r = fill.ball.center, fill.ball.radius
+        return lambda *c: sum((ck - a) ** 2 for ck, a in zip(c, center)) <= r * r
+    if fill.cylinder is not None:
+        cyl = fill.cylinder
+        axis = "xyz".index(cyl.axis)
+        center, r = cyl.center, cyl.radius
+        half = np.inf if cyl.length is None else 0.5 * cyl.length
+
+        def inside(*c):
+            radial = sum((ck - a) ** 2 for k, (ck, a) in enumerate(zip(c, center)) if k != axis)
+            return (radial <= r * r) & (np.abs(c[axis] - center[axis]) <= half)
+        return inside
     if fill.polygon is not None:
         from ..sph.lattice import inside_polygon
 
         vertices = np.array(fill.polygon.vertices, dtype=float)
         return lambda x, y: inside_polygon(np.stack([np.ravel(x), np.ravel(y)], axis=1), vertices).reshape(np.shape(x))
-    (px, py), (nx, ny) = fill.half_space.point, fill.half_space.normal
-    return lambda x, y: (x - px) * nx + (y - py) * ny <= 0.0
+    point, normal = fill.half_space.point, fill.half_space.normal
+    return lambda *c: sum((ck - a) * n for ck, a, n in zip(c, point, normal)) <= 0.0
 
 
 def _particles(model: Model, deck: Deck) -> ParticleSet:

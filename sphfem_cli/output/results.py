@@ -53,7 +53,8 @@ class RunOutput:
                 self.xdmf.add_grid(p.name, "Polyvertex", None, p.particles.stop - p.particles.start)
                 continue
             if p.kind == "ale":
-                self.xdmf.add_grid(p.name, "Quadrilateral", model.ale.elements, len(model.ale.nodes))
+                self.xdmf.add_grid(p.name, TOPOLOGY[model.ale.elements.shape[1]], model.ale.elements,
+                                   len(model.ale.nodes))
                 continue
             conn = model.connectivity[p.elements] - p.nodes.start
             self.xdmf.add_grid(p.name, TOPOLOGY[model.nodes_per_element], conn, p.nodes.stop - p.nodes.start)

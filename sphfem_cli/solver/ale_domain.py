@@ -11,7 +11,7 @@ from ..deck.schema.model import AleBoundary, Gravity
 from ..model import sets as selection
 from ..model.build import VOID, Model
 
-_NORMALS = {"left": (1.0, 0.0), "right": (1.0, 0.0), "bottom": (0.0, 1.0), "top": (0.0, 1.0)}
+_AXES = {"left": 0, "right": 0, "bottom": 1, "top": 1, "front": 2, "back": 2}  # each side's normal axis
 
 
 class AleDomain:
@@ -38,6 +38,7 @@ class AleDomain:
             smoothing=section.smoothing, smooth_weight=section.smoothing_weight,
             smooth_iterations=section.smoothing_iterations, eulerian_pull=section.eulerian_pull,
             smooth_boundary=section.smoothing_boundary, pressure_cutoff=section.pressure_cutoff,
+            line_axis="xyz".index(section.line_axis),
         )
         burn = [(j, deck.materials[n].detonation_velocity) for j, n in enumerate(self.names)
                 if deck.materials[n].type == "high_explosive"]
@@ -46,18 +47,18 @@ class AleDomain:
                                  [(det.point, det.time) for det in deck.detonations])
         for load in deck.loads:
             if isinstance(load, Gravity) and (load.parts is None or part.name in load.parts):
-                self.system.gravity += np.array(load.acceleration[:2], dtype=float)
+                self.system.gravity += np.array(load.acceleration[:model.dim], dtype=float)
         for bc in deck.boundaries:
             if not isinstance(bc, AleBoundary):
                 continue
             for side in bc.sides:
                 nodes = selection.nodes_on_side(mesh.nodes, side)
                 if bc.condition == "slip":
-                    self.system.set_slip(nodes, _NORMALS[side])
+                    self.system.set_slip(nodes, np.eye(model.dim)[_AXES[side]])
                 elif bc.condition == "fixed":
                     self.system.set_fixed(nodes)
                 elif bc.condition == "inflow":
-                    self.system.set_inflow(nodes, self.names.index(bc.material), bc.velocity[:2], density=bc.density,
+                    self.system.set_inflow(nodes, self.names.index(bc.material), bc.velocity[:model.dim], density=bc.density,
                                            energy=bc.energy, pressure=bc.pressure)
                 else:
                     self.system.set_transmit(nodes)

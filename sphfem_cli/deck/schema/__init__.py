@@ -162,6 +162,8 @@ def _check_references(deck: Deck) -> None:
         if isinstance(bc, AleBoundary):
             if bc.part not in ale_parts:
                 raise ValueError(f"@boundaries.{i}.part: '{bc.part}' is not an ALE part")
+            if deck.dimension == 2 and ({"back", "front"} & set(bc.sides)):
+                raise ValueError(f"@boundaries.{i}.sides: back and front sides exist only in 3D")
             if bc.condition == "inflow":
                 _ref(bc.material, deck.materials, f"boundaries.{i}.material", "material")
                 if deck.materials[bc.material].type not in ("fluid", "high_explosive"):
@@ -277,6 +279,8 @@ def _check_interactions(deck: Deck, sph_parts: set, ale_parts: set) -> None:
         _ref(c.fluid, deck.parts, f"{path}.fluid", "part")
         if c.fluid not in ale_parts:
             raise ValueError(f"@{path}.fluid: '{c.fluid}' is not an ALE part")
+        if deck.dimension != 2:
+            raise ValueError(f"@{path}: ALE-structure coupling (lagrange_in_solid) is 2D so far")
         for j, mname in enumerate(c.materials or []):
             groups = [deck.parts[c.fluid].material] + [f.material for f in deck.parts[c.fluid].fill]
             if mname not in groups:
@@ -286,8 +290,19 @@ def _check_interactions(deck: Deck, sph_parts: set, ale_parts: set) -> None:
 
 def _check_ale_part(deck: Deck, pname: str, part) -> None:
     where = f"parts.{pname}"
-    if deck.dimension != 2:
-        raise ValueError(f"@{where}.section: the ALE solver is 2D so far")
+    if deck.dimension == 3:
+        section = deck.sections[part.section]
+        if section.mesh_motion == "smoothed" and section.smoothing != "average":
+            raise ValueError(f"@sections.{part.section}.smoothing: 3D ALE meshes are smoothed by 'average' only "
+                             f"('{section.smoothing}' is 2D)")
+        if section.mesh_motion == "smoothed" and section.smoothing_boundary != "fixed":
+            raise ValueError(f"@sections.{part.section}.smoothing_boundary: 3D ALE meshes keep their boundary nodes "
+                             "fixed ('sliding' is 2D)")
+    for j, fill in enumerate(part.fill):
+        if fill.polygon is not None and deck.dimension != 2:
+            raise ValueError(f"@{where}.fill.{j}.polygon: polygons are 2D (use box, ball, cylinder or half_space in 3D)")
+        if fill.cylinder is not None and deck.dimension != 3:
+            raise ValueError(f"@{where}.fill.{j}.cylinder: cylinders are 3D (use ball in 2D)")
     kind = part.geometry.kind
     if kind not in ("box", "file"):
         raise ValueError(f"@{where}.geometry.{kind}: ALE parts are meshed from box or file")
