@@ -72,6 +72,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
+import math
+
 import numpy as np
 
 from ..materials import kernels as mk
@@ -377,6 +379,46 @@ def _largest_face_area(nodes: np.ndarray, conn: np.ndarray) -> np.ndarray:
     return 0.5 * np.linalg.norm(np.cross(q[:, :, 2] - q[:, :, 0], q[:, :, 3] - q[:, :, 1]), axis=2).max(axis=1)
 
 
+def _straight_lines(x0: np.ndarray, edges: np.ndarray, axis: int) -> tuple:
+    """The mesh lines along ``axis``: (ids, end_a, end_b, s) for the nodes inside a line.
+
+    A line is a chain of edges more aligned with ``axis`` than across it (|d . e_axis| > |d|/sqrt 2
+    at the start); its two end nodes are the chain's ends; s in (0, 1) is each inner node's
+    parameter between them at the start (arc length from end_a over the chain's length). Raises
+    ValueError where a node has more than two such edges (not a structured mesh along ``axis``).
+    """
+    d = x0[edges[:, 1]] - x0[edges[:, 0]]
+    along = np.abs(d[:, axis]) > np.linalg.norm(d, axis=1) / math.sqrt(2.0)
+    a, b = edges[along, 0], edges[along, 1]
+    n = x0.shape[0]
+    deg = np.bincount(np.concatenate([a, b]), minlength=n)
+    if deg.max(initial=0) > 2:
+        raise ValueError("straight_lines smoothing needs a structured mesh: a node has more than two edges along the line axis")
+    nbr = -np.ones((n, 2), dtype=np.int64)
+    for u, w in ((a, b), (b, a)):
+        for i, j in zip(u.tolist(), w.tolist()):
+            nbr[i, 0 if nbr[i, 0] < 0 else 1] = j
+    ids, end_a, end_b, par = [], [], [], []
+    for start in np.flatnonzero(deg == 1):
+        chain, prev, cur = [start], -1, start
+        while True:
+            nxt = [j for j in nbr[cur] if j >= 0 and j != prev]
+            if not nxt:
+                break
+            prev, cur = cur, nxt[0]
+            chain.append(cur)
+        if chain[0] > chain[-1]:  # each chain once, from its lower-numbered end
+            continue
+        arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(x0[chain], axis=0), axis=1))])
+        for node, t in zip(chain[1:-1], arc[1:-1] / arc[-1]):
+            ids.append(node)
+            end_a.append(chain[0])
+            end_b.append(chain[-1])
+            par.append(t)
+    return (np.array(ids, dtype=np.int64), np.array(end_a, dtype=np.int64), np.array(end_b, dtype=np.int64),
+            np.array(par, dtype=np.float64))
+
+
 def _per_elem(value, n_elem: int, n_mat: int, name: str) -> np.ndarray:
     arr = np.asarray(value, dtype=float)
     if arr.shape == (n_mat,):
@@ -395,7 +437,7 @@ class AleSystem:
                  relax_beta: float = 0.5, advect_every: int = 1, ke_fix: bool = True, phi_eps: float = 1e-9,
                  mesh_motion: str = "eulerian", smooth_weight: float = 0.5, eulerian_pull: float = 0.2,
                  pressure_cutoff: float | None = None, mass_floor: float = 1e-10, smoothing: str = "average",
-                 smooth_iterations: int = 1, smooth_boundary: str = "fixed"):
+                 smooth_iterations: int = 1, smooth_boundary: str = "fixed", line_axis: int = 1):
         self.x0 = np.ascontiguousarray(nodes, dtype=np.float64)
         if self.x0.ndim != 2 or self.x0.shape[1] not in (2, 3):
             raise ValueError("AleSystem nodes must be (N, 2) or (N, 3)")
@@ -436,12 +478,12 @@ class AleSystem:
         self.topo = build_topology(self.conn, n_nodes)
         if mesh_motion not in ("eulerian", "lagrangian", "smooth"):
             raise ValueError("mesh_motion must be 'eulerian', 'lagrangian' or 'smooth'")
-        if smoothing not in ("average", "equipotential"):
-            raise ValueError("smoothing must be 'average' or 'equipotential'")
+        if smoothing not in ("average", "equipotential", "straight_lines"):
+            raise ValueError("smoothing must be 'average', 'equipotential' or 'straight_lines'")
         if smooth_boundary not in ("fixed", "sliding"):
             raise ValueError("smooth_boundary must be 'fixed' or 'sliding'")
-        if dim == 3 and mesh_motion == "smooth" and (smoothing != "average" or smooth_boundary != "fixed"):
-            raise ValueError("3D smoothed meshes take smoothing 'average' with fixed boundary nodes only")
+        if dim == 3 and mesh_motion == "smooth" and (smoothing == "equipotential" or smooth_boundary != "fixed"):
+            raise ValueError("3D smoothed meshes take smoothing 'average' or 'straight_lines' with fixed boundary nodes only")
         self.mesh_motion = mesh_motion
         self.smoothing = smoothing
         self.smooth_iterations = int(smooth_iterations)
@@ -453,6 +495,11 @@ class AleSystem:
         self._nbr_a = np.concatenate([edges[:, 0], edges[:, 1]])
         self._nbr_b = np.concatenate([edges[:, 1], edges[:, 0]])
         self._degree = np.bincount(self._nbr_a, minlength=n_nodes).astype(float)
+        self.line_axis = int(line_axis)
+        if mesh_motion == "smooth" and smoothing == "straight_lines":
+            if not 0 <= self.line_axis < dim:
+                raise ValueError(f"line_axis {self.line_axis} is not an axis of a {dim}D mesh")
+            self._lines = _straight_lines(self.x0, edges, self.line_axis)
         on_boundary = np.zeros(n_nodes, dtype=bool)
         bf = fn[self.topo["face_elem"][:, 1] < 0]
         on_boundary[bf.ravel()] = True
@@ -782,6 +829,8 @@ class AleSystem:
         """
         if self.mesh_motion == "eulerian":
             return self.x0.copy()
+        if self.smoothing == "straight_lines":
+            return self._straight_line_target(x_lag)
         inner = self._interior
         w = self.smooth_weight
         x = x_lag.copy()
@@ -808,6 +857,26 @@ class AleSystem:
         x_new = self.x0.copy()
         x_new[moving] = x[moving] + self.eulerian_pull * (self.x0[moving] - x[moving])
         return x_new
+
+    def _straight_line_target(self, x_lag: np.ndarray) -> np.ndarray:
+        """Smoothing "straight_lines": nodes move uniformly along the straight mesh lines along
+        ``line_axis`` (the paper's section 5; LS-DYNA *ALE_SMOOTHING keeps a node at its initial
+        parametric place between two master nodes).
+
+        Every node moves along its line only (along the axis; the other coordinates keep their
+        start): a line's two end nodes by the axis component of their Lagrangian displacement,
+        the nodes inside it to their initial parameter s between the ends,
+        x = x_a + s (x_b - x_a). So the mesh follows the material along the lines (a free surface
+        at a line's end, a column compressed along them) and stays as straight and as evenly
+        spread as it started; across the lines it is Eulerian. Last, every node goes a fraction
+        eulerian_pull back towards its start.
+        """
+        ax = self.line_axis
+        x = self.x0.copy()
+        x[:, ax] = x_lag[:, ax]
+        ids, a, b, s = self._lines
+        x[ids] = x[a] + s[:, None] * (x[b] - x[a])
+        return x + self.eulerian_pull * (self.x0 - x)
 
     def _inflow_fluxes(self, faces: np.ndarray, x_lag: np.ndarray, x_new: np.ndarray) -> None:
         """Replace the fluxes of inflow faces sweeping volume inwards by the ghost donor's.

@@ -290,11 +290,14 @@ def _check_interactions(deck: Deck, sph_parts: set, ale_parts: set) -> None:
 
 def _check_ale_part(deck: Deck, pname: str, part) -> None:
     where = f"parts.{pname}"
+    section = deck.sections[part.section]
+    if section.mesh_motion == "smoothed" and section.smoothing == "straight_lines" and deck.dimension == 2 \
+            and section.line_axis == "z":
+        raise ValueError(f"@sections.{part.section}.line_axis: a 2D mesh has lines along x or y only")
     if deck.dimension == 3:
-        section = deck.sections[part.section]
-        if section.mesh_motion == "smoothed" and section.smoothing != "average":
-            raise ValueError(f"@sections.{part.section}.smoothing: 3D ALE meshes are smoothed by 'average' only "
-                             f"('{section.smoothing}' is 2D)")
+        if section.mesh_motion == "smoothed" and section.smoothing == "equipotential":
+            raise ValueError(f"@sections.{part.section}.smoothing: 3D ALE meshes are smoothed by 'average' or "
+                             "'straight_lines' ('equipotential' is 2D)")
         if section.mesh_motion == "smoothed" and section.smoothing_boundary != "fixed":
             raise ValueError(f"@sections.{part.section}.smoothing_boundary: 3D ALE meshes keep their boundary nodes "
                              "fixed ('sliding' is 2D)")

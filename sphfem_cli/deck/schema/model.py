@@ -194,8 +194,11 @@ class AleSection(DeckModel):
     mesh_motion: Literal["eulerian", "lagrangian", "smoothed"] = Field(
         "eulerian", description="eulerian: the mesh returns to its start after each Lagrangian phase; lagrangian: no remap, the mesh moves with the material (no advection; no transmit or inflow sides); smoothed: the Lagrangian mesh relaxed by `smoothing` (LS-DYNA *CONTROL_ALE METH with AFAC/DFAC). Default eulerian."
     )
-    smoothing: Literal["average", "equipotential"] = Field(
-        "average", description="smoothed meshes: average (each interior node towards the mean of its edge neighbours, LS-DYNA AFAC) or equipotential (Winslow's equipotential point on the four-element stencil, LS-DYNA DFAC; other nodes averaged). Default average."
+    smoothing: Literal["average", "equipotential", "straight_lines"] = Field(
+        "average", description="smoothed meshes: average (each interior node towards the mean of its edge neighbours, LS-DYNA AFAC), equipotential (Winslow's equipotential point on the four-element stencil, LS-DYNA DFAC; other nodes averaged; 2D only) or straight_lines (the paper's variant: every node moves only along the straight mesh line through it along `line_axis`, the lines' end nodes with the material, the nodes inside a line kept at their initial parameter between its ends, like LS-DYNA *ALE_SMOOTHING; a structured mesh; smoothing_weight, smoothing_iterations and smoothing_boundary do not apply). Default average."
+    )
+    line_axis: Literal["x", "y", "z"] = Field(
+        "y", description="straight_lines smoothing: the axis the mesh lines run along (the lines' ends follow the material along it, e.g. a free surface). Default y."
     )
     smoothing_weight: Annotated[float, Field(ge=0, le=1)] = Field(
         0.5, description="Fraction of the way to the smoothing target each pass moves a node. Default 0.5."
