@@ -55,3 +55,19 @@ def test_a_deck_compiles_only_its_physics(deck, needed):
     # Modules of physics a deck does not have are not even imported (import costs, cached loads).
     for name in ("ale", "contact"):
         assert name in needed or not report[name]["imported"], f"{deck} imported {name} kernels"
+
+
+# ALE kernels that only one dimension runs: the *_3d ones, and their 2D counterparts
+_ALE_2D_ONLY = {"lagrange_forces", "nodal_update", "lagrange_energy", "face_fluxes", "finish_remap_nodes", "quad_area"}
+
+
+@pytest.mark.parametrize("deck, dim", [("water_air_shock_tube.yaml", 2), ("underwater_explosion_3d_ale.yaml", 3)])
+def test_an_ale_deck_compiles_only_its_dimension(deck, dim):
+    report = _compiled(DECKS / deck)
+    compiled = set(report["ale"]["compiled"])
+    three = {k for k in compiled if k.endswith("_3d")}
+    if dim == 2:
+        assert not three, f"{deck} compiled 3D ALE kernels {sorted(three)}"
+    else:
+        assert three and not (compiled & _ALE_2D_ONLY), f"{deck} compiled 2D ALE kernels {sorted(compiled & _ALE_2D_ONLY)}"
+    assert not report["fem"]["compiled"] and not report["sph"]["compiled"]
