@@ -73,7 +73,7 @@ def test_3d_ale_deck_runs(tmp_path):
 
 @pytest.mark.parametrize("change, where, message", [
     ("  fluid: {type: ale_multi_material, mesh_motion: smoothed, smoothing: equipotential}",
-     "sections.fluid.smoothing", "3D ALE meshes are smoothed by 'average' only"),
+     "sections.fluid.smoothing", "3D ALE meshes are smoothed by 'average'"),
     ("  fluid: {type: ale_multi_material, mesh_motion: smoothed, smoothing_boundary: sliding}",
      "sections.fluid.smoothing_boundary", "3D ALE meshes keep their boundary nodes fixed"),
 ])
