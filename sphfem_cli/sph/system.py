@@ -329,7 +329,7 @@ class ParticleSystem:
         if stuck.size:
             n = self.n
             svf = np.ones((len(sx), 3))
-            slot_of = np.empty(len(perm), dtype=np.int64)
+            slot_of = np.empty(n + len(gsrc) + len(self.wall_x), dtype=np.int64)  # point id -> slot (active points)
             slot_of[perm] = np.arange(len(perm))
             svf[slot_of[n + stuck]] = gflip[stuck]
             friction_slots = np.sort(slot_of[np.unique(gsrc[stuck])])
