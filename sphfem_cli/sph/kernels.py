@@ -997,10 +997,10 @@ def ghost_friction(sx, sd, svf, slots, perm, cell_start, fprm, iprm, acc, de):
                     slip = min((ui - uj) * dx + (vi - vj) * dy + (wi - wj) * dz, 0.0)
                     stuck = min((ui - f0 * uj) * dx + (vi - f1 * vj) * dy + (wi - f2 * wj) * dz, 0.0)
                     dd = r2 + eps * hij * hij
-                    scale = hij / (dd * 0.5 * (rhoi + sd[j, D_RHO]))
-                    cij = 0.5 * (ci + sd[j, D_C])
-                    mu_s, mu_n = scale * slip, scale * stuck  # mu_ij / rho_ij
                     rhoij = 0.5 * (rhoi + sd[j, D_RHO])
+                    cij = 0.5 * (ci + sd[j, D_C])
+                    scale = hij / (dd * rhoij)
+                    mu_s, mu_n = scale * slip, scale * stuck  # mu_ij / rho_ij
                     dpi = (beta * rhoij * (mu_n * mu_n - mu_s * mu_s) - alpha * cij * (mu_n - mu_s))
                     coef = sd[j, D_VOL] * sd[j, D_RHO] * dpi * kernel_f(kernel, dim, math.sqrt(r2), hij)
                     ax -= coef * dx
