@@ -26,6 +26,13 @@ EXIT_INTERRUPTED = 130  # 128 + SIGINT, as shells report it
 ELEMENTS_PER_THREAD = 20_000
 
 
+def default_threads(model) -> int:
+    """One thread per ELEMENTS_PER_THREAD of work: solid elements, ALE elements and SPH particles."""
+    work = (model.n_elements + (len(model.ale.elements) if model.ale is not None else 0)
+            + (model.particles.n if model.particles is not None else 0))
+    return max(1, work // ELEMENTS_PER_THREAD)
+
+
 class DeckProblem(click.ClickException):
     """A bad deck: one line on stderr, exit 65."""
 
@@ -92,10 +99,17 @@ def check(deck: str) -> None:
     loaded = load_model(deck)
     from .solver.explicit import RunStopped, Simulation
 
+    import numpy as np
+
+    from .materials.plausibility import material_figures
+    from .model.build import VOID
+
     model = loaded.model
     d = loaded.deck
     try:
-        dt = Simulation(model).stable_dt()
+        with np.errstate(all="ignore"):
+            sim = Simulation(model)
+            dt = sim.stable_dt()
     except RunStopped as err:
         raise DeckProblem(f"{deck}:1:1: model: {err}") from None
     force, pressure, density = d.units.derived
@@ -119,12 +133,26 @@ def check(deck: str) -> None:
             continue
         click.echo(f"    {p.name}: {p.nodes.stop - p.nodes.start} nodes, {p.elements.stop - p.elements.start} "
                    f"elements, material {model.material_names[p.material]}, {kind}")
-    for name, m in d.materials.items():
-        density = f", density {m.density:g}" if hasattr(m, "density") else ""
-        click.echo(f"  material {name}: {m.type}{density}")
-    click.echo(f"  stable time step {dt:.4e} (timestep_scale {d.control.timestep_scale}), "
-               f"about {d.control.end_time / dt:.3g} steps to end_time {d.control.end_time:g}")
+    warnings = []
+    for i, (name, m) in enumerate(d.materials.items()):
+        if model.material_type[i] == VOID:
+            click.echo(f"  material {name}: {m.type}")
+            continue
+        fig = material_figures(name, model.material_param[i], not hasattr(m, "youngs_modulus"), d.units,
+                               d.units.derived)
+        figures = [f"density {fig.density:g} {density}"]
+        if fig.modulus is not None:
+            figures.append(f"Young's modulus {fig.modulus:g} {pressure}")
+        if fig.sound_speed is not None:
+            figures.append(f"sound speed {fig.sound_speed:.4g} {d.units.length}/{d.units.time}")
+        click.echo(f"  material {name}: {m.type}, {', '.join(figures)}")
+        warnings += [f"warning: material {name}: {w}" for w in fig.warnings]
+    click.echo(f"  stable time step {dt:.4e} {d.units.time} (timestep_scale {d.control.timestep_scale}), set by "
+               f"{sim.limiter_description()}; about {d.control.end_time / dt:.3g} steps to end_time "
+               f"{d.control.end_time:g} {d.units.time}")
     click.echo(f"  memory estimate {model.memory_bytes() / 2**20:.1f} MiB")
+    for w in warnings:
+        click.echo(w, err=True)
 
 
 @main.command()
@@ -150,8 +178,7 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
     import numba
 
     if threads is None:
-        work = loaded.model.n_elements + (loaded.model.particles.n if loaded.model.particles is not None else 0)
-        threads = max(1, work // ELEMENTS_PER_THREAD)
+        threads = default_threads(loaded.model)
     numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     out = (Path(outdir) if outdir else Path(restart).parent if restart
            else Path.cwd() / f"{Path(deck).stem}_results")
@@ -186,6 +213,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
     without a checkpoint). `restart` continues the run of a checkpoint in `out`.
     """
     import numba
+    import numpy as np
     import yaml
 
     from .output.checkpoint import CHECKPOINT_NAME, CheckpointError, deck_hash, read_checkpoint, write_checkpoint
@@ -213,6 +241,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
     output = None
     control = loaded.deck.control
     last_checkpoint: tuple[float, int] | None = None
+    np_errors = np.seterr(all="ignore")  # overflow and invalid values stop the run through the finite-state guard
     try:
         if payload is None:
             sim = Simulation(loaded.model)
@@ -277,12 +306,15 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
-        if output is not None:
-            try:
-                if status != "completed":
-                    output(force=True)
-            finally:
-                output.close()
+        try:
+            if output is not None:
+                try:
+                    if status != "completed":
+                        output(force=True)
+                finally:
+                    output.close()
+        finally:
+            np.seterr(**np_errors)
     wall = time.perf_counter() - start
     steps = output.sim.state.step if output else 0
     eroded = output.sim.erosion_summary() if output else ""

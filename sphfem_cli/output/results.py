@@ -98,8 +98,6 @@ class RunOutput:
         if (force and not history_done) or _due(t, self._next_history, self.history_interval):
             self.write_histories()
             self._next_history = _next_after(t, self.history_interval)
-            if not force:
-                self.sim.check_history_guards(self.last_energy)
         if (force and self.xdmf.last_time != t) or _due(t, self._next_field, self.field_interval):
             self.write_fields()
             self._next_field = _next_after(t, self.field_interval)

@@ -75,6 +75,12 @@ class AleDomain:
         the couplings' work back out and books it as contact energy)."""
         return self.system.gravity_work + self.system.coupling_work
 
+    def state_arrays(self) -> dict[str, np.ndarray]:
+        """The evolving node and element arrays the output reads, by name."""
+        ale = self.system
+        return {"ALE node coordinates": ale.x, "ALE node velocity": ale.velocity, "ALE material volume": ale.vol_m,
+                "ALE material mass": ale.mass_m, "ALE material energy": ale.ener_m, "ALE material pressure": ale.pres_m}
+
     def energies(self) -> tuple[float, float]:
         """(kinetic, internal) of the ALE fluid."""
         totals = self.system.totals()

@@ -24,7 +24,7 @@ An interaction may also provide
                                                  and a description of where (e.g. "particle 12 of contact a->b")
     penetration_limit: float                     the depth beyond which the run should stop [length]
 
-The penetration guard (checked at every history row, see `check_history_guards`) compares
+The penetration guard (checked after every step, see `check_guards`) compares
 max_penetration() with `control.max_penetration` when the deck sets it, else with the interaction's
 own `penetration_limit`; an interaction with neither is not checked.
 
@@ -43,13 +43,10 @@ from ..fem import kernels as fem
 from ..materials.kernels import EOS_OFFSET, NHIST, P_EOS_TYPE
 from ..model.build import Model
 from .boundary import Constraints, Curves, Loads, RigidBodies
+from .guards import RunStopped, energy_band_at, energy_out_of_band, first_non_finite
 
 
 DT_COLLAPSE = 1e-3  # a step below this fraction of the first one means the model is collapsing
-
-
-ENERGY_GUARD_FLOOR = 1e-3  # the energy guard waits until the reference energy reaches this fraction of the largest seen
-ENERGY_GUARD_STEPS = 100  # before this step the band is widened by (ENERGY_GUARD_STEPS / step)^2 (start-up error)
 
 
 def _stable_or_nan(stable_dt: Callable[[], float], *state: np.ndarray) -> float:
@@ -61,19 +58,6 @@ def _stable_or_nan(stable_dt: Callable[[], float], *state: np.ndarray) -> float:
         if all(np.isfinite(a).all() for a in state):
             raise
         return float("nan")
-
-
-class RunStopped(Exception):
-    """A guard stopped the run; the message says where, when and what, and what to try.
-
-    `guard` names the guard (non_finite, negative_volume, time_step, energy_ratio, lost_particles,
-    penetration); `values` holds the figures the diagnostics file lists.
-    """
-
-    def __init__(self, message: str, guard: str = "", values: dict | None = None):
-        super().__init__(message)
-        self.guard = guard
-        self.values = values or {}
 
 
 @dataclass
@@ -117,6 +101,7 @@ class EnergyRow:
     total: float
     ratio: float
     dt: float
+    reference: float = 0.0  # initial energy + external work (not a glstat column: total / ratio)
 
     COLUMNS = ("time", "kinetic", "internal", "hourglass", "contact", "external_work", "total", "energy_ratio", "dt")
 
@@ -160,7 +145,8 @@ class Simulation:
 
             self.interactions += [LagrangeInSolidCoupling(self, spec) for spec in deck.couplings]
         self._dt_first: float | None = None
-        self._energy_peak = 0.0
+        self.limiter = "solid"  # what set the last step: solid, sph, ale, contact or dt_max
+        self._energy_scale = 0.0  # the energy in play, largest so far (guards.energy_error)
         self._erode_inverted, self._erode_strain = self._erosion_tables()
         self._has_strain_erosion = bool(np.isfinite(self._erode_strain).any())
         self.eroded: list[tuple[float, int, str, str]] = []  # (time, element, part, reason)
@@ -262,8 +248,9 @@ class Simulation:
             dt_it = self.control.timestep_scale * it.stable_dt()
             if dt_it < dt:
                 dt, limiter = dt_it, "contact"
-        if self.control.dt_max is not None:
-            dt = min(dt, self.control.dt_max)
+        if self.control.dt_max is not None and self.control.dt_max < dt:
+            dt, limiter = self.control.dt_max, "dt_max"
+        self.limiter = limiter
         if not np.isfinite(dt):
             return self.control.end_time / 1000.0  # nothing deformable limits the step
         if not dt > 0.0:
@@ -272,13 +259,10 @@ class Simulation:
                              "time_step", {"dt": dt, "domain": limiter})
         if self._dt_first is None:
             self._dt_first = dt
+            self._check_step_count(st, dt, limiter)
         collapsed = dt < DT_COLLAPSE * self._dt_first
         if dt < self.control.dt_min or collapsed:
-            if limiter == "solid":
-                e = int(np.argmin(self._dt_elem))
-                where = f"element {e} of part '{self._part_of(e)}'"
-            else:
-                where = {"sph": "the SPH particles", "ale": "the ALE mesh", "contact": "a contact's stiffness"}[limiter]
+            where = self.limiter_description()
             floor = (f"1/{1 / DT_COLLAPSE:.0f} of the first step {self._dt_first:.3e}" if collapsed
                      else f"dt_min {self.control.dt_min:.3e}")
             raise RunStopped(
@@ -293,12 +277,32 @@ class Simulation:
         """The step the next step would take (as `sphfem check` reports it)."""
         return self._step_size(self.state)
 
+    def limiter_description(self) -> str:
+        """What set the last step `_step_size` chose: the element, particle or setting, and its part."""
+        m = self.model
+        if self.limiter == "solid":
+            e = int(np.argmin(self._dt_elem))
+            return f"element {e} of part '{self._part_of(e)}'"
+        if self.limiter == "sph":
+            ps = self.particles.system
+            with np.errstate(divide="ignore", invalid="ignore"):
+                cfl = np.where(ps.active, ps.h / (ps.c + np.linalg.norm(ps.v, axis=1)), np.inf)
+            i = int(ps.ids[int(np.argmin(cfl))])
+            return f"SPH particle {i} of part '{m.parts[int(m.particles.part[i])].name}'"
+        if self.limiter == "ale":
+            e = int(np.argmin(self.ale.system.dt_elem))
+            return f"element {e} of ALE part '{self.ale.name}'"
+        if self.limiter == "contact":
+            return "a contact's stiffness"
+        return {"dt_max": "control.dt_max"}.get(self.limiter, self.limiter)
+
     def step(self, stop: float | None = None) -> None:
         """Advance one step, shortened if needed to land exactly on time `stop` (default end_time)."""
         st = self.state
         stop = self.control.end_time if stop is None else stop
         dt = self._step_size(st)
-        dt = min(dt, max(stop - st.time, 1e-6 * dt))
+        if stop > st.time:  # never past stop: a huge stable step (a material with E ~ 0) lands on it
+            dt = min(dt, stop - st.time)
         dt_avg = 0.5 * dt if st.step == 0 else 0.5 * (st.dt_prev + dt)
         if self.interactions:
             self._interaction_forces(st)
@@ -319,6 +323,7 @@ class Simulation:
         for it in self.interactions:
             it.record_work(dt, dt_avg, v_old, st)
         st.dt = self._solid_dt(st)
+        self.check_guards()
 
     def _interaction_forces(self, st: State) -> None:
         """Contact and coupling forces of state n, into cleared arrays."""
@@ -366,6 +371,10 @@ class Simulation:
         return 0.5 * float(np.sum(self.model.mass[:, None] * st.v * st.v))
 
     def energy_row(self) -> EnergyRow:
+        with np.errstate(over="ignore", invalid="ignore"):  # an overflow shows as a non-finite energy
+            return self._energy_row()
+
+    def _energy_row(self) -> EnergyRow:
         st = self.state
         ke = self.kinetic_energy()
         ie = float(np.sum(st.energy))
@@ -383,8 +392,11 @@ class Simulation:
         work -= contact_work  # the solids' and fluids' work sums include the contact forces
         total = ke + ie + hg - contact_work
         reference = st.initial_energy + work - lost
-        ratio = total / reference if abs(reference) > 1e-300 else 1.0
-        return EnergyRow(st.time, ke, ie, hg, -contact_work, work, total, ratio, st.dt_prev)
+        if abs(reference) > 1e-300:
+            ratio = total / reference
+        else:
+            ratio = 1.0 if np.isfinite(total) and np.isfinite(reference) else float("nan")
+        return EnergyRow(st.time, ke, ie, hg, -contact_work, work, total, ratio, st.dt_prev, reference)
 
     def part_energies(self) -> np.ndarray:
         """(parts, 3): kinetic, internal, hourglass per part (LS-DYNA matsum)."""
@@ -412,6 +424,8 @@ class Simulation:
         """Erode what the parts' `erosion` allows; stop on any other inverted element."""
         m = self.model
         bad = np.flatnonzero(self._dt_elem == fem.INVERTED)
+        if len(bad) and not np.isfinite(st.volume[bad]).all():
+            self._check_finite()  # an element "inverted" by a non-finite state: that state is the fault
         if len(bad) and self._erode_inverted[bad].any():
             self._erode(st, bad[self._erode_inverted[bad]], "negative volume")
             bad = bad[~self._erode_inverted[bad]]
@@ -463,38 +477,50 @@ class Simulation:
             "lost_particles", {"lost": ps.lost, "particles": ps.n, "fraction": ps.lost / ps.n, "limit": limit},
         )
 
-    def check_history_guards(self, row: EnergyRow) -> None:
-        """The guards checked at every history row: energy ratio band and contact penetration.
+    def check_guards(self) -> None:
+        """The guards judged after every step: a finite state, control.max_steps, the energy balance,
+        contact penetration.
 
-        The energy ratio is judged once the reference energy (initial energy + external work) has
-        reached ENERGY_GUARD_FLOOR of the largest energy seen: at the start of a run driven by loads
-        the reference is near zero and the ratio of two small numbers says nothing. Before step
-        ENERGY_GUARD_STEPS the band's half-widths are widened by (ENERGY_GUARD_STEPS / step)^2: the
-        central difference's start-up error (kinetic energy at half steps against work at full
-        steps) decays about as 1/step^2, measured at 5.9 after 10 steps, 1.15 after 50 and 1.03 after
-        100 in the dam-break deck starting from rest.
+        Finite state: every array of every domain that feeds the output (`state_arrays`) and every
+        energy. Energy balance: the energy error relative to the energy in play (guards.energy_error)
+        must stay within the band [low - 1, high - 1] of control.energy_band, widened before step
+        ENERGY_GUARD_STEPS (guards.energy_band_at). Penetration: each interaction's
+        max_penetration() against control.max_penetration, else its own penetration_limit.
         """
         st = self.state
+        self._check_finite()
+        if st.step >= self.control.max_steps and st.time < self.control.end_time * (1.0 - 1e-12):
+            raise RunStopped(
+                f"{st.step} steps taken by t = {st.time:.6e}, control.max_steps {self.control.max_steps:g}, before "
+                f"end_time {self.control.end_time:g} (remedies: check what shrinks the step, raise control.max_steps)",
+                "time_step", {"steps": st.step, "max_steps": self.control.max_steps})
+        row = self.energy_row()
         band = self.control.energy_band
         if band is not None:
-            reference = row.total / row.ratio if row.ratio != 0.0 else 0.0
-            scale = abs(row.kinetic) + abs(row.internal) + abs(row.hourglass) + abs(row.contact) + abs(reference)
-            self._energy_peak = max(self._energy_peak, scale)
-            widen = max(1.0, (ENERGY_GUARD_STEPS / max(st.step, 1)) ** 2)
-            low, high = 1.0 - (1.0 - band[0]) * widen, 1.0 + (band[1] - 1.0) * widen
-            judged = abs(reference) >= ENERGY_GUARD_FLOOR * self._energy_peak
-            if judged and not low <= row.ratio <= high:
+            reference = row.reference
+            energies = (row.kinetic, row.internal, row.hourglass, row.contact, row.total, reference)
+            if not np.isfinite(energies).all():
+                raise RunStopped(
+                    f"non-finite energy at t = {st.time:.6e}, step {st.step} (kinetic {row.kinetic:.4e}, internal "
+                    f"{row.internal:.4e}, hourglass {row.hourglass:.4e}, contact {row.contact:.4e}, initial + external "
+                    f"work {reference:.4e}) (remedies: lower timestep_scale, check material constants and units)",
+                    "non_finite", {"array": "energy"})
+            in_play = abs(row.kinetic) + abs(row.internal) + abs(row.hourglass) + abs(row.contact)
+            self._energy_scale = max(self._energy_scale, in_play, abs(reference))
+            low, high = energy_band_at(band, st.step)
+            if energy_out_of_band(row.ratio, row.total, reference, self._energy_scale, band, st.step):
                 raise RunStopped(
                     f"energy ratio {row.ratio:.4f} left the band [{low:.4g}, {high:.4g}] at t = {st.time:.6e}, "
-                    f"step {st.step} (total {row.total:.4e}, initial + external work {reference:.4e}, kinetic "
-                    f"{row.kinetic:.4e}, internal {row.internal:.4e}, hourglass {row.hourglass:.4e}, contact "
+                    f"step {st.step} (total {row.total:.4e}, initial + external work {reference:.4e}, an error of "
+                    f"{(row.total - reference) / self._energy_scale:+.1%} of the energy in play {self._energy_scale:.4e}; "
+                    f"kinetic {row.kinetic:.4e}, internal {row.internal:.4e}, hourglass {row.hourglass:.4e}, contact "
                     f"{row.contact:.4e}) (remedies: lower timestep_scale, raise hourglass stiffness if hourglass "
                     "energy grows, refine where the mesh distorts, check contact stiffness; widen or switch off "
                     "control.energy_band if the loss is physical)",
                     "energy_ratio", {"ratio": row.ratio, "band": list(band), "band at this step": [low, high],
-                                     "total": row.total,
-                                     "reference": reference, "kinetic": row.kinetic, "internal": row.internal,
-                                     "hourglass": row.hourglass, "contact": row.contact},
+                                     "total": row.total, "reference": reference, "energy in play": self._energy_scale,
+                                     "kinetic": row.kinetic, "internal": row.internal, "hourglass": row.hourglass,
+                                     "contact": row.contact},
                 )
         for it in self.interactions:
             if not hasattr(it, "max_penetration"):
@@ -512,6 +538,42 @@ class Simulation:
                     "master surface, or lower the impact speed)",
                     "penetration", {"depth": depth, "limit": limit, "where": where},
                 )
+
+    def _check_finite(self) -> None:
+        st = self.state
+        bad = first_non_finite(self.state_arrays())
+        if bad is not None:
+            name, row = bad
+            raise RunStopped(
+                f"non-finite {name}{'' if row < 0 else f' (row {row})'} at t = {st.time:.6e}, step {st.step} "
+                "(remedies: lower timestep_scale, check material constants, loads, prescribed motion and units)",
+                "non_finite", {"array": name, "row": row})
+
+    def state_arrays(self) -> dict[str, np.ndarray]:
+        """Every evolving array that feeds the output, by a name for messages (the finite-state guard)."""
+        st = self.state
+        arrays = {}
+        if self.has_solids:
+            arrays.update({"node coordinates": st.x, "node velocity": st.v, "internal force": st.f_int,
+                           "stress": st.stress, "material history": st.hist, "internal energy": st.energy,
+                           "hourglass energy": st.hg_energy})
+        if self.particles is not None:
+            arrays.update(self.particles.state_arrays())
+        if self.ale is not None:
+            arrays.update(self.ale.state_arrays())
+        return arrays
+
+    def _check_step_count(self, st: State, dt: float, limiter: str) -> None:
+        """Stop at once when end_time / dt exceeds control.max_steps: such a run would not end."""
+        with np.errstate(over="ignore"):
+            steps = (self.control.end_time - st.time) / dt
+        if steps > self.control.max_steps:
+            about = f"about {steps:.3g}" if np.isfinite(steps) else "more than 1e308"
+            raise RunStopped(
+                f"the {limiter} domain's time step {dt:.3e} needs {about} steps to end_time "
+                f"{self.control.end_time:g}, more than control.max_steps {self.control.max_steps:g} (remedies: check "
+                "timestep_scale, dt_max, the material constants and the units; raise control.max_steps)",
+                "time_step", {"dt": dt, "steps": steps, "max_steps": self.control.max_steps, "domain": limiter})
 
     def _where_not_finite(self, st: State) -> str:
         bad = np.flatnonzero(~np.isfinite(self._dt_elem))

@@ -85,6 +85,12 @@ class Particles:
     def step(self, dt: float) -> None:
         self.system.step(dt)
 
+    def state_arrays(self) -> dict[str, np.ndarray]:
+        """The evolving per-particle arrays the output reads, by name (rows are particle slots)."""
+        ps = self.system
+        return {"SPH coordinates": ps.x, "SPH velocity": ps.v, "SPH density": ps.rho,
+                "SPH internal energy": ps.e, "SPH pressure": ps.p}
+
     def energies(self) -> tuple[float, float, float, float]:
         """(kinetic, internal, work done on the particles by gravity, f_ext and dummy walls, energy carried off
         by lost particles)."""

@@ -70,19 +70,26 @@ class Control(DeckModel):
     )
     dt_max: PositiveFloat | None = Field(None, description="Upper bound on the time step [time]. Default none.")
     energy_band: Annotated[list[PositiveFloat], Field(min_length=2, max_length=2)] | None = Field(
-        [0.9, 1.1], description="The run stops with a diagnosis when the energy ratio (glstat energy_ratio: total "
-        "energy over initial energy plus external work) leaves [low, high]; checked at every history row, once the "
-        "reference energy exceeds 1e-3 of the largest energy seen; before step 100 the band is widened by "
-        "(100/step)^2 for the start-up error of the central difference. null switches the check off. "
-        "Default [0.9, 1.1]."
+        [0.9, 1.1], description="The run stops with a diagnosis when the energy error leaves [low - 1, high - 1]: "
+        "total energy less (initial energy plus external work), over the energy in play (the largest so far of "
+        "|kinetic| + |internal| + |hourglass| + |contact| and of initial energy plus external work). Where every "
+        "energy is positive this is the glstat energy_ratio leaving [low, high]; where energies of opposite sign "
+        "exchange (water released from rest) the ratio of two small numbers is not judged. Checked after every "
+        "step; before step 100 the band is widened by (100/step)^2 for the start-up error of the central "
+        "difference. null switches the check off. Default [0.9, 1.1]."
+    )
+    max_steps: PositiveFloat = Field(
+        1.0e9, description="The run stops at once when end_time over the first stable step exceeds this number of "
+        "steps (a run that would not end: a timestep_scale or dt_max far too small, units mixed up) [-]. "
+        "Default 1e9."
     )
     max_lost_fraction: Annotated[float, Field(ge=0, le=1)] | None = Field(
         0.5, description="The run stops when more than this fraction of the SPH particles has left the domain "
         "(deactivated) [-]. null switches the check off. Default 0.5."
     )
     max_penetration: PositiveFloat | None = Field(
-        None, description="The run stops when a contact or coupling reports a penetration deeper than this, checked at "
-        "every history row [length]. Default none: each contact's own limit, if it has one."
+        None, description="The run stops when a contact or coupling reports a penetration deeper than this, checked "
+        "after every step [length]. Default none: each contact's own limit, if it has one."
     )
     checkpoint_interval: PositiveFloat | None = Field(
         None, description="Simulated time between restart checkpoints (checkpoint.pkl in the output folder, "
