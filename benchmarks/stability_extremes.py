@@ -2,9 +2,13 @@
 
     python benchmarks/stability_extremes.py [--only NAME,...] [--long-steps 100000]
 
-Each case is a small deck run through `sphfem run` (in process); the table gives the exit code,
-the guard that stopped it (or "completed"), steps, the last energy ratio and the first line of
-the diagnosis. docs/stability.md holds the table as measured; the figures are not timed tests.
+    python benchmarks/stability_extremes.py --write     # rerun every case, rewrite docs/stability.md's table
+
+Each case is a small deck run through `sphfem run` (in process); the table gives the guard that
+stopped it (or "completed"), steps, the last energy ratio and its range, the wall time and the first
+line of the diagnosis. docs/stability.md holds the table this script wrote; every column but the wall
+time is deterministic, and `tests/robustness/test_stability_table.py` reruns the QUICK groups and
+compares them with it. The wall times are not timed tests.
 """
 from __future__ import annotations
 
@@ -233,24 +237,66 @@ def _long_run_deck(tree: dict, workdir: Path, steps: int) -> dict:
     return tree
 
 
+HEADER = ("| group | case | outcome | steps | energy ratio (last; min-max) | wall s | notes |\n"
+          "|---|---|---|---|---|---|---|")
+DOC = Path(__file__).resolve().parents[1] / "docs" / "stability.md"
+BEGIN = "<!-- table: written by `python benchmarks/stability_extremes.py --write`; do not edit by hand -->"
+END = "<!-- end of the table -->"
+QUICK = ("timestep_scale", "impact speed", "density ratio", "near incompressible", "thin 3D parts",
+         "tensile instability", "one element", "one particle", "gravity")
+"""The groups `tests/robustness/test_stability_table.py` reruns (the others take minutes)."""
+
+
+def table_row(group: str, name: str, row: dict) -> str:
+    """One markdown row of the table; its columns but the wall time are deterministic."""
+    ratio = (f"{row['ratio']:.4f}; {row['ratio_range'][0]:.4f}-{row['ratio_range'][1]:.4f}"
+             if "ratio" in row else "-")
+    note = "; ".join(x for x in (row.get("drift", ""), row["eroded"], row["sph"], row["diagnosis"][:160]) if x)
+    return f"| {group} | {name} | {row['guard']} | {row['steps']} | {ratio} | {row['wall']:.1f} | {note} |"
+
+
+def run_table(only: set[str], long_steps: int, echo=None) -> list[str]:
+    """The table's rows for the groups in `only` (all when empty)."""
+    rows = []
+    for group, name, tree in cases(long_steps):
+        if only and group not in only:
+            continue
+        with tempfile.TemporaryDirectory() as tmp:
+            row = run_case(tree, Path(tmp), long_steps if group == "long run" else None)
+        rows.append(table_row(group, name, row))
+        if echo is not None:
+            echo(rows[-1])
+    return rows
+
+
+def shipped_rows(doc: Path = DOC) -> list[str]:
+    """The rows of the table in docs/stability.md."""
+    text = doc.read_text()
+    body = text[text.index(BEGIN) + len(BEGIN):text.index(END)]
+    return [line for line in body.strip().splitlines()[2:] if line.startswith("| ")]
+
+
+def write_doc(rows: list[str], doc: Path = DOC) -> None:
+    """Replace the table in docs/stability.md by `rows`."""
+    text = doc.read_text()
+    head, tail = text[:text.index(BEGIN) + len(BEGIN)], text[text.index(END):]
+    doc.write_text(head + "\n" + HEADER + "\n" + "\n".join(rows) + "\n" + tail)
+
+
 def main_() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", default="", help="comma-separated case groups to run")
     parser.add_argument("--long-steps", type=int, default=100_000)
+    parser.add_argument("--write", action="store_true", help="write the whole table into docs/stability.md")
     args = parser.parse_args()
     only = {s.strip() for s in args.only.split(",") if s.strip()}
-    print("| group | case | outcome | steps | energy ratio (last; min-max) | wall s | notes |")
-    print("|---|---|---|---|---|---|---|")
-    for group, name, tree in cases(args.long_steps):
-        if only and group not in only:
-            continue
-        with tempfile.TemporaryDirectory() as tmp:
-            row = run_case(tree, Path(tmp), args.long_steps if group == "long run" else None)
-        ratio = (f"{row['ratio']:.4f}; {row['ratio_range'][0]:.4f}-{row['ratio_range'][1]:.4f}"
-                 if "ratio" in row else "-")
-        note = "; ".join(x for x in (row.get("drift", ""), row["eroded"], row["sph"], row["diagnosis"][:160]) if x)
-        print(f"| {group} | {name} | {row['guard']} | {row['steps']} | {ratio} | {row['wall']:.1f} | {note} |",
-              flush=True)
+    if args.write and only:
+        parser.error("--write runs every case: leave out --only")
+    print(HEADER, flush=True)
+    rows = run_table(only, args.long_steps, echo=lambda line: print(line, flush=True))
+    if args.write:
+        write_doc(rows)
+        print(f"wrote {len(rows)} rows into {DOC}")
 
 
 if __name__ == "__main__":
