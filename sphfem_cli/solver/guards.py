@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 ENERGY_GUARD_STEPS = 100  # before this step the band is widened by (ENERGY_GUARD_STEPS / step)^2 (start-up error)
+ENERGY_GUARD_FIRST = 5  # the energy guard is judged from this step on (see energy_out_of_band)
 
 
 class RunStopped(Exception):
@@ -64,7 +65,14 @@ def energy_out_of_band(ratio: float, total: float, reference: float, in_play: fl
     hundreds of times smaller than the energies it balances, and a ratio out of the band is then no
     energy error: the elastic gate's ratio was -27 at step 6 for an error of 4 % of the energy in
     play. A blow-up fails both: its error is the growing energy itself.
+
+    Nothing is judged before step ENERGY_GUARD_FIRST: the leapfrog kicks the SPH internal energy
+    a half step behind the velocity, so after the first step the kinetic energy of a column
+    released from rest stands alone (40 x 80 particles: error 100 % of the energy in play at step 1,
+    14 % at step 2, 5 % at step 3, 1.2 % at step 5, 0.4 % at step 10).
     """
+    if step < ENERGY_GUARD_FIRST:
+        return False
     low, high = energy_band_at(band, step)
     if low <= ratio <= high:
         return False
