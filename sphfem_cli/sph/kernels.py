@@ -57,12 +57,19 @@ NI = 9
 # slots of the fluid parameter row used here (materials.tables)
 P_VISCOSITY = 5
 
-# Fast-math flags without nnan/ninf (NaN checks keep working) and without "contract": with FMA
-# contraction allowed, the machine code numba compiles in the running process and the code it
-# writes to and loads from its on-disk cache fused different multiply-adds, so a run that compiled
-# its kernels and a run that loaded them differed at round-off (4 % in an elastic gate's tip
-# velocity after 0.02 s, where the contact amplifies it). Without it the two are bit-identical
-# (tests/robustness/test_determinism.py).
+# Fast-math flags without nnan/ninf (NaN checks keep working), without "contract" and, but for the
+# additions of the neighbour sums (_FMV, _pair_sums), without "reassoc". numba links a copy of each
+# callee's optimised LLVM IR into its caller's module (linkonce_odr) and optimises that module
+# again, and the caller's module is what it writes to its on-disk cache. The process that compiles
+# runs the callee's own code, optimised once (the JIT linker resolves the weak copies to the
+# definition it loaded first), a process that loads runs the copies in the cached caller: for
+# _pair_sums the one in _fluid_rates, optimised three times (its library, the parfor gufunc's,
+# _fluid_rates'). With "contract" or "reassoc" on every instruction each optimisation may fuse or
+# regroup differently (reassoc on all of _pair_sums: the second pass regrouped the product of the
+# delta-SPH term), so a run that compiled its kernels and one that loaded them differed at
+# round-off (4 % in an elastic gate's tip velocity after 0.02 s, where the contact amplifies it).
+# Without them re-optimising changes no result (the copies differ only in commuted operands), and
+# the two are bit-identical (tests/robustness/test_determinism.py).
 _FM = {"nsz", "arcp"}
 
 
@@ -676,7 +683,97 @@ def viscous_stress(sx, sd, svf, cell_start, fprm, iprm, params, stau):
 _BLOCK = 32
 _PAD = 4  # pair lists are padded to a multiple of the vector width with the sentinel slot
 
-_FMV = {"nsz", "arcp", "reassoc"}  # reassoc: LLVM may vectorise the pair sums (no "contract": see _FM)
+# reassoc lets LLVM vectorise the neighbour sums (their order of additions is then LLVM's); it is
+# given to the sums only, not to the terms (see _FM)
+_FMV = {"nsz", "arcp", "reassoc"}
+
+
+@njit(cache=True, fastmath=_FM, forceinline=True, error_model="numpy")
+def _pair_terms(j, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, fmati,
+                alpha, beta, eps, gx, gy, gz, dhydro):
+    """The terms of neighbour slot ``j`` in the sums of ``_pair_sums`` (same arguments, same order).
+
+    Without "reassoc" and always inlined into ``_pair_sums`` (LLVM keeps each instruction's flags
+    when it inlines), so re-optimising the inlined code cannot reorder these products and sums.
+    """
+    kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
+    dim = dshape.ndim
+    full = tshape.ndim == 1
+    wend = kernel == WENDLAND_C2
+    one_d = dim == 1
+    jx = j * np.uint64(4)
+    jd = j * np.uint64(ND)
+    dx = xi - sxf[jx]
+    dy = yi - sxf[jx + 1] if dim > 1 else 0.0
+    dz = zi - sxf[jx + 2] if dim > 2 else 0.0
+    hij = 0.5 * (hi + sxf[jx + 3])
+    r2 = dx * dx
+    if dim > 1:
+        r2 += dy * dy
+    if dim > 2:
+        r2 += dz * dz
+    r = math.sqrt(r2)
+    a = 1.0 / (hij * r)
+    inv = r * a  # 1/h_ij
+    q = r2 * a  # r/h_ij
+    # kernel shape theta(q) and (1/q) dtheta/dq; both branches of the spline computed, then selected
+    if wend:
+        tw = max(1.0 - 0.5 * q, 0.0)
+        tw2 = tw * tw
+        th = tw2 * tw * (1.5 * q + 1.0) if one_d else tw2 * tw2 * (2.0 * q + 1.0)
+        dth = -3.0 * tw2 if one_d else -5.0 * tw2 * tw
+    else:
+        tc = max(2.0 - q, 0.0)
+        inner = q < 1.0
+        th = 1.0 - q * q * (1.5 - 0.75 * q) if inner else 0.25 * tc * tc * tc
+        dth = -3.0 + 2.25 * q if inner else -0.75 * tc * tc * hij * hij * a  # -0.75 (2-q)^2 / q
+    invd = inv * (inv if dim >= 2 else 1.0) * (inv if dim >= 3 else 1.0)
+    norm = sig * invd
+    f = norm * inv * inv * dth
+    wgx = f * dx
+    wgy = f * dy
+    wgz = f * dz
+    du = ui - sdf[jd + D_VX]
+    dv = vi - sdf[jd + D_VY] if dim > 1 else 0.0
+    dw = wi - sdf[jd + D_VZ] if dim > 2 else 0.0
+    rhoj = sdf[jd + D_RHO]
+    vol = sdf[jd + D_VOL]
+    mj = vol * rhoj
+    vdotg = du * wgx
+    vdr = du * dx
+    if dim > 1:
+        vdotg += dv * wgy
+        vdr += dv * dy
+    if dim > 2:
+        vdotg += dw * wgz
+        vdr += dw * dz
+    vdotr = min(vdr, 0.0)
+    cj = sdf[jd + D_C]
+    cij = 0.5 * (ci + cj)
+    rij = 0.5 * (rhoi + rhoj)
+    dd = r2 + eps * hij * hij
+    rcp = 1.0 / (dd * dd * rij)
+    hv = hij * vdotr
+    # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
+    pi_ij = hv * (beta * hv - alpha * cij * dd) * rcp
+    coef = mj * (pri + sdf[jd + D_PR] + pi_ij)
+    work = coef * vdotg
+    mk = sdf[jd + D_MK]  # mat * 4 + kind, decoded in floating point (exact for these integers)
+    matj = np.floor(0.25 * mk)
+    notwall = 1.0 if mk - 4.0 * matj != KIND_WALL else 0.0
+    wall_work = (1.0 - notwall) * work if full else 0.0
+    same = notwall if matj == fmati else 0.0
+    psi = rhoj - rhoi
+    if dhydro:
+        gr = gx * dx
+        if dim > 1:
+            gr += gy * dy
+        if dim > 2:
+            gr += gz * dz
+        psi += rij * gr / (cij * cij)
+    diff = same * hij * cij * psi * f * vol
+    wr = notwall * norm * th * mj * (dd * dd * rcp) if full else 0.0
+    return (coef * wgx, coef * wgy, coef * wgz, vol * vdotg, work, wall_work, diff, wr * du, wr * dv, wr * dw)
 
 
 @njit(cache=True, fastmath=_FMV, error_model="numpy")
@@ -690,111 +787,38 @@ def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, 
     ``kshape``, ``dshape`` and ``tshape`` (see ``fluid_rates``): one compiled version per
     combination, in which the other kernel's shape, the coordinates and velocities above ``dim``
     (in 2D exactly 0) and, with ``tshape.ndim == 2``, the wall work and XSPH sums (then exactly 0)
-    are not computed.
+    are not computed. The terms of one pair are ``_pair_terms``'.
 
     Returns (ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw): the pressure + artificial-viscosity
     acceleration -sum m_j S grad W (S = p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij), sum V_j v_ij.grad W,
     sum m_j S v_ij.grad W, its part over dummy wall points j, the delta-SPH sum sum h c psi F V (same material, no wall) and the
     XSPH sums sum (m_j/rho_ij) W (v_j - v_i) (no wall). Sentinel entries add exactly zero.
     """
-    kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
     dim = dshape.ndim
     full = tshape.ndim == 1
+    fmati = float(mati)
     ax = ay = az = 0.0
     cont = work = wall_work = diff = 0.0
     sxu = sxv = sxw = 0.0
-    wend = kernel == WENDLAND_C2
-    one_d = dim == 1
-    fmati = float(mati)
-    four = np.uint64(4)
-    eight = np.uint64(ND)
     for t in range(cnt):
-        j = nbj[t]
-        jx = j * four
-        jd = j * eight
-        dx = xi - sxf[jx]
-        dy = yi - sxf[jx + 1] if dim > 1 else 0.0
-        dz = zi - sxf[jx + 2] if dim > 2 else 0.0
-        hij = 0.5 * (hi + sxf[jx + 3])
-        r2 = dx * dx
+        tx, ty, tz, tc, tw, tww, td, tu, tv, tws = _pair_terms(
+            nbj[t], sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, fmati,
+            alpha, beta, eps, gx, gy, gz, dhydro)
+        ax -= tx
         if dim > 1:
-            r2 += dy * dy
+            ay -= ty
         if dim > 2:
-            r2 += dz * dz
-        r = math.sqrt(r2)
-        a = 1.0 / (hij * r)
-        inv = r * a  # 1/h_ij
-        q = r2 * a  # r/h_ij
-        # kernel shape theta(q) and (1/q) dtheta/dq; both branches of the spline computed, then selected
-        if wend:
-            tw = max(1.0 - 0.5 * q, 0.0)
-            tw2 = tw * tw
-            th = tw2 * tw * (1.5 * q + 1.0) if one_d else tw2 * tw2 * (2.0 * q + 1.0)
-            dth = -3.0 * tw2 if one_d else -5.0 * tw2 * tw
-        else:
-            tc = max(2.0 - q, 0.0)
-            inner = q < 1.0
-            th = 1.0 - q * q * (1.5 - 0.75 * q) if inner else 0.25 * tc * tc * tc
-            dth = -3.0 + 2.25 * q if inner else -0.75 * tc * tc * hij * hij * a  # -0.75 (2-q)^2 / q
-        invd = inv * (inv if dim >= 2 else 1.0) * (inv if dim >= 3 else 1.0)
-        norm = sig * invd
-        f = norm * inv * inv * dth
-        wgx = f * dx
-        wgy = f * dy
-        wgz = f * dz
-        du = ui - sdf[jd + D_VX]
-        dv = vi - sdf[jd + D_VY] if dim > 1 else 0.0
-        dw = wi - sdf[jd + D_VZ] if dim > 2 else 0.0
-        rhoj = sdf[jd + D_RHO]
-        vol = sdf[jd + D_VOL]
-        mj = vol * rhoj
-        vdotg = du * wgx
-        vdr = du * dx
-        if dim > 1:
-            vdotg += dv * wgy
-            vdr += dv * dy
-        if dim > 2:
-            vdotg += dw * wgz
-            vdr += dw * dz
-        cont += vol * vdotg
-        vdotr = min(vdr, 0.0)
-        cj = sdf[jd + D_C]
-        cij = 0.5 * (ci + cj)
-        rij = 0.5 * (rhoi + rhoj)
-        dd = r2 + eps * hij * hij
-        rcp = 1.0 / (dd * dd * rij)
-        hv = hij * vdotr
-        # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
-        pi_ij = hv * (beta * hv - alpha * cij * dd) * rcp
-        coef = mj * (pri + sdf[jd + D_PR] + pi_ij)
-        ax -= coef * wgx
-        if dim > 1:
-            ay -= coef * wgy
-        if dim > 2:
-            az -= coef * wgz
-        work += coef * vdotg
-        mk = sdf[jd + D_MK]  # mat * 4 + kind, decoded in floating point (exact for these integers)
-        matj = np.floor(0.25 * mk)
-        notwall = 1.0 if mk - 4.0 * matj != KIND_WALL else 0.0
+            az -= tz
+        cont += tc
+        work += tw
+        diff += td
         if full:
-            wall_work += (1.0 - notwall) * coef * vdotg
-        same = notwall if matj == fmati else 0.0
-        psi = rhoj - rhoi
-        if dhydro:
-            gr = gx * dx
+            wall_work += tww
+            sxu -= tu
             if dim > 1:
-                gr += gy * dy
+                sxv -= tv
             if dim > 2:
-                gr += gz * dz
-            psi += rij * gr / (cij * cij)
-        diff += same * hij * cij * psi * f * vol
-        if full:
-            wr = notwall * norm * th * mj * (dd * dd * rcp)
-            sxu -= wr * du
-            if dim > 1:
-                sxv -= wr * dv
-            if dim > 2:
-                sxw -= wr * dw
+                sxw -= tws
     return ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw
 
 
