@@ -493,6 +493,16 @@ def _fraction(ctx, param, value):
         raise click.BadParameter(f"expected a fraction or a percentage (5%), got {value!r}") from None
 
 
+def _ale_sizes(ctx, param, value):
+    """--ale-sizes: "default" (None: h, h/2, h/4 where the scene allows), "none" (()), or a number list."""
+    text = str(value).strip().lower() if value is not None else "default"
+    if text == "default":
+        return None
+    if text == "none":
+        return ()
+    return _number_list(float)(ctx, param, value)
+
+
 @main.command("mesh-study")
 @click.argument("deck", type=click.Path(exists=True, dir_okay=False))
 @click.option("--ratios", default="1,2,3", callback=_number_list(int), show_default=True,
@@ -506,15 +516,18 @@ def _fraction(ctx, param, value):
 @click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
               help="Cases run at once in the local process pool.")
 @click.option("--scheduler", default=None, help="Dask scheduler ADDRESS: run the cases on that cluster.")
-@click.option("--ale-sizes", default=None, callback=_number_list(float),
-              help="ALE element sizes to sweep as well (the reference's own convergence).")
+@click.option("--ale-sizes", default="default", callback=_ale_sizes, show_default=True,
+              help="ALE element sizes to run besides the deck's h (the reference's own convergence): default "
+                   "h/2 and h/4 where the scene allows; none: the deck's h only; or a list s1,s2.")
 @click.option("--threads", type=click.IntRange(min=1), default=1, show_default=True, help="Threads per case.")
 @click.option("--end-time", type=click.FloatRange(min=0, min_open=True), default=None,
               help="Run every case to this time instead of the deck's end_time.")
+@click.option("--verify", is_flag=True,
+              help="Run the recommended ratio and report its predicted against its measured error and cost.")
 @click.option("-o", "--output", "outdir", type=click.Path(file_okay=False), default=None,
               help="Study folder. Default: <deck name>_study in the current directory.")
 def mesh_study(deck, ratios, reference, quantities, tolerance, workers, scheduler, ale_sizes, threads, end_time,
-               outdir) -> None:
+               verify, outdir) -> None:
     """Run DECK's ALE scene and its SPH variants at several ratios; report error, convergence and cost."""
     from rich.console import Console
 
@@ -524,13 +537,13 @@ def mesh_study(deck, ratios, reference, quantities, tolerance, workers, schedule
     config = StudyConfig(deck=Path(deck), ratios=ratios, reference=reference, quantities=quantities or None,
                          tolerance=tolerance, workers=workers, scheduler=scheduler,
                          outdir=Path(outdir) if outdir else None, ale_sizes=ale_sizes, threads=threads,
-                         end_time=end_time)
+                         end_time=end_time, verify=verify)
     try:
         out, result = run_study(config, echo=lambda line: click.echo(line, err=True))
     except StudyError as err:
         raise DeckProblem(str(err)) from None
     Console().print(table(result))
-    click.echo(result["recommendation"])
+    click.echo(result["recommendation"]["text"])
     click.echo(f"report: {out / 'report.md'}")
 
 

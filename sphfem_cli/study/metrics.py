@@ -1,4 +1,5 @@
-"""Error metrics, grid convergence (Richardson, Roache's GCI) and the cost model of the mesh study.
+"""Error metrics and grid convergence (Richardson, Roache's GCI) of the mesh study (the fitted
+models are in ``models``).
 
 Quantities are named ``TABLE.COLUMN`` after the history CSVs of a run (``histories/TABLE.csv``):
 ``COLUMN`` is a column (``displacement_y``, ``von_mises``) or a vector family (``displacement``: the
@@ -184,38 +185,3 @@ def power_fit(x: Sequence[float], y: Sequence[float]) -> tuple[float, float] | N
         return None
     k, log_a = np.polyfit(np.log(x[ok]), np.log(y[ok]), 1)
     return float(math.exp(log_a)), float(k)
-
-
-@dataclass
-class Prediction:
-    """What ratio meets a tolerance, and at what cost (fits over the SPH cases)."""
-
-    tolerance: float
-    error_fit: tuple[float, float] | None  # worst L2 error = a ratio^k
-    count_fit: tuple[float, float] | None  # particles = a ratio^k
-    cost_fit: tuple[float, float] | None  # wall time = a N^k
-    ratio: float | None  # smallest ratio meeting the tolerance, from the error fit
-    particles: float | None
-    wall: float | None
-    met_by: float | None  # smallest tested ratio that met it
-
-    def as_dict(self) -> dict:
-        return asdict(self)
-
-
-def predict(ratios: Sequence[float], errors: Sequence[float], counts: Sequence[float], walls: Sequence[float],
-            tolerance: float) -> Prediction:
-    """Fit error(ratio), N(ratio) and wall(N) and solve error = tolerance for the ratio."""
-    error_fit = power_fit(ratios, errors)
-    count_fit = power_fit(ratios, counts)
-    cost_fit = power_fit(counts, walls)
-    met = [r for r, e in sorted(zip(ratios, errors)) if math.isfinite(e) and e <= tolerance]
-    ratio = particles = wall = None
-    if error_fit is not None and error_fit[1] < 0:
-        a, k = error_fit
-        ratio = (tolerance / a) ** (1.0 / k)
-        if count_fit is not None:
-            particles = count_fit[0] * ratio ** count_fit[1]
-            if cost_fit is not None:
-                wall = cost_fit[0] * particles ** cost_fit[1]
-    return Prediction(tolerance, error_fit, count_fit, cost_fit, ratio, particles, wall, met[0] if met else None)

@@ -1,4 +1,5 @@
-"""PNG plots (matplotlib, Agg backend): the study's error, Pareto and history plots, and ``sphfem plot``."""
+"""PNG plots (matplotlib, Agg backend): the study's error, error-against-cost and history plots, and
+``sphfem plot``. Every plot has a title and units on both axes (the deck's ``units:``, see ``units``)."""
 from __future__ import annotations
 
 import json
@@ -7,7 +8,10 @@ import re
 from pathlib import Path
 from typing import Sequence
 
+import numpy as np
+
 from . import metrics
+from .units import label, unit_of
 
 
 def _pyplot():
@@ -23,84 +27,160 @@ def _safe(name: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.-]", "_", name)
 
 
-def study_plots(out: Path, result: dict, cases) -> list[Path]:
-    """error_vs_ratio.png, pareto.png and history_<quantity>.png in ``out``."""
-    plt = _pyplot()
-    written = []
-    rows = [r for r in result["cases"] if r.get("state") == "done" and not r["reference"]]
-    sph = sorted((r for r in rows if r["kind"] == "sph"), key=lambda r: r["ratio"])
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    for q in result["quantities"]:
-        pts = [(r["ratio"], r["errors"][q]["l2"]) for r in sph if "l2" in r["errors"].get(q, {})]
-        pts = [(x, y) for x, y in pts if y is not None and math.isfinite(y) and y > 0]
-        if pts:
-            ax.loglog(*zip(*pts), "o-", label=q)
-    ax.axhline(result["tolerance"], color="grey", ls="--", lw=1, label=f"tolerance {100 * result['tolerance']:g} %")
-    ax.set_xlabel("ratio (ALE element size / particle spacing)")
-    ax.set_ylabel(f"normalised L2 error vs {result['reference']}")
-    ax.set_title("SPH error against the reference")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    written.append(out / "error_vs_ratio.png")
-    fig.savefig(written[-1], dpi=120)
-    plt.close(fig)
-
-    fig, ax = plt.subplots(figsize=(6.4, 4.4))
-    for kind, marker in (("sph", "o-"), ("ale", "s-")):
-        pts = []
-        for r in sorted((r for r in rows if r["kind"] == kind), key=lambda r: r["wall_s"] or 0):
-            errs = [e["l2"] for e in r["errors"].values() if e.get("l2") is not None and math.isfinite(e["l2"])]
-            if errs and max(errs) > 0 and r.get("wall_s"):
-                pts.append((r["wall_s"], max(errs), r["case"]))
-        if pts:
-            ax.loglog([p[0] for p in pts], [p[1] for p in pts], marker, label=kind.upper())
-            for x, y, name in pts:
-                ax.annotate(name, (x, y), fontsize=7, xytext=(3, 3), textcoords="offset points")
-    ref = next((r for r in result["cases"] if r["reference"]), None)
-    if ref and ref.get("wall_s"):
-        ax.axvline(ref["wall_s"], color="k", ls=":", lw=1, label=f"reference {ref['case']} cost")
-    ax.axhline(result["tolerance"], color="grey", ls="--", lw=1, label="tolerance")
-    ax.set_xlabel("wall time [s]")
-    ax.set_ylabel("worst normalised L2 error")
-    ax.set_title("Error against cost (Pareto)")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    written.append(out / "pareto.png")
-    fig.savefig(written[-1], dpi=120)
-    plt.close(fig)
-
-    done = [c for c in cases if c.status.get("state") == "done"]
-    for q in result["quantities"]:
-        written.append(out / f"history_{_safe(q)}.png")
-        overlay(q, [(c.name, c.histories) for c in done], written[-1], reference=result["reference"])
-    return written
+def _ok(v) -> bool:
+    return isinstance(v, (int, float)) and math.isfinite(v) and v > 0
 
 
-def overlay(quantity: str, runs: Sequence[tuple[str, Path]], path: Path, reference: str | None = None) -> Path | None:
-    """One quantity's history from several runs on one plot."""
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(7.0, 4.4))
-    drawn = 0
-    for label, histories in runs:
-        try:
-            t, v = metrics.quantity_series(histories, quantity)
-        except KeyError:
-            continue
-        ref = label == reference
-        ax.plot(t, v, "k-" if ref else "-", lw=2.0 if ref else 1.2, label=label + (" (ref)" if ref else ""))
-        drawn += 1
-    ax.set_xlabel("time")
-    ax.set_ylabel(quantity)
-    ax.grid(True, alpha=0.3)
-    if drawn:
-        ax.legend(fontsize=8)
+def _save(fig, path: Path, plt) -> Path:
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return path
+
+
+def error_plot(out: Path, result: dict) -> Path:
+    plt = _pyplot()
+    done = [r for r in result["cases"] if r.get("state") == "done" and r["kind"] == "sph" and not r["reference"]]
+    study = sorted((r for r in done if r["role"] == "study"), key=lambda r: r["ratio"])
+    fig, ax = plt.subplots(figsize=(7.0, 4.6))
+    for q in result["quantities"]:
+        pts = [(r["ratio"], r["errors"].get(q, {}).get("l2")) for r in study]
+        pts = [(x, y) for x, y in pts if _ok(y)]
+        if pts:
+            ax.loglog(*zip(*pts), "o-", lw=1, label=q)
+    m, rec = result["model"]["error"], result["recommendation"]
+    if m.get("form") and study:
+        hi = max(3 * study[-1]["ratio"], rec.get("ratio") or 0)
+        r = np.geomspace(1.0, hi, 200)
+        e = m["floor"] + m["c"] * r ** -m["order"]
+        ax.loglog(r, e, "k--", lw=1, label=f"{m['form']} model of the worst L2")
+        if m["form"] == "floor":
+            ax.axhline(m["floor"], color="k", ls=":", lw=1, label=f"floor e_inf {100 * m['floor']:.3g} %")
+        ax.axvline(3 * study[-1]["ratio"], color="tab:red", ls=":", lw=1, label="3x the largest tested ratio")
+    ax.axhline(result["tolerance"], color="grey", ls="--", lw=1, label=f"tolerance {100 * result['tolerance']:g} %")
+    for r in done:
+        if r["role"] == "verify" and _ok(r.get("worst_l2")):
+            ax.loglog([r["ratio"]], [r["worst_l2"]], "k*", ms=11, label=f"{r['case']} (verification, measured)")
+    p = rec.get("predicted")
+    if rec.get("ratio") and p and _ok(p.get("error")):
+        ax.loglog([rec["ratio"]], [p["error"]], "kx", ms=9, label=f"ratio {rec['ratio']}: predicted ({rec['verdict']})")
+    ax.set_xlabel("ratio: ALE element size / particle spacing [-]")
+    ax.set_ylabel("normalised L2 error [-]")
+    ax.set_title(f"SPH error against {result['reference']['label']}")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    return _save(fig, out / "error_vs_ratio.png", plt)
+
+
+def _front(points: list[tuple[float, float]]) -> list[tuple[float, float]]:
+    """The non-dominated points (less cost, less error), by cost."""
+    front, best = [], math.inf
+    for x, y in sorted(points):
+        if y < best:
+            front.append((x, y))
+            best = y
+    return front
+
+
+def pareto_plot(out: Path, result: dict) -> Path:
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7.0, 4.6))
+    every = []
+    for kind, marker in (("sph", "o"), ("ale", "s")):
+        rows = sorted((r for r in result["cases"] if r["kind"] == kind and r.get("state") == "done"
+                       and not r["reference"] and _ok(r.get("cpu_s")) and _ok(r.get("worst_l2"))),
+                      key=lambda r: r["cpu_s"])
+        study = [r for r in rows if r["role"] == "study"]
+        if study:
+            ax.loglog([r["cpu_s"] for r in study], [r["worst_l2"] for r in study], marker + "-",
+                      label=f"{kind.upper()} {'ratios' if kind == 'sph' else 'sizes'}")
+        for r in rows:
+            if r["role"] == "verify":
+                ax.loglog([r["cpu_s"]], [r["worst_l2"]], "k*", ms=11, label=f"{r['case']} (verification)")
+            ax.annotate(r["case"], (r["cpu_s"], r["worst_l2"]), fontsize=7, xytext=(3, 3), textcoords="offset points")
+            every.append((r["cpu_s"], r["worst_l2"]))
+    ref = next((r for r in result["cases"] if r["reference"]), None)
+    bands = [u["l2"] for u in result["reference"]["uncertainty"].values() if _ok(u.get("l2"))]
+    if ref and _ok(ref.get("cpu_s")) and bands:
+        ax.loglog([ref["cpu_s"]], [max(bands)], "kD", label=f"reference {ref['case']} at its own L2 uncertainty")
+        every.append((ref["cpu_s"], max(bands)))
+    elif ref and _ok(ref.get("cpu_s")):
+        ax.axvline(ref["cpu_s"], color="k", ls=":", lw=1, label=f"reference {ref['case']} cost")
+    front = _front(every)
+    if len(front) > 1:
+        ax.step(*zip(*front), where="post", color="grey", lw=3, alpha=0.35, label="front (nothing cheaper is better)")
+    ax.axhline(result["tolerance"], color="grey", ls="--", lw=1, label=f"tolerance {100 * result['tolerance']:g} %")
+    ax.set_xlabel("CPU time, compilation excluded [s]")
+    ax.set_ylabel("worst normalised L2 error [-]")
+    ax.set_title(f"Error against cost: SPH ratios and ALE sizes (vs {result['reference']['label']})")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    return _save(fig, out / "pareto.png", plt)
+
+
+def study_plots(out: Path, result: dict, cases) -> list[Path]:
+    """error_vs_ratio.png, pareto.png and history_<quantity>.png in ``out``."""
+    written = [error_plot(out, result), pareto_plot(out, result)]
+    done = [c for c in cases if c.status.get("state") == "done"]
+    for q in result["quantities"]:
+        written.append(overlay(q, [(c.name, c.histories) for c in done], out / f"history_{_safe(q)}.png",
+                               reference=result["reference"]["label"], units=result.get("units"),
+                               dimension=result.get("dimension", 2)))
+    return written
+
+
+def overlay(quantity: str, runs: Sequence[tuple[str, Path]], path: Path, reference: str | None = None,
+            units: dict | None = None, dimension: int = 2) -> Path:
+    """One quantity's history from several runs on one plot."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(7.0, 4.4))
+    drawn = 0
+    for name, histories in runs:
+        try:
+            t, v = metrics.quantity_series(histories, quantity)
+        except KeyError:
+            continue
+        ref = name == reference
+        ax.plot(t, v, "k-" if ref else "-", lw=2.0 if ref else 1.2, label=name + (" (ref)" if ref else ""))
+        drawn += 1
+    ax.set_xlabel(label("time", units, dimension))
+    ax.set_ylabel(label(quantity, units, dimension))
+    ax.set_title(f"{quantity}" + (f": {drawn} runs" if drawn != 1 else ""))
+    ax.grid(True, alpha=0.3)
+    if drawn:
+        ax.legend(fontsize=8)
+    return _save(fig, path, plt)
+
+
+def _run_units(directory: Path) -> tuple[dict, int]:
+    """units and dimension of a run folder (its deck.effective.yaml), m-kg-s 2D if unknown."""
+    import yaml
+
+    eff = directory / "deck.effective.yaml"
+    if eff.exists():
+        data = yaml.safe_load(eff.read_text()) or {}
+        return data.get("units") or {}, int(data.get("dimension", 2))
+    return {}, 2
+
+
+def table_plot(table: Path, path: Path, units: dict, dimension: int) -> Path:
+    """Every column of a history table against time, one panel per unit (so each axis has one unit)."""
+    plt = _pyplot()
+    columns, data = metrics.read_history(table)
+    groups: dict[str, list[int]] = {}
+    for i, c in enumerate(columns[1:], start=1):
+        groups.setdefault(unit_of(c, units, dimension), []).append(i)
+    n = max(1, len(groups))
+    fig, axes = plt.subplots(n, 1, figsize=(7.0, 2.2 + 2.0 * n), sharex=True, squeeze=False)
+    for ax, (unit, idx) in zip(axes[:, 0], groups.items()):
+        for i in idx:
+            ax.plot(data[:, 0], data[:, i], label=columns[i])
+        ax.set_ylabel(f"[{unit}]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, ncol=2)
+    axes[-1, 0].set_xlabel(label(columns[0], units, dimension))
+    axes[0, 0].set_title(f"{table.stem} ({table.parent.parent.name})")
+    return _save(fig, path, plt)
 
 
 def plot_dir(directory: Path, quantities: Sequence[str] = (), outdir: Path | None = None) -> list[Path]:
@@ -110,42 +190,32 @@ def plot_dir(directory: Path, quantities: Sequence[str] = (), outdir: Path | Non
     study = directory / "study.json"
     written: list[Path] = []
     if study.exists():
-        cases = json.loads(study.read_text())["cases"]
-        runs = [(c["name"], directory / "cases" / c["name"] / "run" / "histories") for c in cases]
+        info = json.loads(study.read_text())
+        runs = [(c["name"], directory / "cases" / c["name"] / "run" / "histories") for c in info["cases"]]
         runs = [(n, h) for n, h in runs if h.is_dir()]
         report = directory / "report.json"
-        reference = json.loads(report.read_text()).get("reference") if report.exists() else None
+        rep = json.loads(report.read_text()) if report.exists() else {}
+        reference = (rep.get("reference") or {}).get("label")
         if not quantities:
-            quantities = (json.loads(report.read_text()).get("quantities") if report.exists() else None) or \
-                metrics.default_quantities(runs[0][1]) if runs else []
+            quantities = rep.get("quantities") or (metrics.default_quantities(runs[0][1]) if runs else [])
         out = Path(outdir) if outdir else directory / "plots"
         out.mkdir(parents=True, exist_ok=True)
         for q in quantities:
-            written.append(overlay(q, runs, out / f"{_safe(q)}.png", reference=reference))
+            written.append(overlay(q, runs, out / f"{_safe(q)}.png", reference=reference, units=info.get("units"),
+                                   dimension=info.get("dimension", 2)))
         return written
     histories = directory / "histories" if (directory / "histories").is_dir() else directory
     tables = sorted(histories.glob("*.csv"))
     if not tables:
         raise FileNotFoundError(f"{directory}: neither a study folder (study.json) nor a run (histories/*.csv)")
+    units, dimension = _run_units(histories.parent)
     out = Path(outdir) if outdir else directory / "plots"
     out.mkdir(parents=True, exist_ok=True)
     if quantities:
         for q in quantities:
-            written.append(overlay(q, [(directory.name, histories)], out / f"{_safe(q)}.png"))
+            written.append(overlay(q, [(directory.name, histories)], out / f"{_safe(q)}.png", units=units,
+                                   dimension=dimension))
         return written
-    plt = _pyplot()
     for table in tables:
-        columns, data = metrics.read_history(table)
-        fig, ax = plt.subplots(figsize=(7.0, 4.4))
-        for i, c in enumerate(columns[1:], start=1):
-            ax.plot(data[:, 0], data[:, i], label=c)
-        ax.set_xlabel(columns[0])
-        ax.set_title(table.stem)
-        ax.grid(True, alpha=0.3)
-        if len(columns) > 1:
-            ax.legend(fontsize=7, ncol=2)
-        fig.tight_layout()
-        written.append(out / f"{_safe(table.stem)}.png")
-        fig.savefig(written[-1], dpi=120)
-        plt.close(fig)
+        written.append(table_plot(table, out / f"{_safe(table.stem)}.png", units, dimension))
     return written

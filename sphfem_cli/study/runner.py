@@ -1,14 +1,27 @@
-"""Cases of a study: one folder each (deck.yaml, status.json, run/), run by a local pool or by Dask.
+"""Cases of a study: one folder each (deck.yaml, status.json, run/), each run in a process of its own.
 
-A case runs through the library (``cli.load_model`` then ``cli.execute``), in a process of its own
-so that its peak memory (``getrusage`` ``ru_maxrss``) is its own:
+A case runs through the library (``cli.load_model`` then ``cli.execute``) in a fresh interpreter,
+``python -m sphfem_cli.study CASE_DIR``, so that its memory and its numba state are its own:
 
-- local: a ``ProcessPoolExecutor`` with the spawn start method and ``max_tasks_per_child=1`` (a
-  fresh interpreter per case; fork would copy the parent's numba and thread state);
-- Dask: each task starts ``python -m sphfem_cli.study.runner CASE_DIR`` on its worker and returns
-  the status: Dask workers are daemonic processes (no child pools), a worker is long-lived (its
-  ``ru_maxrss`` is not per case), and a crashing case must not take a worker down. The case
-  folders must be on a file system the workers share.
+- local: up to ``workers`` such processes at once, started and watched here; a process that dies
+  (killed, out of memory) fails its own case only, and the queue goes on;
+- Dask: each task starts the same process on its worker and returns the status (Dask workers are
+  daemonic and long-lived, and a crashing case must not take a worker down). The case folders
+  must be on a file system the workers share.
+
+What a case measures (``run_case``), numba compilation kept out of the clock:
+
+- warm-up: the same deck run for a few steps into a scratch folder first, so that every kernel
+  the run calls is compiled (or loaded from numba's cache) before the clock starts;
+  ``compile_s`` is the time numba spent compiling (its ``numba:compile`` events), in the warm-up
+  and, if a kernel first called later still compiles, in the timed run, where it is subtracted;
+- ``cpu_s``: user + system CPU of the timed model build and run (``time.process_time``), the
+  median over repeats: a case is run again while its runs so far took less than
+  ``repeat_budget_s`` (at most ``max_repeats`` runs), and ``cpu_spread`` = (max - min) / median;
+- ``peak_mib``: peak resident memory (``VmHWM``) of the timed runs, the high-water mark reset
+  after the warm-up (``/proc/self/clear_refs``), so a compile's memory is not charged to the run;
+  ``ru_maxrss`` where that is not available;
+- ``dt0``: the first stable step of each domain (solid, sph, ale, contact), for the step law.
 
 ``status.json`` holds ``state`` (running, done, failed), the deck's SHA-256 and the measurements;
 a case whose status is done for the same deck is skipped on a rerun.
@@ -19,8 +32,11 @@ import hashlib
 import json
 import os
 import re
+import shutil
+import signal
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 from typing import Callable, Iterable
@@ -28,6 +44,8 @@ from typing import Callable, Iterable
 STATUS = "status.json"
 DECK = "deck.yaml"
 RUN = "run"
+LOG = "case.log"  # the case process's stderr
+WARM_STEPS = 5
 
 
 def deck_hash(case_dir: Path) -> str:
@@ -66,92 +84,194 @@ def _steps(run_dir: Path) -> int | None:
     return None
 
 
-def run_case(case_dir: str, threads: int = 1) -> dict:
-    """Run the case in ``case_dir`` in this process; write and return its status."""
+def _reset_peak() -> bool:
+    try:
+        Path("/proc/self/clear_refs").write_text("5")
+        return True
+    except OSError:
+        return False
+
+
+def _peak_mib(reset: bool) -> float:
+    if reset:
+        m = re.search(r"^VmHWM:\s+(\d+) kB", Path("/proc/self/status").read_text(), re.MULTILINE)
+        if m:
+            return int(m.group(1)) / 1024.0
     import resource
+
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # Linux reports KiB
+
+
+def _first_steps(sim) -> dict:
+    """The first stable step of each domain (each already scaled by timestep_scale)."""
+    scale = sim.control.timestep_scale
+    dt = {"solid": float(sim.state.dt)}
+    if sim.particles is not None:
+        dt["sph"] = float(sim.particles.stable_dt(scale))
+    if sim.ale is not None:
+        dt["ale"] = float(sim.ale.stable_dt())
+    if sim.interactions:
+        dt["contact"] = float(min(scale * it.stable_dt() for it in sim.interactions))
+    return {k: (v if v == v and v != float("inf") else None) for k, v in dt.items()}
+
+
+def _warm_up(deck: Path) -> dict:
+    """Run the deck for WARM_STEPS steps into a scratch folder (compiles or loads every kernel it calls);
+    returns the first stable step of each domain."""
+    from ..cli import execute, load_model
+    from ..solver.explicit import Simulation
+
+    sim = Simulation(load_model(str(deck)).model)
+    first = _first_steps(sim)
+    loaded = load_model(str(deck))
+    loaded.deck.control.end_time = min(loaded.deck.control.end_time, WARM_STEPS * sim.stable_dt())
+    scratch = Path(tempfile.mkdtemp(prefix="sphfem-warm-"))
+    try:
+        execute(loaded, scratch, quiet=True)
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+    return first
+
+
+def run_case(case_dir: str, threads: int = 1, repeat_budget_s: float = 4.0, max_repeats: int = 3) -> dict:
+    """Run the case in ``case_dir`` in this process (warm-up, then timed runs); write and return its status."""
+    from numba.core import event
 
     case = Path(case_dir)
     sha = deck_hash(case)
     write_status(case, {"state": "running", "deck_sha256": sha, "pid": os.getpid(),
                         "started": time.strftime("%Y-%m-%d %H:%M:%S")})
-    usage0 = resource.getrusage(resource.RUSAGE_SELF)
-    start = time.perf_counter()
     status: dict = {"deck_sha256": sha, "pid": os.getpid()}
+    compiling = event.TimingListener()
+    event.register("numba:compile", compiling)
+
+    def compiled() -> float:
+        return compiling.duration if compiling.done else 0.0
+
+    start_wall = time.perf_counter()
+    reset = False
     try:
         import numba
 
         from ..cli import DeckProblem, execute, load_model
 
         numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
+        deck = case / DECK
+        c0 = time.process_time()
         try:
-            loaded = load_model(str(case / DECK))
+            status["dt0"] = _warm_up(deck)
         except DeckProblem as err:
             raise RuntimeError(f"bad deck: {err.message}") from None
-        model = loaded.model
-        status.update(
-            particles=int(model.particles.n) if model.particles is not None else 0,
-            ale_elements=int(len(model.ale.elements)) if model.ale is not None else 0,
-            solid_elements=int(model.n_elements),
-            threads=numba.get_num_threads(),
-        )
+        status.update(warmup_cpu_s=time.process_time() - c0, warmup_compile_s=compiled())
+        reset = _reset_peak()
+        cpu_runs, compile_in_runs, walls = [], 0.0, []
         run_dir = case / RUN
-        run_dir.mkdir(exist_ok=True)
-        build = time.perf_counter() - start
-        code = execute(loaded, run_dir, quiet=True)
-        status.update(exit_code=int(code), build_s=build, steps=_steps(run_dir))
-        if code == 0:
-            status["state"] = "done"
-        else:
-            why = run_dir / "diagnostics.txt"
-            status.update(state="failed", message=why.read_text().strip() if why.exists()
-                          else f"exit status {code}, see {run_dir / 'run.log'}")
-    except Exception as err:  # noqa: BLE001 - a case failure is recorded, never raised into the pool
+        while True:
+            first = not cpu_runs
+            target = run_dir if first else Path(tempfile.mkdtemp(prefix="sphfem-repeat-"))
+            k0, c0, w0 = compiled(), time.process_time(), time.perf_counter()
+            try:
+                loaded = load_model(str(deck))
+                if first:
+                    model = loaded.model
+                    status.update(
+                        particles=int(model.particles.n) if model.particles is not None else 0,
+                        ale_elements=int(len(model.ale.elements)) if model.ale is not None else 0,
+                        solid_elements=int(model.n_elements), threads=numba.get_num_threads())
+                    run_dir.mkdir(exist_ok=True)
+                code = execute(loaded, target, quiet=True)
+            finally:
+                if not first:
+                    shutil.rmtree(target, ignore_errors=True)
+            k = compiled() - k0
+            compile_in_runs += k
+            cpu_runs.append(time.process_time() - c0 - k)
+            walls.append(time.perf_counter() - w0 - k)
+            if code != 0:
+                why = run_dir / "diagnostics.txt"
+                status.update(state="failed", exit_code=int(code), message=why.read_text().strip() if why.exists()
+                              else f"exit status {code}, see {run_dir / 'run.log'}")
+                break
+            if first:
+                status.update(exit_code=0, steps=_steps(run_dir))
+            if len(cpu_runs) >= max_repeats or sum(cpu_runs) + cpu_runs[-1] > repeat_budget_s:
+                status["state"] = "done"
+                break
+        med = sorted(cpu_runs)[len(cpu_runs) // 2] if len(cpu_runs) % 2 else \
+            0.5 * sum(sorted(cpu_runs)[len(cpu_runs) // 2 - 1:len(cpu_runs) // 2 + 1])
+        status.update(cpu_s=med, cpu_runs=cpu_runs, cpu_spread=(max(cpu_runs) - min(cpu_runs)) / med if med > 0 else 0.0,
+                      wall_s=walls[0], compile_s=status["warmup_compile_s"] + compile_in_runs,
+                      compile_in_run_s=compile_in_runs)
+    except Exception as err:  # noqa: BLE001 - a case failure is recorded, never raised
         status.update(state="failed", message=f"{type(err).__name__}: {err}")
-    usage = resource.getrusage(resource.RUSAGE_SELF)
-    status.update(
-        wall_s=time.perf_counter() - start,
-        cpu_s=(usage.ru_utime - usage0.ru_utime) + (usage.ru_stime - usage0.ru_stime),
-        peak_mib=usage.ru_maxrss / 1024.0,  # Linux reports KiB
-        finished=time.strftime("%Y-%m-%d %H:%M:%S"),
-    )
+    finally:
+        event.unregister("numba:compile", compiling)
+    status.setdefault("wall_s", time.perf_counter() - start_wall)
+    status.update(peak_mib=_peak_mib(reset), finished=time.strftime("%Y-%m-%d %H:%M:%S"))
     write_status(case, status)
     return status
 
 
-def run_case_subprocess(case_dir: str, threads: int = 1) -> dict:
-    """Run the case in a fresh ``python -m sphfem_cli.study.runner`` and return its status."""
-    proc = subprocess.run([sys.executable, "-m", "sphfem_cli.study.runner", str(case_dir), "--threads", str(threads)],
-                          capture_output=True, text=True)
-    status = read_status(Path(case_dir))
-    if proc.returncode != 0 or status.get("state") not in ("done", "failed"):
-        status = dict(status, state="failed",
-                      message=f"case process exited with {proc.returncode}: {proc.stderr.strip()[-500:]}")
-        write_status(Path(case_dir), status)
+def _command(case_dir: Path, threads: int) -> list[str]:
+    return [sys.executable, "-m", "sphfem_cli.study", str(case_dir), "--threads", str(threads)]
+
+
+def _settle(case_dir: Path, returncode: int) -> dict:
+    """The status of a case whose process ended with ``returncode``; a process that died fails its case."""
+    status = read_status(case_dir)
+    if returncode == 0 and status.get("state") in ("done", "failed"):
+        return status
+    if returncode < 0:
+        try:
+            name = signal.Signals(-returncode).name
+        except ValueError:
+            name = f"signal {-returncode}"
+        why = f"the case process was killed by {name}"
+    else:
+        why = f"the case process exited with status {returncode}"
+    log = Path(case_dir) / LOG
+    tail = log.read_text(errors="replace").strip()[-500:] if log.exists() else ""
+    status = dict(status, state="failed", message=why + (f": {tail}" if tail else "") + "; rerun the study to retry it")
+    write_status(case_dir, status)
     return status
 
 
-def run_local(case_dirs: Iterable[Path], workers: int, threads: int = 1,
-              on_done: Callable[[Path, dict], None] | None = None) -> dict[Path, dict]:
-    """Run cases on a spawn process pool, a fresh worker per case."""
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+def run_case_subprocess(case_dir: str, threads: int = 1) -> dict:
+    """Run the case in a fresh ``python -m sphfem_cli.study`` and return its status."""
+    case = Path(case_dir)
+    with (case / LOG).open("w") as log:
+        proc = subprocess.run(_command(case, threads), stdout=log, stderr=subprocess.STDOUT)
+    return _settle(case, proc.returncode)
 
-    dirs = list(case_dirs)
+
+def run_local(case_dirs: Iterable[Path], workers: int, threads: int = 1,
+              on_done: Callable[[Path, dict], None] | None = None, poll_s: float = 0.2) -> dict[Path, dict]:
+    """Run cases as local processes, at most ``workers`` at once; one dying never stops the others."""
+    queue = [Path(d) for d in case_dirs]
     results: dict[Path, dict] = {}
-    if not dirs:
-        return results
-    with ProcessPoolExecutor(max_workers=max(1, min(workers, len(dirs))), max_tasks_per_child=1,
-                             mp_context=multiprocessing.get_context("spawn")) as pool:
-        futures = {pool.submit(run_case, str(d), threads): d for d in dirs}
-        for fut in as_completed(futures):
-            d = futures[fut]
-            try:
-                results[d] = fut.result()
-            except Exception as err:  # noqa: BLE001 - a worker that died (killed, out of memory)
-                results[d] = {"state": "failed", "message": f"worker died: {type(err).__name__}: {err}"}
-                write_status(d, dict(read_status(d), **results[d]))
-            if on_done:
-                on_done(d, results[d])
+    running: dict[Path, tuple[subprocess.Popen, object]] = {}
+    try:
+        while queue or running:
+            while queue and len(running) < max(1, workers):
+                d = queue.pop(0)
+                log = (d / LOG).open("w")
+                running[d] = (subprocess.Popen(_command(d, threads), stdout=log, stderr=subprocess.STDOUT), log)
+            for d, (proc, log) in list(running.items()):
+                code = proc.poll()
+                if code is None:
+                    continue
+                log.close()
+                del running[d]
+                results[d] = _settle(d, code)
+                if on_done:
+                    on_done(d, results[d])
+            if running:
+                time.sleep(poll_s)
+    finally:
+        for d, (proc, log) in running.items():  # interrupted: stop the cases this call started
+            proc.terminate()
+            proc.wait()
+            log.close()
     return results
 
 
@@ -176,7 +296,8 @@ def run_dask(case_dirs: Iterable[Path], scheduler, threads: int = 1,
             try:
                 results[d] = fut.result()
             except Exception as err:  # noqa: BLE001 - a task lost with its worker
-                results[d] = {"state": "failed", "message": f"task failed: {type(err).__name__}: {err}"}
+                results[d] = dict(read_status(d), state="failed", message=f"task failed: {type(err).__name__}: {err}")
+                write_status(d, results[d])
             if on_done:
                 on_done(d, results[d])
     finally:
@@ -185,12 +306,13 @@ def run_dask(case_dirs: Iterable[Path], scheduler, threads: int = 1,
     return results
 
 
-if __name__ == "__main__":  # the process a Dask task starts for one case
+def main(argv: list[str] | None = None) -> int:
+    """``python -m sphfem_cli.study CASE_DIR [--threads N]``: the process of one case."""
     import argparse
 
-    parser = argparse.ArgumentParser(description="Run one mesh-study case folder.")
+    parser = argparse.ArgumentParser(prog="python -m sphfem_cli.study", description="Run one mesh-study case folder.")
     parser.add_argument("case_dir")
     parser.add_argument("--threads", type=int, default=1)
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     result = run_case(args.case_dir, args.threads)
-    sys.exit(0 if result.get("state") in ("done", "failed") else 1)
+    return 0 if result.get("state") in ("done", "failed") else 1

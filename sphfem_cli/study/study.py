@@ -3,21 +3,20 @@
 Folder layout (``-o DIR``, default ``<deck stem>_study``)::
 
     study.json                     the settings and the case list
-    cases/ale_h<size>/             deck.yaml, status.json, run/ (the run's output, histories/ in it)
-    cases/sph_r<ratio>/            likewise for each SPH ratio
+    cases/ale_h<size>/             deck.yaml, status.json, case.log, run/ (the run's output, histories/ in it)
+    cases/sph_r<ratio>/            likewise for each SPH ratio (and the --verify case)
     report.csv, report.json, report.md, *.png
 """
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Callable, Sequence
 
 import yaml
 
-from . import derive, metrics, runner
+from . import derive, runner
 
 
 @dataclass
@@ -30,9 +29,10 @@ class StudyConfig:
     workers: int = 1
     scheduler: object | None = None  # address or distributed.Client
     outdir: Path | None = None
-    ale_sizes: Sequence[float] = ()
+    ale_sizes: Sequence[float] | None = None  # None: h, h/2, h/4 where the scene allows; (): the deck's h only
     threads: int = 1
     end_time: float | None = None
+    verify: bool = False
 
 
 @dataclass
@@ -44,6 +44,7 @@ class Case:
     dir: Path
     notes: list[str] = field(default_factory=list)
     status: dict = field(default_factory=dict)
+    role: str = "study"  # study | verify (run by --verify: not in the fits)
 
     @property
     def histories(self) -> Path:
@@ -52,6 +53,15 @@ class Case:
     @property
     def count(self) -> int:
         return int(self.status.get("particles" if self.kind == "sph" else "ale_elements") or 0)
+
+
+@dataclass
+class Plan:
+    out: Path
+    cases: list[Case]
+    data: dict  # the deck's data (with --end-time applied)
+    element_size: float
+    notes: list[str] = field(default_factory=list)  # what the plan left out, and why
 
 
 def _fmt(v: float) -> str:
@@ -73,8 +83,43 @@ def load_deck_data(path: Path) -> dict:
     return derive.absolute_files(data, path.parent)
 
 
-def plan(config: StudyConfig) -> tuple[Path, list[Case]]:
-    """Write every case's deck (untouched when unchanged) and return the study folder and cases."""
+def ale_sizes(config: StudyConfig, data: dict, h: float) -> tuple[list[float], list[str]]:
+    """The ALE element sizes to run, finest last, and notes on the refinements the scene refuses.
+
+    Default: h, h/2 and h/4 (h the deck's own), each where it gives square elements on the ALE box."""
+    if config.ale_sizes is not None:
+        return sorted({h, *(float(s) for s in config.ale_sizes)}, reverse=True), []
+    sizes, notes = [h], []
+    for k in (2, 4):
+        try:
+            derive.ale_variant(data, h / k)
+            sizes.append(h / k)
+        except derive.StudyError as err:
+            notes.append(f"ALE size h/{k} = {_fmt(h / k)} left out: {err}")
+    return sizes, notes
+
+
+def _write_case(out: Path, deck_path: Path, name: str, kind: str, size: float, h: float, d: derive.Derived,
+                role: str = "study") -> Case:
+    derive.validated(d.data)
+    case_dir = out / "cases" / name
+    case_dir.mkdir(parents=True, exist_ok=True)
+    text = (f"# {name}: derived by sphfem mesh-study from {deck_path.resolve()}\n"
+            + "".join(f"# {n}\n" for n in d.notes)
+            + yaml.safe_dump(d.data, sort_keys=False, default_flow_style=None))
+    deck_file = case_dir / runner.DECK
+    if not deck_file.exists() or deck_file.read_text() != text:
+        deck_file.write_text(text)
+    return Case(name, kind, size, h / size, case_dir, d.notes, runner.read_status(case_dir), role)
+
+
+def sph_case(plan: Plan, deck_path: Path, ratio: int, role: str = "study") -> Case:
+    d = derive.sph_variant(plan.data, ratio)
+    return _write_case(plan.out, deck_path, f"sph_r{ratio}", "sph", d.spacing, plan.element_size, d, role)
+
+
+def plan(config: StudyConfig) -> Plan:
+    """Write every case's deck (untouched when unchanged) and return the plan."""
     deck_path = Path(config.deck)
     out = Path(config.outdir) if config.outdir else Path.cwd() / f"{deck_path.stem}_study"
     data = load_deck_data(deck_path)
@@ -82,40 +127,29 @@ def plan(config: StudyConfig) -> tuple[Path, list[Case]]:
         data["control"]["end_time"] = float(config.end_time)
     info = derive.ale_info(derive.validated(data))
     h = info.element_size
-    cases: list[tuple[str, str, float, derive.Derived]] = []
-    sizes = sorted({h, *(float(s) for s in config.ale_sizes)}, reverse=True)
+    sizes, notes = ale_sizes(config, data, h)
+    out.mkdir(parents=True, exist_ok=True)
+    result = Plan(out, [], data, h, notes)
     for s in sizes:
         d = derive.Derived(data) if s == h else derive.ale_variant(data, s)
-        actual = float(((info.hi - info.lo) / d.data["parts"][info.name]["geometry"]["box"]["divisions"]).mean()) \
-            if s != h else h
-        cases.append((f"ale_h{_fmt(actual)}", "ale", actual, d))
+        actual = h if s == h else float(
+            ((info.hi - info.lo) / d.data["parts"][info.name]["geometry"]["box"]["divisions"]).mean())
+        result.cases.append(_write_case(out, deck_path, f"ale_h{_fmt(actual)}", "ale", actual, h, d))
     for r in sorted({int(r) for r in config.ratios}):
-        d = derive.sph_variant(data, r)
-        cases.append((f"sph_r{r}", "sph", d.spacing, d))
-    out.mkdir(parents=True, exist_ok=True)
-    result = []
-    for name, kind, size, d in cases:
-        derive.validated(d.data)
-        case_dir = out / "cases" / name
-        case_dir.mkdir(parents=True, exist_ok=True)
-        text = (f"# {name}: derived by sphfem mesh-study from {deck_path.resolve()}\n"
-                + "".join(f"# {n}\n" for n in d.notes)
-                + yaml.safe_dump(d.data, sort_keys=False, default_flow_style=None))
-        deck_file = case_dir / runner.DECK
-        if not deck_file.exists() or deck_file.read_text() != text:
-            deck_file.write_text(text)
-        result.append(Case(name, kind, size, h / size, case_dir, d.notes, runner.read_status(case_dir)))
+        result.cases.append(sph_case(result, deck_path, r))
+    units = data.get("units") or {}
     (out / "study.json").write_text(json.dumps({
         "deck": str(deck_path.resolve()), "ale_element_size": h, "ratios": sorted({int(r) for r in config.ratios}),
         "ale_sizes": sizes, "reference": str(config.reference), "tolerance": config.tolerance,
-        "end_time": data["control"]["end_time"],
-        "cases": [{"name": c.name, "kind": c.kind, "size": c.size, "ratio": c.ratio} for c in result],
+        "end_time": data["control"]["end_time"], "units": units, "dimension": data.get("dimension", 2),
+        "notes": notes,
+        "cases": [{"name": c.name, "kind": c.kind, "size": c.size, "ratio": c.ratio} for c in result.cases],
     }, indent=2) + "\n")
-    return out, result
+    return result
 
 
 def run_cases(cases: Sequence[Case], config: StudyConfig, echo: Callable[[str], None] = print) -> None:
-    """Run the cases not finished yet (local pool or Dask) and refresh every case's status."""
+    """Run the cases not finished yet (local processes or Dask) and refresh every case's status."""
     pending = [c for c in cases if not runner.is_done(c.dir)]
     for c in cases:
         if c not in pending:
@@ -125,7 +159,8 @@ def run_cases(cases: Sequence[Case], config: StudyConfig, echo: Callable[[str], 
     def done(d: Path, status: dict) -> None:
         c = by_dir[Path(d).resolve()]
         extra = f" ({status.get('message')})" if status.get("state") != "done" else ""
-        echo(f"  {c.name}: {status.get('state')} in {status.get('wall_s', float('nan')):.1f} s{extra}")
+        echo(f"  {c.name}: {status.get('state')}, cpu {status.get('cpu_s') or float('nan'):.2f} s "
+             f"(compile {status.get('compile_s') or 0.0:.1f} s apart){extra}")
 
     dirs = [c.dir for c in pending]
     if config.scheduler is not None:
@@ -136,102 +171,28 @@ def run_cases(cases: Sequence[Case], config: StudyConfig, echo: Callable[[str], 
         c.status = runner.read_status(c.dir)
 
 
-def reference_histories(config: StudyConfig, cases: Sequence[Case]) -> tuple[str, Path]:
-    """(label, histories folder) of the reference."""
-    ok = [c for c in cases if c.status.get("state") == "done"]
-    if config.reference in ("ale", "finest"):  # the finest finished case of that kind
-        kind, what = ("ale", "ALE") if config.reference == "ale" else ("sph", "finest")
-        finished = [c for c in ok if c.kind == kind]
-        if not finished:
-            raise derive.StudyError(f"no {kind.upper()} case finished, so there is no {what} reference")
-        best = min(finished, key=lambda c: c.size)
-        return best.name, best.histories
-    path = Path(config.reference)
-    for candidate in (path / runner.RUN / "histories", path / "histories", path):
-        if candidate.is_dir() and any(candidate.glob("*.csv")):
-            return str(path), candidate
-    raise derive.StudyError(f"--reference {path}: no history CSVs found there (give a run folder)")
-
-
-def evaluate(config: StudyConfig, out: Path, cases: Sequence[Case]) -> dict:
-    """Errors, convergence, cost model and recommendation, as one JSON-ready dict."""
-    ref_label, ref_dir = reference_histories(config, cases)
-    quantities = list(config.quantities or metrics.default_quantities(ref_dir))
-    ref_series = {q: metrics.quantity_series(ref_dir, q) for q in quantities}
-    rows = []
-    for c in cases:
-        row = {"case": c.name, "kind": c.kind, "size": c.size, "ratio": c.ratio, "count": c.count,
-               "reference": c.histories.resolve() == ref_dir.resolve(), **{k: c.status.get(k) for k in (
-                   "state", "wall_s", "cpu_s", "peak_mib", "steps", "particles", "ale_elements", "solid_elements",
-                   "message")}, "errors": {}}
-        if c.status.get("state") == "done":
-            for q in quantities:
-                try:
-                    t, v = metrics.quantity_series(c.histories, q)
-                except KeyError as err:
-                    row["errors"][q] = {"missing": str(err)}
-                    continue
-                row["errors"][q] = metrics.history_error(t, v, *ref_series[q]).as_dict()
-        rows.append(row)
-
-    def series(kind: str) -> list[dict]:
-        return sorted((r for r in rows if r["kind"] == kind and r["state"] == "done"), key=lambda r: r["size"])
-
-    convergence = {}
-    for kind in ("sph", "ale"):
-        done = series(kind)
-        if len(done) < 3:
-            continue
-        three = done[:3]
-        convergence[kind] = {}
-        for q in quantities:
-            phis = [r["errors"].get(q, {}).get("peak_value") for r in three]
-            if any(p is None or not math.isfinite(p) for p in phis):
-                continue
-            convergence[kind][q] = metrics.three_grid([r["size"] for r in three], phis).as_dict()
-            convergence[kind][q]["cases"] = [r["case"] for r in three]
-
-    sph = [r for r in series("sph") if not r["reference"]]
-    worst = [max((e.get("l2", float("nan")) for e in r["errors"].values() if "l2" in e), default=float("nan"))
-             for r in sph]
-    prediction = metrics.predict([r["ratio"] for r in sph], worst, [r["count"] for r in sph],
-                                 [r["wall_s"] for r in sph], config.tolerance)
-    ale_cost = [r["wall_s"] for r in series("ale")]
-    result = {
-        "deck": str(Path(config.deck).resolve()), "reference": ref_label, "quantities": quantities,
-        "tolerance": config.tolerance, "cases": rows, "convergence": convergence,
-        "prediction": prediction.as_dict(), "worst_l2": dict(zip([r["case"] for r in sph], worst)),
-    }
-    result["recommendation"] = recommend(prediction, sph, worst, ale_cost, ref_label, config.tolerance)
-    return result
-
-
-def recommend(pred: metrics.Prediction, sph: list[dict], worst: list[float], ale_cost: list[float],
-              ref_label: str, tolerance: float) -> str:
-    """One line: which ratio to use, at what cost."""
-    tol = f"{100 * tolerance:g} %"
-    ale = f"; the ALE reference took {ale_cost[0]:.1f} s" if ale_cost else ""
-    if not sph:
-        return "no SPH case finished: nothing to recommend"
-    if pred.met_by is not None:
-        r = next(x for x in sph if x["ratio"] == pred.met_by)
-        return (f"use ratio {pred.met_by:g}: worst L2 error {100 * worst[sph.index(r)]:.2f} % <= {tol} against "
-                f"{ref_label} with {r['count']} particles in {r['wall_s']:.1f} s{ale}")
-    if pred.ratio is not None and pred.wall is not None:
-        return (f"no tested ratio reaches {tol} against {ref_label} (best {100 * min(worst):.2f} %); the fits predict "
-                f"ratio {pred.ratio:.2f} ({pred.particles:.3g} particles, about {pred.wall:.3g} s){ale}")
-    return (f"no tested ratio reaches {tol} against {ref_label} (best {100 * min(worst):.2f} %) and the error does "
-            f"not fall with the ratio: refining the particles alone will not get there{ale}")
-
-
 def run_study(config: StudyConfig, echo: Callable[[str], None] = print) -> tuple[Path, dict]:
-    """Plan, run, evaluate, and write the report files and plots; returns (folder, results)."""
-    from . import plots, report
+    """Plan, run, evaluate (and with ``verify`` run the recommended case and evaluate again), and
+    write the report files and plots; returns (folder, results)."""
+    from . import evaluate, plots, report
 
-    out, cases = plan(config)
-    echo(f"mesh study in {out}: {len(cases)} cases")
-    run_cases(cases, config, echo)
-    result = evaluate(config, out, cases)
-    report.write_all(out, result)
-    plots.study_plots(out, result, cases)
-    return out, result
+    p = plan(config)
+    echo(f"mesh study in {p.out}: {len(p.cases)} cases")
+    for note in p.notes:
+        echo(f"  {note}")
+    run_cases(p.cases, config, echo)
+    result = evaluate.evaluate(config, p)
+    rec = result["recommendation"]
+    if config.verify:
+        ratio = rec.get("ratio")
+        if ratio is None or rec["verdict"] not in ("met", "predicted"):
+            rec["verify_note"] = f"--verify: nothing run (verdict: {rec['verdict']})"
+        elif not any(c.kind == "sph" and abs(c.ratio - ratio) < 1e-6 for c in p.cases):
+            case = sph_case(p, Path(config.deck), int(ratio), role="verify")
+            p.cases.append(case)
+            echo(f"  verifying the recommendation: {case.name}")
+            run_cases([case], config, echo)
+            result = evaluate.evaluate(config, p)
+    report.write_all(p.out, result)
+    plots.study_plots(p.out, result, p.cases)
+    return p.out, result

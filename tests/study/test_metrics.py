@@ -1,5 +1,5 @@
 """Mesh-study metrics on manufactured histories with known error: L2, peak, time of peak,
-observed order, Richardson extrapolation, GCI and the cost model."""
+observed order, Richardson extrapolation and GCI."""
 from __future__ import annotations
 
 import math
@@ -106,17 +106,3 @@ def test_quantity_names_a_missing_column(tmp_path):
     _write(tmp_path / "plate.csv", ["time", "von_mises"], [[0.0, 1.0], [1.0, 2.0]])
     with pytest.raises(KeyError, match="no column or family 'velocity'"):
         metrics.quantity_series(tmp_path, "plate.velocity")
-
-
-def test_prediction_from_power_laws():
-    ratios = [1.0, 2.0, 3.0]
-    errors = [0.2 * r**-1.5 for r in ratios]
-    counts = [100.0 * r**2 for r in ratios]
-    walls = [1e-3 * n**1.4 for n in counts]
-    pred = metrics.predict(ratios, errors, counts, walls, tolerance=0.01)
-    ratio = (0.01 / 0.2) ** (1 / -1.5)
-    assert pred.ratio == pytest.approx(ratio, rel=1e-9)
-    assert pred.particles == pytest.approx(100.0 * ratio**2, rel=1e-9)
-    assert pred.wall == pytest.approx(1e-3 * (100.0 * ratio**2) ** 1.4, rel=1e-9)
-    assert pred.met_by is None
-    assert metrics.predict(ratios, errors, counts, walls, tolerance=0.1).met_by == 2.0

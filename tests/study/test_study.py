@@ -4,6 +4,10 @@ from __future__ import annotations
 
 import copy
 import json
+import os
+import signal
+import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -156,31 +160,79 @@ def test_mask_geometry_is_exact_for_any_mask():
     assert derive.mask_geometry(full, 0.0, 0.0, 1.0) == {"box": {"min": [2.0, 1.0], "max": [5.0, 4.0]}}
 
 
-def test_tiny_study_runs_resumes_and_reports(tmp_path):
+def assert_interface(report: dict) -> None:
+    """The report.json keys scripts and checks rely on (issue 12)."""
+    ref = report["reference"]
+    assert {"case", "sizes", "uncertainty"} <= set(ref)
+    for u in ref["uncertainty"].values():
+        assert {"gci", "extrapolated"} <= set(u)
+    for c in report["cases"]:
+        assert {"name", "method", "cpu_s", "compile_s", "peak_mib", "steps", "errors"} <= set(c)
+        assert c["method"] in ("sph", "ale") and ("ratio" in c or "size" in c)
+        for e in c["errors"].values():
+            assert {"l2", "peak"} <= set(e)
+    assert {"form", "floor", "order"} <= set(report["model"]["error"])
+    assert {"form", "coefficients"} <= set(report["model"]["cost"])
+    rec = report["recommendation"]
+    assert {"tolerance", "ratio", "verdict", "predicted", "verified"} <= set(rec)
+    assert rec["ratio"] is None or isinstance(rec["ratio"], int)
+    if rec["predicted"] is not None:
+        assert {"error", "cpu_s"} <= set(rec["predicted"])
+    if rec["verified"] is not None:
+        assert {"error", "cpu_s"} <= set(rec["verified"]["measured"])
+        assert {"error", "cpu_s"} <= set(rec["verified"]["prediction_error"])
+
+
+def test_tiny_study_runs_verifies_resumes_and_reports(tmp_path):
     out = tmp_path / "study"
-    config = StudyConfig(deck=TINY, ratios=(1, 2), workers=2, outdir=out, end_time=6e-4)
+    config = StudyConfig(deck=TINY, ratios=(1, 2), workers=2, outdir=out, end_time=6e-4, tolerance=0.065,
+                         verify=True)
     _, result = run_study(config, echo=lambda s: None)
     names = sorted(p.name for p in (out / "cases").iterdir())
-    assert names == ["ale_h0.05", "sph_r1", "sph_r2"]
+    # the ALE reference refined by default (h, h/2, h/4); the recommended ratio run by --verify
+    assert names == ["ale_h0.0125", "ale_h0.025", "ale_h0.05", "sph_r1", "sph_r2", "sph_r3"]
     for name in names:
         status = json.loads((out / "cases" / name / "status.json").read_text())
         assert status["state"] == "done", status
-        assert status["steps"] > 0 and status["wall_s"] > 0 and status["cpu_s"] > 0 and status["peak_mib"] > 10
+        assert status["steps"] > 0 and status["cpu_s"] > 0 and status["peak_mib"] > 10
+        assert status["compile_s"] >= 0 and len(status["cpu_runs"]) >= 1
+        assert status["dt0"]["sph" if name.startswith("sph") else "ale"] > 0
         assert (out / "cases" / name / "run" / "histories" / "glstat.csv").exists()
     for f in ("report.csv", "report.json", "report.md", "error_vs_ratio.png", "pareto.png",
               "history_glstat.kinetic.png", "study.json"):
         assert (out / f).stat().st_size > 0, f
     rows = {r["case"]: r for r in result["cases"]}
     assert rows["sph_r1"]["particles"] == 30 and rows["sph_r2"]["particles"] == 120
-    assert rows["ale_h0.05"]["reference"] and rows["ale_h0.05"]["errors"]["glstat.kinetic"]["l2"] == 0.0
-    assert 0.0 < rows["sph_r2"]["errors"]["glstat.kinetic"]["l2"] < 1.0
+    assert rows["ale_h0.0125"]["reference"] and rows["ale_h0.0125"]["errors"]["glstat.kinetic"]["l2"] == 0.0
+    assert rows["sph_r3"]["role"] == "verify"
+    ref = result["reference"]
+    assert ref["case"] == "ale_h0.0125" and ref["sizes"] == [0.0125, 0.025, 0.05]
+    u = ref["uncertainty"]["glstat.kinetic"]
+    assert u["gci"] > 0 and u["levels"] == ["ale_h0.0125", "ale_h0.025", "ale_h0.05"]
+    rec = result["recommendation"]
+    # two ratios: the power law, solved for the tolerance and rounded up to a whole ratio
+    assert result["model"]["error"]["form"] == "power"
+    m = result["model"]["error"]
+    r_star = (m["c"] / 0.065) ** (1 / m["order"])
+    assert rec["ratio"] == int(np.ceil(r_star)) == 3 and rec["verdict"] == "predicted"
+    v = rec["verified"]
+    assert v["case"] == "sph_r3" and not v["in_fit"]
+    assert v["measured"]["error"] == pytest.approx(rows["sph_r3"]["worst_l2"])
+    assert v["prediction_error"]["error"] == pytest.approx(
+        (rec["predicted"]["error"] - v["measured"]["error"]) / v["measured"]["error"])
+    assert v["prediction_error"]["cpu_s"] == pytest.approx(
+        (rec["predicted"]["cpu_s"] - v["measured"]["cpu_s"]) / v["measured"]["cpu_s"])
+    assert rec["predicted"]["particles"] == 270  # derived exactly
     report = json.loads((out / "report.json").read_text())
-    assert report["recommendation"] == result["recommendation"]
+    assert_interface(report)
+    assert report["recommendation"]["text"] == rec["text"]
+    md = (out / "report.md").read_text()
+    assert "## Reference uncertainty" in md and "verified by sph_r3" in md and "monotone" in md
 
     before = {n: json.loads((out / "cases" / n / "status.json").read_text())["finished"] for n in names}
     lines = []
     run_study(config, echo=lines.append)
-    assert sum("skipped" in line for line in lines) == 3
+    assert sum("skipped" in line for line in lines) == 6
     after = {n: json.loads((out / "cases" / n / "status.json").read_text())["finished"] for n in names}
     assert after == before
 
@@ -191,6 +243,48 @@ def test_tiny_study_runs_resumes_and_reports(tmp_path):
     result = CliRunner().invoke(main, ["plot", str(run), "--quantity", "glstat.kinetic"])
     assert result.exit_code == 0, result.output
     assert (run / "plots" / "glstat.kinetic.png").exists()
+    result = CliRunner().invoke(main, ["plot", str(run)])
+    assert result.exit_code == 0, result.output
+    assert (run / "plots" / "glstat.png").exists()
+
+
+def test_a_killed_case_fails_alone_and_a_failed_reference_still_reports(tmp_path):
+    """Killing the reference's process (the first queued) fails that case only: the two queued
+    behind it run, and the report says why there are no errors, in every format."""
+    out = tmp_path / "study"
+    config = StudyConfig(deck=TINY, ratios=(1, 2), workers=1, outdir=out, end_time=2e-3, ale_sizes=())
+    status_file = out / "cases" / "ale_h0.05" / "status.json"
+    killed = []
+
+    def kill_when_running():
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline:
+            try:
+                status = json.loads(status_file.read_text())
+            except (OSError, ValueError):
+                status = {}
+            if status.get("state") == "running":
+                os.kill(status["pid"], signal.SIGKILL)
+                killed.append(status["pid"])
+                return
+            time.sleep(0.005)
+
+    watcher = threading.Thread(target=kill_when_running)
+    watcher.start()
+    _, result = run_study(config, echo=lambda s: None)
+    watcher.join()
+    assert killed
+    states = {r["case"]: r["state"] for r in result["cases"]}
+    assert states == {"ale_h0.05": "failed", "sph_r1": "done", "sph_r2": "done"}
+    message = next(r["message"] for r in result["cases"] if r["case"] == "ale_h0.05")
+    assert "killed by SIGKILL" in message
+    rec = result["recommendation"]
+    assert rec["verdict"].startswith("failed: no finished ALE case") and rec["ratio"] is None
+    assert "killed by SIGKILL" in rec["text"]
+    assert "killed by SIGKILL" in (out / "report.md").read_text()
+    assert "killed by SIGKILL" in (out / "report.csv").read_text()
+    assert "killed by SIGKILL" in json.loads((out / "report.json").read_text())["cases"][0]["message"]
+    assert result["reference"]["failed"][0]["case"] == "ale_h0.05"
 
 
 def test_a_changed_deck_reruns_its_case(tmp_path):
