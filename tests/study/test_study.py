@@ -309,7 +309,7 @@ def test_dask_executor_on_a_local_cluster(tmp_path):
     with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
         out = tmp_path / "study"
-        config = StudyConfig(deck=TINY, ratios=(1,), scheduler=client, outdir=out, end_time=3e-4)
+        config = StudyConfig(deck=TINY, ratios=(1,), scheduler=client, outdir=out, end_time=3e-4, ale_sizes=())
         _, result = run_study(config, echo=lambda s: None)
     states = {r["case"]: r["state"] for r in result["cases"]}
     assert states == {"ale_h0.05": "done", "sph_r1": "done"}

@@ -1,0 +1,114 @@
+"""Study evaluation on manufactured case folders (no runs): the reference when the finest ALE level
+failed, its GCI band and which errors lie below it, driven histories left out of the defaults, and
+the recommendation's verdicts (met, predicted, extrapolated, not reachable: floor)."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from sphfem_cli.study import evaluate, report, runner
+from sphfem_cli.study.study import Case, Plan, StudyConfig, load_deck_data
+
+HERE = Path(__file__).parent
+TINY = HERE / "tiny_ale.yaml"
+DECKS = HERE.parents[1] / "decks"
+T = np.linspace(0.0, 1e-3, 201)
+
+
+def _case(root: Path, name: str, kind: str, size: float, amplitude: float | None, count: int, cpu: float,
+          steps: int, message: str | None = None) -> Case:
+    d = root / "cases" / name
+    (d / "run" / "histories").mkdir(parents=True)
+    (d / runner.DECK).write_text(f"# {name}\n")
+    status = {"state": "failed", "message": message} if amplitude is None else {
+        "state": "done", "cpu_s": cpu, "cpu_runs": [cpu], "cpu_spread": 0.0, "compile_s": 0.0, "peak_mib": 170 + count / 1e3,
+        "steps": steps, "particles": count if kind == "sph" else 0, "ale_elements": count if kind == "ale" else 0,
+        "dt0": {"solid": 1e-6, kind: 1e-6 * size / 0.05}}
+    if amplitude is not None:
+        rows = np.stack([T, amplitude * np.sin(np.pi * T / 1e-3)], axis=1)
+        np.savetxt(d / "run" / "histories" / "probe.csv", rows, delimiter=",", header="time,height", comments="")
+    status["deck_sha256"] = runner.deck_hash(d)
+    runner.write_status(d, status)
+    return Case(name, kind, size, 0.05 / size, d, status=runner.read_status(d))
+
+
+def _ale_peak(h: float) -> float:
+    """ALE peaks converging with order 2; the finest (0.0125) is exactly 1."""
+    return 1.0 + 0.4 * ((h / 0.05) ** 2 - 1.0 / 16.0)
+
+
+def _plan(tmp_path: Path, sph_errors: dict[int, float], finest_fails: bool) -> Plan:
+    """ALE at 0.05, 0.025, 0.0125 (order 2, the finest exactly 1) and SPH ratios whose amplitude error
+    against that finest level is the given one."""
+    cases = []
+    for h in (0.05, 0.025, 0.0125):
+        amp = None if (finest_fails and h == 0.0125) else _ale_peak(h)
+        cases.append(_case(tmp_path, f"ale_h{h:g}", "ale", h, amp, int(32 * (0.05 / h) ** 2), 0.1 * (0.05 / h) ** 3,
+                           int(5 * 0.05 / h), message="ALE blew up"))
+    for r, e in sph_errors.items():
+        cases.append(_case(tmp_path, f"sph_r{r}", "sph", 0.05 / r, 1.0 + e, 30 * r * r, 0.05 + 1e-4 * 30 * r**3 * 8,
+                           8 * r))
+    return Plan(tmp_path, cases, load_deck_data(TINY), 0.05)
+
+
+def _config(tmp_path, tolerance):
+    return StudyConfig(deck=TINY, tolerance=tolerance, outdir=tmp_path)
+
+
+def test_failed_finest_reference_falls_back_and_says_so(tmp_path):
+    plan = _plan(tmp_path, {1: 0.3, 2: 0.15, 3: 0.1}, finest_fails=True)
+    result = evaluate.evaluate(_config(tmp_path, 0.2), plan)
+    ref = result["reference"]
+    assert ref["case"] == "ale_h0.025" and ref["failed"] == [{"case": "ale_h0.0125", "message": "ALE blew up"}]
+    # two levels left: Fs 3 and order 1 assumed
+    u = ref["uncertainty"]["probe.height"]
+    assert u["method"].startswith("two levels")
+    p1, p2 = _ale_peak(0.025), _ale_peak(0.05)
+    assert u["gci"] == pytest.approx(3.0 * abs(p2 - p1) / p1 / (2.0 - 1.0), rel=1e-3)
+    assert "ALE blew up" in result["recommendation"]["text"]
+    report.write_all(tmp_path, result)
+    assert "The finer reference ale_h0.0125 failed" in (tmp_path / "report.md").read_text()
+    assert "ALE blew up" in (tmp_path / "report.csv").read_text()
+
+
+def test_reference_gci_band_and_errors_below_it(tmp_path):
+    plan = _plan(tmp_path, {1: 0.3, 2: 0.08, 3: 0.002}, finest_fails=False)
+    result = evaluate.evaluate(_config(tmp_path, 0.05), plan)
+    u = result["reference"]["uncertainty"]["probe.height"]
+    phi = [_ale_peak(h) for h in (0.0125, 0.025, 0.05)]
+    assert u["order"] == pytest.approx(2.0, rel=1e-6) and u["monotone"]
+    assert u["extrapolated"] == pytest.approx(1.0 - 0.4 / 16.0, rel=1e-6)
+    assert u["gci"] == pytest.approx(1.25 * abs(phi[0] - phi[1]) / phi[0] / 3.0, rel=1e-6)
+    errors = {r["case"]: r["errors"]["probe.height"] for r in result["cases"]}
+    # SPH at ratio 3 is 0.2 % off the finest ALE peak, less than its GCI (2.9 %): indistinguishable
+    assert errors["sph_r3"]["below_reference_uncertainty"]["peak"] is True
+    assert errors["sph_r1"]["below_reference_uncertainty"]["peak"] is False
+
+
+def test_verdicts_never_leave_a_far_ratio_unqualified(tmp_path):
+    e = {r: 0.4 * r**-0.5 for r in (1, 2, 3)}
+    result = evaluate.evaluate(_config(tmp_path / "a", 0.05), _plan(tmp_path / "a", e, False))
+    rec = result["recommendation"]
+    # power law p = 0.5: ratio 64 for 5 %, beyond 3 x 3: extrapolated, with its prediction
+    assert rec["ratio"] == 64 and rec["verdict"] == "extrapolated" and rec["text"].startswith("extrapolated:")
+    assert rec["predicted"]["error"] == pytest.approx(0.05, rel=1e-6)
+    e = {r: 0.17 + 0.3 * r**-1.5 for r in (1, 2, 3, 4)}
+    result = evaluate.evaluate(_config(tmp_path / "b", 0.1), _plan(tmp_path / "b", e, False))
+    rec = result["recommendation"]
+    assert result["model"]["error"]["form"] == "floor"
+    assert rec["ratio"] is None and rec["verdict"].startswith("not reachable: floor e_inf = 17")
+    result = evaluate.evaluate(_config(tmp_path / "c", 0.19), _plan(tmp_path / "c", e, False))
+    # (0.3 / (0.19 - 0.17))^(1 / 1.5) = 6.08, rounded up
+    assert result["recommendation"]["verdict"] == "predicted" and result["recommendation"]["ratio"] == 7
+    result = evaluate.evaluate(_config(tmp_path / "d", 0.25), _plan(tmp_path / "d", e, False))
+    assert result["recommendation"]["verdict"] == "met" and result["recommendation"]["ratio"] == 3
+    for case in json.loads(json.dumps(report._finite(result)))["cases"]:
+        assert case["method"] in ("ale", "sph")
+
+
+def test_driven_histories_are_no_default_quantities():
+    driven = evaluate.driven_histories(DECKS / "structure_in_water_ale.yaml")
+    assert set(driven) == {"bottom"}  # the plate's bottom nodes follow the prescribed drive; mid, clamp do not
