@@ -45,7 +45,7 @@ def _interval(value: float, s: float | None, dof: int, jac: np.ndarray, j0: np.n
     except np.linalg.LinAlgError:
         return None
     half = t95(dof) * s * math.sqrt(1.0 + max(lev, 0.0))
-    return [value * (1.0 - half), value * (1.0 + half)]
+    return [max(0.0, value * (1.0 - half)), value * (1.0 + half)]  # costs, memory and errors are >= 0
 
 
 # ------------------------------------------------------------------------------------- linear

@@ -63,7 +63,7 @@ def error_plot(out: Path, result: dict) -> Path:
             ax.loglog([r["ratio"]], [r["worst_l2"]], "k*", ms=11, label=f"{r['case']} (verification, measured)")
     p = rec.get("predicted")
     if rec.get("ratio") and p and _ok(p.get("error")):
-        ax.loglog([rec["ratio"]], [p["error"]], "kx", ms=9, label=f"ratio {rec['ratio']}: predicted ({rec['verdict']})")
+        ax.loglog([rec["ratio"]], [p["error"]], "kx", ms=9, label=f"ratio {rec['ratio']}: the model's prediction ({rec['verdict']})")
     ax.set_xlabel("ratio: ALE element size / particle spacing [-]")
     ax.set_ylabel("normalised L2 error [-]")
     ax.set_title(f"SPH error against {result['reference']['label']}")
@@ -145,7 +145,8 @@ def overlay(quantity: str, runs: Sequence[tuple[str, Path]], path: Path, referen
         drawn += 1
     ax.set_xlabel(label("time", units, dimension))
     ax.set_ylabel(label(quantity, units, dimension))
-    ax.set_title(f"{quantity}" + (f": {drawn} runs" if drawn != 1 else ""))
+    ax.set_title(f"{quantity} history" + (f": {drawn} runs" if drawn != 1 else "")
+                 + (f", reference {reference} in black" if reference and drawn > 1 else ""))
     ax.grid(True, alpha=0.3)
     if drawn:
         ax.legend(fontsize=8)
@@ -175,11 +176,13 @@ def table_plot(table: Path, path: Path, units: dict, dimension: int) -> Path:
     for ax, (unit, idx) in zip(axes[:, 0], groups.items()):
         for i in idx:
             ax.plot(data[:, 0], data[:, i], label=columns[i])
-        ax.set_ylabel(f"[{unit}]")
+        ax.set_ylabel(label(columns[idx[0]], units, dimension) if len(idx) == 1 else f"value [{unit}]")
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7, ncol=2)
     axes[-1, 0].set_xlabel(label(columns[0], units, dimension))
-    axes[0, 0].set_title(f"{table.stem} ({table.parent.parent.name})")
+    run = table.parent.parent
+    name = f"{run.parent.name}/{run.name}" if run.name == "run" else run.name
+    axes[0, 0].set_title(f"{table.stem} history of {name}")
     return _save(fig, path, plt)
 
 
