@@ -86,16 +86,20 @@ def load_deck_data(path: Path) -> dict:
 def ale_sizes(config: StudyConfig, data: dict, h: float) -> tuple[list[float], list[str]]:
     """The ALE element sizes to run, finest last, and notes on the refinements the scene refuses.
 
-    Default: h, h/2 and h/4 (h the deck's own), each where it gives square elements on the ALE box."""
+    Default: h, h/2 and h/4 (h the deck's own), each where the scene allows it: square elements on
+    the ALE box, and a model that fits in the memory available now (model.build.check_memory)."""
+    from ..model.build import ModelError, check_memory
+
     if config.ale_sizes is not None:
         return sorted({h, *(float(s) for s in config.ale_sizes)}, reverse=True), []
     sizes, notes = [h], []
     for k in (2, 4):
         try:
-            derive.ale_variant(data, h / k)
+            check_memory(derive.validated(derive.ale_variant(data, h / k).data))
             sizes.append(h / k)
-        except derive.StudyError as err:
-            notes.append(f"ALE size h/{k} = {_fmt(h / k)} left out: {err}")
+        except (derive.StudyError, ModelError) as err:
+            notes.append(f"ALE size h/{k} = {_fmt(h / k)} left out: {getattr(err, 'message', err)}")
+            break
     return sizes, notes
 
 

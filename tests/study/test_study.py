@@ -316,3 +316,19 @@ def test_dask_executor_on_a_local_cluster(tmp_path):
     status = json.loads((out / "cases" / "sph_r1" / "status.json").read_text())
     assert status["pid"] != __import__("os").getpid()  # ran in its own process
     assert (out / "report.md").exists()
+
+
+def test_ale_sizes_default_to_h_h2_h4_where_the_scene_allows(monkeypatch):
+    from sphfem_cli.cli import _ale_sizes
+    from sphfem_cli.model import build
+    from sphfem_cli.study.study import ale_sizes
+
+    data = load_deck_data(TINY)
+    assert ale_sizes(StudyConfig(deck=TINY), data, 0.05) == ([0.05, 0.025, 0.0125], [])
+    assert ale_sizes(StudyConfig(deck=TINY, ale_sizes=()), data, 0.05) == ([0.05], [])
+    assert ale_sizes(StudyConfig(deck=TINY, ale_sizes=(0.1,)), data, 0.05) == ([0.1, 0.05], [])
+    monkeypatch.setattr(build, "available_memory", lambda: 100_000)  # bytes: h/2 does not fit
+    sizes, notes = ale_sizes(StudyConfig(deck=TINY), data, 0.05)
+    assert sizes == [0.05] and "h/2 = 0.025 left out" in notes[0] and "GiB" in notes[0]
+    assert _ale_sizes(None, None, "default") is None and _ale_sizes(None, None, "none") == ()
+    assert _ale_sizes(None, None, "0.02,0.01") == (0.02, 0.01)
