@@ -508,13 +508,14 @@ def _ale_sizes(ctx, param, value):
 @click.option("--ratios", default="1,2,3", callback=_number_list(int), show_default=True,
               help="Particle-spacing ratios (ALE element size / particle spacing), whole numbers.")
 @click.option("--reference", default="ale", show_default=True,
-              help="ale (the finest ALE case), finest (the finest SPH case) or PATH of a run folder.")
+              help="ale (the finest finished ALE case), finest (the finest SPH case) or PATH of a run folder.")
 @click.option("--quantities", default=None, callback=lambda c, p, v: tuple(q for q in (v or "").split(",") if q),
-              help="TABLE.COLUMN list, e.g. plate.displacement,plate.von_mises. Default: every requested history.")
+              help="TABLE.COLUMN list, e.g. plate.displacement,plate.von_mises. Default: every requested history "
+                   "but the driven ones (nodes with a prescribed velocity).")
 @click.option("--tolerance", default="5%", callback=_fraction, show_default=True,
-              help="Target normalised L2 error, for the predicted ratio and the recommendation.")
+              help="Target normalised L2 error (the worst over the quantities), for the recommended ratio.")
 @click.option("--workers", type=click.IntRange(min=1), default=1, show_default=True,
-              help="Cases run at once in the local process pool.")
+              help="Cases run at once as local processes.")
 @click.option("--scheduler", default=None, help="Dask scheduler ADDRESS: run the cases on that cluster.")
 @click.option("--ale-sizes", default="default", callback=_ale_sizes, show_default=True,
               help="ALE element sizes to run besides the deck's h (the reference's own convergence): default "

@@ -32,7 +32,7 @@ from .study import Plan, StudyConfig
 KINEMATIC = ("displacement", "velocity", "acceleration", "coordinates")
 EXTRAPOLATION_LIMIT = 3.0  # a ratio beyond this many times the largest tested is "extrapolated"
 ASYMPTOTIC_BAND = 1.25
-MAX_EXACT_CELLS = 4_000_000  # beyond, particle counts scale with the area instead of being derived
+MAX_EXACT_CELLS = 1_000_000  # beyond, particle counts scale with the area instead of being derived
 
 
 def driven_histories(deck_path: Path) -> dict[str, str]:

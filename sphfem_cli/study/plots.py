@@ -198,7 +198,8 @@ def plot_dir(directory: Path, quantities: Sequence[str] = (), outdir: Path | Non
         runs = [(n, h) for n, h in runs if h.is_dir()]
         report = directory / "report.json"
         rep = json.loads(report.read_text()) if report.exists() else {}
-        reference = (rep.get("reference") or {}).get("label")
+        reference = rep.get("reference")
+        reference = reference.get("label") if isinstance(reference, dict) else reference  # older reports: a name
         if not quantities:
             quantities = rep.get("quantities") or (metrics.default_quantities(runs[0][1]) if runs else [])
         out = Path(outdir) if outdir else directory / "plots"
