@@ -18,8 +18,8 @@ What a case measures (``run_case``), numba compilation kept out of the clock:
   ``compile_s`` is the time numba spent compiling (its ``numba:compile`` events), in the warm-up
   and, if a kernel first called later still compiles, in the timed run, where it is subtracted;
 - ``cpu_s``: user + system CPU of the timed model build and run (``time.process_time``), the
-  median over repeats: a case is run again while its runs so far took less than
-  ``repeat_budget_s`` (at most ``max_repeats`` runs), and ``cpu_spread`` = (max - min) / median;
+  median over repeats: a case is run again while its runs so far and one more like
+  the last stay within ``repeat_budget_s`` (at most ``max_repeats`` runs), and ``cpu_spread`` = (max - min) / median;
 - ``peak_mib``: peak resident memory (``VmHWM``) of the timed runs, the high-water mark reset
   after the warm-up (``/proc/self/clear_refs``), so a compile's memory is not charged to the run;
   ``ru_maxrss`` where that is not available;
