@@ -332,3 +332,31 @@ def test_ale_sizes_default_to_h_h2_h4_where_the_scene_allows(monkeypatch):
     assert sizes == [0.05] and "h/2 = 0.025 left out" in notes[0] and "GiB" in notes[0]
     assert _ale_sizes(None, None, "default") is None and _ale_sizes(None, None, "none") == ()
     assert _ale_sizes(None, None, "0.02,0.01") == (0.02, 0.01)
+
+
+@pytest.mark.validation
+def test_a_case_on_an_empty_numba_cache_keeps_the_compile_apart(tmp_path):
+    """On an empty numba cache the warm-up compiles (compile_s > 0), the case process re-executes
+    and loads the kernels from the cache it filled, so the timed runs neither compile nor carry
+    the compiler's memory: the peak is the warm run's (CPU times: benchmarks/study_cold_cache.py)."""
+    import subprocess
+    import sys
+
+    import yaml
+
+    data = yaml.safe_load(TINY.read_text())
+    data["control"]["end_time"] = 6e-4
+    statuses = []
+    cache = tmp_path / "numba"
+    for name in ("cold", "warm"):
+        case = tmp_path / name
+        case.mkdir()
+        (case / "deck.yaml").write_text(yaml.safe_dump(data))
+        env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+        subprocess.run([sys.executable, "-m", "sphfem_cli.study", str(case)], env=env, check=True)
+        statuses.append(json.loads((case / "status.json").read_text()))
+    cold, warm = statuses
+    assert cold["state"] == warm["state"] == "done"
+    assert cold["compile_s"] > 0 and cold["reexecuted"] and cold["compile_in_run_s"] == 0.0
+    assert warm["compile_s"] == 0.0 and "reexecuted" not in warm
+    assert cold["peak_mib"] == pytest.approx(warm["peak_mib"], rel=0.05)
