@@ -30,6 +30,13 @@ def von_mises(stress: np.ndarray) -> np.ndarray:
     return np.sqrt(1.5 * (np.sum(s * s, axis=1) + 2.0 * np.sum(shear * shear, axis=1)))
 
 
+def history_tables(model) -> list[str]:
+    """The history tables a run of `model` writes (histories/<name>.csv), in RunOutput's order."""
+    out = model.deck.output
+    ale = ["ale_materials"] if model.ale is not None else []
+    return ["glstat", "matsum", *ale, *(h.name for h in out.histories), *(p.name for p in out.probes)]
+
+
 class RunOutput:
     """Field and history output of one simulation into `directory`."""
 
@@ -73,7 +80,8 @@ class RunOutput:
                        for probe in out.probes]
         self._next_field = 0.0 if resume is None else resume["next_field"]
         self._next_history = 0.0 if resume is None else resume["next_history"]
-        self.last_energy: EnergyRow | None = None if resume is None else resume["last_energy"]
+        last = None if resume is None else resume["last_energy"]
+        self.last_energy: EnergyRow | None = None if last is None else EnergyRow(*(float(v) for v in last))
 
     def _writers(self) -> list[HistoryWriter]:
         ale = [self.ale_materials] if self.ale_materials is not None else []
@@ -85,10 +93,12 @@ class RunOutput:
             writer.flush()
 
     def state(self) -> dict:
-        """Everything needed to continue these files after a restart (flushes the histories first)."""
+        """Everything needed to continue these files after a restart, as plain JSON-able data
+        (flushes the histories first)."""
         self.flush()
-        return {"next_field": self._next_field, "next_history": self._next_history,
-                "last_energy": self.last_energy, "xdmf": self.xdmf.state(),
+        last = None if self.last_energy is None else [float(v) for v in self.last_energy.values()]
+        return {"next_field": float(self._next_field), "next_history": float(self._next_history),
+                "last_energy": last, "xdmf": self.xdmf.state(),
                 "rows": {w.name: w.n_rows for w in self._writers()}}
 
     def __call__(self, force: bool = False) -> None:

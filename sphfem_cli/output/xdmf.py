@@ -25,12 +25,16 @@ dataset carries it in its ``component_order`` attribute.
 Every step is flushed to the HDF5 file before it is listed in the XML, and the XML is replaced
 atomically (temporary file + ``os.replace``), at the latest every ``xml_interval_s`` seconds of
 wall time, at every step when ``xml_budget`` allows it (see ``__init__``), and always on ``close()``. A run killed at any moment therefore leaves a readable XDMF that
-lists only steps whose data is on disk. The XDMF file appears with the first step (a stale one
+lists only steps whose data is on disk. The HDF5 library cannot recover from a write that fails half-way
+(a full disk leaves the file unreadable), so disk space for each step is reserved first
+(:func:`reserve_space`): a full disk, a quota or a file-size limit then fails before HDF5 writes
+anything, with OSError, and the file keeps every step written before. The XDMF file appears with the first step (a stale one
 from an earlier run in the same directory is removed when the writer opens). The HDF5 file is
 opened without HDF5's file lock, so ParaView can open the series while the run is still going.
 """
 from __future__ import annotations
 
+import errno
 import os
 import tempfile
 import time
@@ -100,6 +104,41 @@ class _GridRecord:
 class _StepRecord:
     time: float
     grids: list[_GridRecord]
+
+
+_UNSUPPORTED = {errno.EINVAL, errno.EOPNOTSUPP, errno.ENOSYS, errno.ENODEV}
+_OVERHEAD = 64 * 1024  # bytes of HDF5 metadata reserved besides the data: object headers, B-tree nodes, heaps
+_PER_DATASET = 4 * 1024
+
+
+def reserve_space(h5: h5py.File, nbytes: int) -> None:
+    """Allocate the disk blocks for the next `nbytes` (plus metadata) the HDF5 library will append to
+    `h5`, so that a full disk, a quota or a file-size limit raises OSError here, before HDF5 writes.
+
+    The blocks are allocated after the file's end of allocated space (``H5Fget_filesize``) with
+    posix_fallocate; :func:`trim_space` gives back what a flush left unused. A file system without
+    fallocate support is written without the reservation."""
+    try:
+        fd = h5.id.get_vfd_handle()
+        end = h5.id.get_filesize()
+    except (ValueError, TypeError, RuntimeError, OSError):  # not the default (sec2) driver
+        return
+    try:
+        os.posix_fallocate(fd, end, int(nbytes) + _OVERHEAD)
+    except OSError as err:
+        if err.errno not in _UNSUPPORTED:
+            raise OSError(err.errno, err.strerror, h5.filename) from None
+
+
+def trim_space(h5: h5py.File) -> None:
+    """Cut the file back to HDF5's end of allocated space after a flush (the unused reservation)."""
+    try:
+        fd = h5.id.get_vfd_handle()
+        end = h5.id.get_filesize()
+        if os.fstat(fd).st_size > end:
+            os.ftruncate(fd, end)
+    except (ValueError, TypeError, RuntimeError, OSError):
+        pass
 
 
 def _number_type(dtype: np.dtype) -> tuple[str, int]:
@@ -174,15 +213,25 @@ class XdmfWriter:
         self.xdmf_path.unlink(missing_ok=True)
 
     def state(self) -> dict:
-        """What :meth:`__init__` needs to continue this series later (plain data, picklable)."""
-        return {"grids": dict(self._grids), "steps": list(self._steps)}
+        """What :meth:`__init__` needs to continue this series later, as plain JSON-able data:
+        ``grids`` maps each grid to [topology, points, cells, nodes per cell]; ``steps`` lists
+        [time, [[grid, coordinates path, [[name, kind, center, path, shape, dtype], ...]], ...]]."""
+        grids = {g.name: [g.topology, g.n_points, g.n_cells, g.nodes_per_cell] for g in self._grids.values()}
+        steps = [[s.time, [[r.grid, r.coordinates, [[a.name, a.kind, a.center, a.path, list(a.shape), a.dtype.str]
+                                                    for a in r.attributes]] for r in s.grids]]
+                 for s in self._steps]
+        return {"grids": grids, "steps": steps}
 
     def _resume(self, state: dict) -> None:
         if not self.h5_path.exists():
             raise FileNotFoundError(f"{self.h5_path}: the HDF5 file of the run to continue is missing")
         self.h5 = h5py.File(self.h5_path, "a", locking=False)
-        self._grids = dict(state["grids"])
-        self._steps = list(state["steps"])
+        self._grids = {name: _Grid(name, str(topo), int(n), int(c), int(npc))
+                       for name, (topo, n, c, npc) in state["grids"].items()}
+        self._steps = [_StepRecord(float(t), [_GridRecord(str(g), str(xyz), [
+                           _Attribute(str(a), str(k), str(c), str(p), tuple(int(i) for i in shape), np.dtype(dt))
+                           for a, k, c, p, shape, dt in attrs]) for g, xyz, attrs in grids])
+                       for t, grids in state["steps"]]
         n = len(self._steps)
         self._times = self.h5["times"]
         if self._times.shape[0] < n:
@@ -229,6 +278,7 @@ class XdmfWriter:
                 raise ValueError(f"{topology} connectivity must be (E, {npc}), got {conn.shape}")
             if conn.size and (conn.min() < 0 or conn.max() >= n_points):
                 raise ValueError(f"connectivity of {name!r} references nodes outside 0..{n_points - 1}")
+        reserve_space(self.h5, conn.nbytes + _PER_DATASET)
         group = self.h5.create_group(name)
         group.attrs["topology"] = topology
         group.create_dataset("connectivity", data=conn)
@@ -265,6 +315,9 @@ class XdmfWriter:
         index = len(self._steps)
         step_name = f"step_{index:06d}"
         records = []
+        n_data = sum(1 + len(fields) for _, _, fields in prepared)
+        reserve_space(self.h5, sum(xyz.nbytes + sum(f[4].nbytes for f in fields) for _, xyz, fields in prepared)
+                      + _PER_DATASET * (n_data + 2))
         for name, xyz, fields in prepared:
             parent = self.h5[name]
             if step_name in parent:
@@ -281,6 +334,7 @@ class XdmfWriter:
         self._times.resize((index + 1,))
         self._times[index] = float(time_value)
         self.h5.flush()
+        trim_space(self.h5)
         self._steps.append(_StepRecord(float(time_value), records))
         age = time.monotonic() - self._last_xml
         if age >= self.xml_interval_s or (self.xml_budget and age >= self._xml_cost / self.xml_budget):

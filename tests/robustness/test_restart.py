@@ -66,7 +66,7 @@ def test_restart_is_bit_identical(tmp_path, monkeypatch, kind, stop_step):
         _interrupt_at(patch, stop_step)
         code, text = _run(deck, "-o", tmp_path / "split")
     assert code == 130, text
-    checkpoint = tmp_path / "split" / "checkpoint.pkl"
+    checkpoint = tmp_path / "split" / "checkpoint.npz"
     assert f"--restart {checkpoint}" in text
     code, text = _run(deck, "-o", tmp_path / "split", "--restart", checkpoint)
     assert code == 0, text
@@ -92,11 +92,15 @@ def test_sigterm_writes_a_checkpoint_at_a_complete_step(tmp_path, monkeypatch):
     _interrupt_at(monkeypatch, 50, signal.SIGTERM)
     code, text = _run(deck, "-o", tmp_path / "out")
     assert code == 130, text
-    import pickle
+    from sphfem_cli.cli import load_model
+    from sphfem_cli.output.checkpoint import deck_hash, load_simulation, read_checkpoint
 
-    payload = pickle.loads((tmp_path / "out" / "checkpoint.pkl").read_bytes())
+    loaded = load_model(str(deck))
+    path = tmp_path / "out" / "checkpoint.npz"
+    payload = read_checkpoint(path, deck_hash(loaded.deck, loaded.model))
+    sim = load_simulation(path, loaded.deck, loaded.model)
     assert payload["step"] == 50
-    assert payload["simulation"].state.step == 50
+    assert sim.state.step == 50
 
 
 def test_restart_refuses_a_checkpoint_of_another_deck(tmp_path):
@@ -105,7 +109,7 @@ def test_restart_refuses_a_checkpoint_of_another_deck(tmp_path):
     assert code == 0, text
     other = decks.write(tmp_path / "other" if (tmp_path / "other").mkdir() is None else tmp_path, "solid",
                         timestep_scale=0.5)
-    code, text = _run(other, "-o", tmp_path / "out", "--restart", tmp_path / "out" / "checkpoint.pkl")
+    code, text = _run(other, "-o", tmp_path / "out", "--restart", tmp_path / "out" / "checkpoint.npz")
     assert code == 65
     lines = text.strip().splitlines()
     assert len(lines) == 1 and "written for another deck" in lines[0], text
@@ -124,7 +128,7 @@ def test_restart_refuses_an_output_folder_without_the_run(tmp_path):
     deck = decks.write(tmp_path, "solid")
     code, text = _run(deck, "-o", tmp_path / "out")
     assert code == 0, text
-    code, text = _run(deck, "-o", tmp_path / "elsewhere", "--restart", tmp_path / "out" / "checkpoint.pkl")
+    code, text = _run(deck, "-o", tmp_path / "elsewhere", "--restart", tmp_path / "out" / "checkpoint.npz")
     assert code == 65
     lines = text.strip().splitlines()
     assert len(lines) == 1 and "does not hold the run of this checkpoint" in lines[0], text
@@ -158,7 +162,7 @@ def test_restart_of_a_restarted_run_is_still_bit_identical(tmp_path, monkeypatch
     deck = decks.write(tmp_path, "solid")
     code, text = _run(deck, "-o", tmp_path / "whole")
     assert code == 0, text
-    checkpoint = tmp_path / "split" / "checkpoint.pkl"
+    checkpoint = tmp_path / "split" / "checkpoint.npz"
     for stop_step, restart in ((201, False), (457, True)):
         with monkeypatch.context() as patch:
             _interrupt_at(patch, stop_step)
@@ -179,7 +183,7 @@ def test_restart_continues_in_the_checkpoints_folder_by_default(tmp_path, monkey
         code, text = _run(deck, "-o", tmp_path / "run")
     assert code == 130, text
     monkeypatch.chdir(tmp_path)
-    code, text = _run(deck, "--restart", tmp_path / "run" / "checkpoint.pkl")
+    code, text = _run(deck, "--restart", tmp_path / "run" / "checkpoint.npz")
     assert code == 0, text
     assert not (tmp_path / "solid_results").exists()
     glstat = np.loadtxt(tmp_path / "run" / "histories" / "glstat.csv", delimiter=",", skiprows=1)
