@@ -1,7 +1,9 @@
 """The `sphfem` command: a thin click shell over deck -> model -> solver -> output.
 
-Exit codes: 0 ok, 2 usage, 65 bad deck, 3 run stopped by a guard, 1 internal error,
-130 interrupted by the user (output so far kept).
+Exit codes: 0 ok, 2 usage (also: an output folder holding another run), 65 bad deck or unusable
+checkpoint, 3 run stopped by a guard, 73 cannot create the output folder or a file in it, 74 I/O error
+while writing (the files written so far are kept), 1 internal error, 130 interrupted by the user
+(output so far kept). The exit codes 65, 73 and 74 are sysexits(3)'s EX_DATAERR, EX_CANTCREAT, EX_IOERR.
 """
 from __future__ import annotations
 
@@ -15,12 +17,16 @@ import traceback
 from dataclasses import dataclass
 from pathlib import Path
 
+import errno
+import re
+
 import click
 
 from . import __version__
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE, EXIT_GUARD, EXIT_DECK = 0, 1, 2, 3, 65
 EXIT_INTERRUPTED = 130  # 128 + SIGINT, as shells report it
+EXIT_CANTCREAT, EXIT_IOERR = 73, 74  # sysexits(3)
 
 # Below this much work per thread a parallel loop costs more in synchronisation than it saves.
 ELEMENTS_PER_THREAD = 20_000
@@ -40,6 +46,38 @@ class DeckProblem(click.ClickException):
 
     def show(self, file=None) -> None:
         click.echo(self.message, err=True)
+
+
+class OutputProblem(DeckProblem):
+    """An output folder that cannot be used: one line on stderr, exit `code` (2, 73 or 74)."""
+
+    def __init__(self, message: str, code: int):
+        super().__init__(message)
+        self.exit_code = code
+
+
+# errno values that mean a file or folder cannot be created (EX_CANTCREAT); other OSErrors are EX_IOERR
+_CANNOT_CREATE = {errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOENT, errno.ENOTDIR, errno.EISDIR,
+                  errno.EEXIST, errno.ENAMETOOLONG, errno.ELOOP}
+
+
+def _errno(err: OSError) -> int | None:
+    """The errno of an OSError; h5py gives the C library's only in its message ("errno = 28")."""
+    if err.errno is not None:
+        return err.errno
+    m = re.search(r"errno = (\d+)", str(err))
+    return int(m.group(1)) if m else None
+
+
+def _io_failure(err: OSError, creating: bool) -> tuple[int, str]:
+    """(exit code, one-line reason) of an OSError met while writing output (`creating`: before the
+    output files exist, any failure is EX_CANTCREAT)."""
+    number = _errno(err)
+    reason = os.strerror(number) if number is not None else (err.strerror or str(err).split("\n")[0])
+    where = f"{err.filename}: " if getattr(err, "filename", None) else ""
+    if creating or number in _CANNOT_CREATE:
+        return EXIT_CANTCREAT, f"{where}{reason}"
+    return EXIT_IOERR, f"{where}{reason}"
 
 
 @dataclass
@@ -166,14 +204,23 @@ def check(deck: str) -> None:
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing but errors.")
 @click.option("-v", "--verbose", is_flag=True, help="Print the energy balance at every field output.")
 @click.option("--restart", "restart", type=click.Path(dir_okay=False), default=None,
-              help="Continue the run from this checkpoint (e.g. <output>/checkpoint.pkl), appending to the output "
-                   "folder's histories and XDMF series; the deck must be the one the run started from.")
-def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose: bool, restart: str | None) -> None:
+              help="Continue the run from this checkpoint (e.g. <output>/checkpoint.npz), appending to the output "
+                   "folder's histories and XDMF series; the deck must be the one the run started from. Pickled "
+                   "checkpoints (checkpoint.pkl) of earlier versions are refused: loading a pickle can run code.")
+@click.option("--overwrite", is_flag=True,
+              help="Run into a folder that holds an earlier run: remove that run's files first (only those "
+                   "sphfem wrote; other files stay). Without it such a folder is refused (exit 2).")
+def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose: bool, restart: str | None,
+        overwrite: bool) -> None:
     """Run DECK and write XDMF/HDF5 fields and CSV histories to the output folder.
 
-    A checkpoint (checkpoint.pkl in the output folder) is written at every field output (or every
-    control.checkpoint_interval) and on Ctrl-C or SIGTERM; --restart continues from it.
+    A checkpoint (checkpoint.npz in the output folder) is written at every field output (or every
+    control.checkpoint_interval) and on Ctrl-C or SIGTERM; --restart continues from it. One folder
+    holds one run: a folder with another run's results is refused unless --overwrite or --restart.
     """
+    if restart and overwrite:
+        raise OutputProblem("--overwrite and --restart exclude each other: --restart continues the run in its "
+                            "folder, --overwrite replaces it", EXIT_USAGE)
     loaded = load_model(deck)
     import numba
 
@@ -182,7 +229,20 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
     numba.set_num_threads(min(threads, numba.config.NUMBA_NUM_THREADS))
     out = (Path(outdir) if outdir else Path(restart).parent if restart
            else Path.cwd() / f"{Path(deck).stem}_results")
-    out.mkdir(parents=True, exist_ok=True)
+    if restart is None and not overwrite:
+        from .output.folder import earlier_run
+
+        earlier = earlier_run(out)
+        if earlier:
+            names = ", ".join(str(p.relative_to(out)) for p in earlier[:4]) + (", ..." if len(earlier) > 4 else "")
+            raise OutputProblem(f"{out}: holds the results of an earlier run ({names}); nothing was changed: give "
+                                "another folder with -o, --overwrite to replace that run, or --restart "
+                                "CHECKPOINT to continue it", EXIT_USAGE)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as err:
+        raise OutputProblem(f"cannot create the output folder {out}: {_io_failure(err, True)[1]}",
+                            EXIT_CANTCREAT) from None
     code = execute(loaded, out, quiet=quiet, verbose=verbose, restart=Path(restart) if restart else None)
     sys.exit(code)
 
@@ -207,38 +267,56 @@ def regress(decks, update_refs, end_time_fraction, references, failures_only) ->
 def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = False, restart: Path | None = None) -> int:
     """Run a built model into `out`; returns the exit code. Keeps the effective deck and a log.
 
-    Checkpoints (`output.checkpoint`) go to `out`/checkpoint.pkl: at every field output, or every
-    control.checkpoint_interval of simulated time and control.checkpoint_wall_interval of wall time,
-    and when Ctrl-C or SIGTERM stops the run (after the step under way; a second signal stops at once,
-    without a checkpoint). `restart` continues the run of a checkpoint in `out`.
+    Without `restart` the files of an earlier run in `out` are removed first, and nothing else there
+    (output.folder; the `run` command refuses such a folder unless --overwrite, library callers such as
+    the mesh study's cases replace an earlier attempt). Checkpoints go to `out`/checkpoint.npz: at every
+    field output, or every control.checkpoint_interval of simulated time and
+    control.checkpoint_wall_interval of wall time, and when Ctrl-C or SIGTERM stops the run (after the
+    step under way; a second signal stops at once, without a checkpoint). `restart` continues the run
+    of a checkpoint in `out`: the Simulation is built from the deck and its state restored from the
+    checkpoint (output.checkpoint). A checkpoint that cannot be used raises DeckProblem (exit 65), a
+    folder or file that cannot be created OutputProblem (exit 73); a write that fails during the run
+    ends it with exit 73 or 74, the files written so far kept.
     """
     import numba
     import numpy as np
     import yaml
 
-    from .output.checkpoint import CHECKPOINT_NAME, CheckpointError, deck_hash, read_checkpoint, write_checkpoint
-    from .output.results import RunOutput
+    from .output.checkpoint import (CHECKPOINT_NAME, CheckpointError, deck_hash, read_checkpoint,
+                                    restore_simulation, write_checkpoint)
+    from .output.folder import clear_earlier_run, write_manifest
+    from .output.results import RunOutput, history_tables
     from .solver.explicit import RunStopped, Simulation
 
     digest = deck_hash(loaded.deck, loaded.model)
-    payload = None
+    payload = sim = None
     if restart is not None:
         try:
             payload = read_checkpoint(restart, digest)
+            sim = Simulation(loaded.model)
+            restore_simulation(sim, payload, restart)
         except CheckpointError as err:
             raise DeckProblem(str(err)) from None
     checkpoint_path = out / CHECKPOINT_NAME
 
-    (out / "deck.effective.yaml").write_text(
-        f"# {loaded.path} with every default filled in (sphfem {__version__})\n"
-        + yaml.safe_dump(loaded.deck.model_dump(mode="json"), sort_keys=False)
-    )
-    log = _RunLog(out / "run.log", loaded.path, append=payload is not None)
+    try:
+        if payload is None:
+            clear_earlier_run(out)
+            write_manifest(out, history_tables(loaded.model))
+        (out / "deck.effective.yaml").write_text(
+            f"# {loaded.path} with every default filled in (sphfem {__version__})\n"
+            + yaml.safe_dump(loaded.deck.model_dump(mode="json"), sort_keys=False, allow_unicode=True),
+            encoding="utf-8")
+        log = _RunLog(out / "run.log", loaded.path, append=payload is not None)
+    except OSError as err:
+        raise OutputProblem(f"cannot create the run's files in {out}: {_io_failure(err, True)[1]}",
+                            EXIT_CANTCREAT) from None
     stop = _StopRequest()
     previous = _install(stop)
     start = time.perf_counter()
-    status, message, stopped = "completed", "", None
+    status, message, stopped, io_code = "completed", "", None, 0
     output = None
+    creating = True  # until the output files exist, an OSError means they cannot be created
     control = loaded.deck.control
     last_checkpoint: tuple[float, int] | None = None
     np_errors = np.seterr(all="ignore")  # overflow and invalid values stop the run through the finite-state guard
@@ -247,14 +325,16 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
             sim = Simulation(loaded.model)
             output = RunOutput(sim, out)
         else:
-            sim = payload["simulation"]
             try:
                 output = RunOutput(sim, out, resume=payload["output"])
-            except (OSError, ValueError, KeyError) as err:
+            except (OSError, ValueError, KeyError, TypeError) as err:
+                if isinstance(err, OSError) and not isinstance(err, FileNotFoundError) and _errno(err) is not None:
+                    raise  # the files are there but cannot be written: exit 73 below
                 raise DeckProblem(f"{restart}: the output folder {out} does not hold the run of this checkpoint "
                                   f"({err}); give the run's folder with -o") from None
             log.write(f"restarted from {restart} at t = {sim.state.time:.6e}, step {sim.state.step}\n")
             last_checkpoint = (sim.state.time, sim.state.step)
+        creating = False
         output()
         next_checkpoint = [_next_multiple(sim.state.time, control.checkpoint_interval)]
         last_wall = [time.monotonic()]
@@ -300,6 +380,9 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
         message = "interrupted; the output so far is kept and the last state written"
         if isinstance(err, _Interrupted):
             message += f"; continue with --restart {checkpoint_path}"
+    except OSError as err:
+        io_code, reason = _io_failure(err, creating)
+        status, message = "I/O error", reason
     except Exception as err:  # noqa: BLE001 - the CLI's last line of defence
         status, message = "internal error", f"{type(err).__name__}: {err}"
         log.write(traceback.format_exc())
@@ -309,10 +392,19 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
         try:
             if output is not None:
                 try:
-                    if status != "completed":
+                    if status not in ("completed", "I/O error"):
                         output(force=True)
+                except OSError as err:
+                    if status != "I/O error":
+                        io_code, message = _io_failure(err, False)
+                        status = "I/O error"
                 finally:
-                    output.close()
+                    try:
+                        output.close()
+                    except OSError as err:
+                        if status != "I/O error":
+                            io_code, message = _io_failure(err, False)
+                            status = "I/O error"
         finally:
             np.seterr(**np_errors)
     wall = time.perf_counter() - start
@@ -322,6 +414,9 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
         log.write(f"erosion: {eroded}\n" + "".join(f"  t = {t:.6e}: element {e} of part '{p}' ({why})\n"
                                                    for t, e, p, why in output.sim.eroded))
     log.close(status, message, wall, steps, numba.get_num_threads())
+    if log.error is not None and status == "completed":
+        io_code, message = _io_failure(log.error, False)
+        status = "I/O error"
     if status == "completed":
         if not quiet:
             row = output.last_energy
@@ -329,12 +424,23 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
                        f"energy ratio {row.ratio:.4f}{'; ' + eroded if eroded else ''}; results in {out}", err=True)
         return EXIT_OK
     if status == "stopped by a guard":
-        _write_diagnostics(out / "diagnostics.txt", stopped, output, last_checkpoint, checkpoint_path, loaded.path)
+        try:
+            _write_diagnostics(out / "diagnostics.txt", stopped, output, last_checkpoint, checkpoint_path, loaded.path)
+        except OSError as err:
+            message += f" (diagnostics.txt not written: {_io_failure(err, False)[1]})"
         click.echo(f"run stopped: {message}; last state written to {out}", err=True)
         return EXIT_GUARD
     if status == "interrupted":
         click.echo(message, err=True)
         return EXIT_INTERRUPTED
+    if status == "I/O error":
+        kept = (f"; the last checkpoint is {checkpoint_path} (t = {last_checkpoint[0]:.6e}, step {last_checkpoint[1]})"
+                if last_checkpoint is not None else "")
+        what = "cannot create the output" if io_code == EXIT_CANTCREAT else "writing the output failed"
+        at = f" at t = {sim.state.time:.6e}, step {sim.state.step}" if sim is not None else ""
+        click.echo(f"{what} in {out}: {message}; the run stopped{at}, the files written so far are kept{kept}",
+                   err=True)
+        return io_code
     click.echo(f"internal error: {message} (details in {out / 'run.log'})", err=True)
     return EXIT_INTERNAL
 
@@ -408,12 +514,16 @@ def _write_diagnostics(path: Path, err, output, last_checkpoint, checkpoint_path
     if last_checkpoint is not None:
         lines.append(f"last good state: {checkpoint_path} (t = {last_checkpoint[0]:.9e}, step {last_checkpoint[1]}); "
                      f"sphfem run {deck} --restart {checkpoint_path} continues from it with the same deck")
-    path.write_text("\n".join(lines) + "\n")
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
 
 
 class _RunLog:
+    """run.log (UTF-8). Opening it may raise OSError; later writes never do: the first failure is kept
+    in `error` and the log writes nothing more."""
+
     def __init__(self, path: Path, deck: Path, append: bool = False):
-        self.file = path.open("a" if append else "w")
+        self.error: OSError | None = None
+        self.file = path.open("a" if append else "w", encoding="utf-8")
         self.file.write(
             f"sphfem {__version__}\ncommand: {' '.join(sys.argv)}\ndeck: {deck.resolve()}\n"
             f"host: {socket.gethostname()} ({platform.platform()}, Python {platform.python_version()})\n"
@@ -422,14 +532,21 @@ class _RunLog:
         self.file.flush()
 
     def write(self, text: str) -> None:
-        self.file.write(text)
-        self.file.flush()
+        if self.error is not None or self.file.closed:
+            return
+        try:
+            self.file.write(text)
+            self.file.flush()
+        except OSError as err:
+            self.error = err
 
     def close(self, status: str, message: str, wall: float, steps: int, threads: int) -> None:
-        self.file.write(f"threads: {threads}\nsteps: {steps}\nwall time: {wall:.3f} s\nstatus: {status}\n")
-        if message:
-            self.file.write(f"message: {message}\n")
-        self.file.close()
+        self.write(f"threads: {threads}\nsteps: {steps}\nwall time: {wall:.3f} s\nstatus: {status}\n"
+                   + (f"message: {message}\n" if message else ""))
+        try:
+            self.file.close()
+        except OSError as err:
+            self.error = self.error or err
 
 
 class _Progress:

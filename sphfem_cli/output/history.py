@@ -8,7 +8,9 @@ One :class:`HistoryWriter` per table: fixed column names, one row of floats per 
   float64 dataset resizable along rows, with the column names in its ``columns`` attribute.
 
 Rows are buffered and written out every ``flush_rows`` rows or ``flush_interval_s`` seconds of wall
-time, whichever comes first, and on :meth:`flush` / :meth:`close`.
+time, whichever comes first, and on :meth:`flush` / :meth:`close`. The CSV is UTF-8 and is written in
+whole rows: a write that fails (a full disk) is cut back to the last complete row and raises
+OSError, after which the writer writes nothing more, so the file stays a readable table.
 """
 from __future__ import annotations
 
@@ -18,6 +20,8 @@ from typing import Sequence
 
 import h5py
 import numpy as np
+
+from .xdmf import reserve_space, trim_space
 
 __all__ = ["HistoryWriter"]
 
@@ -55,9 +59,11 @@ class HistoryWriter:
         if resume_rows is not None:
             self._reopen(h5, int(resume_rows))
         else:
-            self._csv = open(self.path, "w", encoding="ascii", newline="\n")
-            self._csv.write(",".join(self.columns) + "\n")
+            self._csv = open(self.path, "wb", buffering=0)
+            self._failed = False
+            self._write((",".join(self.columns) + "\n").encode("utf-8"))
         if h5 is not None and resume_rows is None:
+            reserve_space(h5.file, 256 * len(self.columns) * 8)
             group = h5.require_group("histories")
             if name in group:
                 del group[name]
@@ -69,6 +75,7 @@ class HistoryWriter:
                 chunks=(256, len(self.columns)),
             )
             self._dataset.attrs["columns"] = self.columns
+        self._failed = False
         self._pending: list[np.ndarray] = []
         self._n_rows = 0 if resume_rows is None else int(resume_rows)
         self._last_flush = time.monotonic()
@@ -76,16 +83,16 @@ class HistoryWriter:
 
     def _reopen(self, h5, rows: int) -> None:
         """Keep the header and the first `rows` rows of the CSV and of the HDF5 mirror; append after them."""
-        with open(self.path, encoding="ascii", newline="\n") as fh:
+        with open(self.path, encoding="utf-8", newline="\n") as fh:
             lines = fh.read().split("\n")
         header = ",".join(self.columns)
         data = [line for line in lines[1:] if line]
         if lines[0] != header or len(data) < rows:
             raise ValueError(f"{self.path}: does not hold the {rows} rows of {header!r} the checkpoint expects")
         kept = header + "\n" + "".join(line + "\n" for line in data[:rows])
-        with open(self.path, "w", encoding="ascii", newline="\n") as fh:
+        with open(self.path, "w", encoding="utf-8", newline="\n") as fh:
             fh.write(kept)
-        self._csv = open(self.path, "a", encoding="ascii", newline="\n")
+        self._csv = open(self.path, "ab", buffering=0)
         if h5 is not None:
             self._dataset = h5.require_group("histories")[self.name]
             if self._dataset.shape[0] < rows:
@@ -110,21 +117,42 @@ class HistoryWriter:
 
     def flush(self) -> None:
         """Write buffered rows to the CSV and the HDF5 mirror and flush both files."""
-        if self._closed:
+        if self._closed or self._failed:
             return
-        if self._pending:
-            block = np.vstack(self._pending)
-            self._csv.write("".join(",".join(f"{v:.10e}" for v in r) + "\n" for r in block))
+        try:
+            if self._pending:
+                block = np.vstack(self._pending)
+                if self._dataset is not None:  # before the CSV, so that both get the rows or neither
+                    reserve_space(self._dataset.file, 2 * (block.nbytes + 256 * block.shape[1] * 8))
+                self._write("".join(",".join(f"{v:.10e}" for v in r) + "\n" for r in block).encode("utf-8"))
+                if self._dataset is not None:
+                    start = self._dataset.shape[0]
+                    self._dataset.resize((start + block.shape[0], block.shape[1]))
+                    self._dataset[start:] = block
+                self._n_rows += block.shape[0]
+                self._pending.clear()
             if self._dataset is not None:
-                start = self._dataset.shape[0]
-                self._dataset.resize((start + block.shape[0], block.shape[1]))
-                self._dataset[start:] = block
-            self._n_rows += block.shape[0]
-            self._pending.clear()
-        self._csv.flush()
-        if self._dataset is not None:
-            self._dataset.file.flush()
+                self._dataset.file.flush()
+                trim_space(self._dataset.file)
+        except OSError:
+            self._failed = True
+            raise
         self._last_flush = time.monotonic()
+
+    def _write(self, data: bytes) -> None:
+        """Append `data` (whole rows) to the unbuffered CSV; on failure cut the file back to where it was."""
+        start = self._csv.tell()
+        view = memoryview(data)
+        try:
+            while view:
+                view = view[self._csv.write(view):]
+        except OSError:
+            self._failed = True
+            try:
+                self._csv.truncate(start)
+            except OSError:
+                pass
+            raise
 
     def close(self) -> None:
         """Flush and close the CSV; the HDF5 file belongs to the caller and stays open. Idempotent."""
