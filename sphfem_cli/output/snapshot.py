@@ -139,6 +139,12 @@ def capture(root: Any, name: str = "sim") -> tuple[dict, list[np.ndarray]]:
     return tree, c.arrays
 
 
+def _is_object(value: Any) -> bool:
+    """An object of the graph (restored into, never replaced by data), as opposed to data."""
+    return value is not _MISSING and not isinstance(
+        value, (*_SCALARS, np.ndarray, np.generic, list, tuple, dict, set, frozenset, slice))
+
+
 class _Restore:
     def __init__(self, arrays: list[np.ndarray]):
         self.arrays = arrays
@@ -151,6 +157,8 @@ class _Restore:
         raise SnapshotMismatch(f"{path}: {what}")
 
     def value(self, node, fresh: Any, path: str) -> Any:
+        if _is_object(fresh) and not (isinstance(node, dict) and node.get("t") in ("obj", "ref", "skip")):
+            self.fail(path, f"a {_cls(fresh)} in this build, plain data in the checkpoint")
         if not isinstance(node, dict):
             if type(node) not in _SCALARS:
                 self.fail(path, f"unexpected value {node!r}")
