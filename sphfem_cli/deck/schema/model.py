@@ -92,7 +92,7 @@ class Control(DeckModel):
         "after every step [length]. Default none: each contact's own limit, if it has one."
     )
     checkpoint_interval: PositiveFloat | None = Field(
-        None, description="Simulated time between restart checkpoints (checkpoint.pkl in the output folder, "
+        None, description="Simulated time between restart checkpoints (checkpoint.npz in the output folder, "
         "replaced each time) [time]. Default: one at every field output. A checkpoint is also written on "
         "Ctrl-C or SIGTERM."
     )
