@@ -7,18 +7,12 @@ while writing (the files written so far are kept), 1 internal error, 130 interru
 """
 from __future__ import annotations
 
-import os
-import platform
 import signal
-import socket
 import sys
 import time
 import traceback
 from dataclasses import dataclass
 from pathlib import Path
-
-import errno
-import re
 
 import click
 
@@ -26,7 +20,7 @@ from . import __version__
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE, EXIT_GUARD, EXIT_DECK = 0, 1, 2, 3, 65
 EXIT_INTERRUPTED = 130  # 128 + SIGINT, as shells report it
-EXIT_CANTCREAT, EXIT_IOERR = 73, 74  # sysexits(3)
+EXIT_CANTCREAT, EXIT_IOERR = 73, 74  # sysexits(3); output.runlog.io_failure chooses between them
 
 # Below this much work per thread a parallel loop costs more in synchronisation than it saves.
 ELEMENTS_PER_THREAD = 20_000
@@ -54,30 +48,6 @@ class OutputProblem(DeckProblem):
     def __init__(self, message: str, code: int):
         super().__init__(message)
         self.exit_code = code
-
-
-# errno values that mean a file or folder cannot be created (EX_CANTCREAT); other OSErrors are EX_IOERR
-_CANNOT_CREATE = {errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOENT, errno.ENOTDIR, errno.EISDIR,
-                  errno.EEXIST, errno.ENAMETOOLONG, errno.ELOOP}
-
-
-def _errno(err: OSError) -> int | None:
-    """The errno of an OSError; h5py gives the C library's only in its message ("errno = 28")."""
-    if err.errno is not None:
-        return err.errno
-    m = re.search(r"errno = (\d+)", str(err))
-    return int(m.group(1)) if m else None
-
-
-def _io_failure(err: OSError, creating: bool) -> tuple[int, str]:
-    """(exit code, one-line reason) of an OSError met while writing output (`creating`: before the
-    output files exist, any failure is EX_CANTCREAT)."""
-    number = _errno(err)
-    reason = os.strerror(number) if number is not None else (err.strerror or str(err).split("\n")[0])
-    where = f"{err.filename}: " if getattr(err, "filename", None) else ""
-    if creating or number in _CANNOT_CREATE:
-        return EXIT_CANTCREAT, f"{where}{reason}"
-    return EXIT_IOERR, f"{where}{reason}"
 
 
 @dataclass
@@ -218,6 +188,8 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
     control.checkpoint_interval) and on Ctrl-C or SIGTERM; --restart continues from it. One folder
     holds one run: a folder with another run's results is refused unless --overwrite or --restart.
     """
+    from .output.runlog import io_failure
+
     if restart and overwrite:
         raise OutputProblem("--overwrite and --restart exclude each other: --restart continues the run in its "
                             "folder, --overwrite replaces it", EXIT_USAGE)
@@ -241,7 +213,7 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as err:
-        raise OutputProblem(f"cannot create the output folder {out}: {_io_failure(err, True)[1]}",
+        raise OutputProblem(f"cannot create the output folder {out}: {io_failure(err, True)[1]}",
                             EXIT_CANTCREAT) from None
     code = execute(loaded, out, quiet=quiet, verbose=verbose, restart=Path(restart) if restart else None)
     sys.exit(code)
@@ -285,6 +257,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
     from .output.checkpoint import (CHECKPOINT_NAME, CheckpointError, deck_hash, read_checkpoint,
                                     restore_simulation, write_checkpoint)
     from .output.folder import clear_earlier_run, write_manifest
+    from .output.runlog import RunLog, errno_of, io_failure
     from .output.results import RunOutput, history_tables
     from .solver.explicit import RunStopped, Simulation
 
@@ -307,9 +280,9 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
             f"# {loaded.path} with every default filled in (sphfem {__version__})\n"
             + yaml.safe_dump(loaded.deck.model_dump(mode="json"), sort_keys=False, allow_unicode=True),
             encoding="utf-8")
-        log = _RunLog(out / "run.log", loaded.path, append=payload is not None)
+        log = RunLog(out / "run.log", loaded.path, append=payload is not None)
     except OSError as err:
-        raise OutputProblem(f"cannot create the run's files in {out}: {_io_failure(err, True)[1]}",
+        raise OutputProblem(f"cannot create the run's files in {out}: {io_failure(err, True)[1]}",
                             EXIT_CANTCREAT) from None
     stop = _StopRequest()
     previous = _install(stop)
@@ -328,7 +301,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
             try:
                 output = RunOutput(sim, out, resume=payload["output"])
             except (OSError, ValueError, KeyError, TypeError) as err:
-                if isinstance(err, OSError) and not isinstance(err, FileNotFoundError) and _errno(err) is not None:
+                if isinstance(err, OSError) and not isinstance(err, FileNotFoundError) and errno_of(err) is not None:
                     raise  # the files are there but cannot be written: exit 73 below
                 raise DeckProblem(f"{restart}: the output folder {out} does not hold the run of this checkpoint "
                                   f"({err}); give the run's folder with -o") from None
@@ -381,7 +354,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
         if isinstance(err, _Interrupted):
             message += f"; continue with --restart {checkpoint_path}"
     except OSError as err:
-        io_code, reason = _io_failure(err, creating)
+        io_code, reason = io_failure(err, creating)
         status, message = "I/O error", reason
     except Exception as err:  # noqa: BLE001 - the CLI's last line of defence
         status, message = "internal error", f"{type(err).__name__}: {err}"
@@ -396,14 +369,14 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
                         output(force=True)
                 except OSError as err:
                     if status != "I/O error":
-                        io_code, message = _io_failure(err, False)
+                        io_code, message = io_failure(err, False)
                         status = "I/O error"
                 finally:
                     try:
                         output.close()
                     except OSError as err:
                         if status != "I/O error":
-                            io_code, message = _io_failure(err, False)
+                            io_code, message = io_failure(err, False)
                             status = "I/O error"
         finally:
             np.seterr(**np_errors)
@@ -415,7 +388,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
                                                    for t, e, p, why in output.sim.eroded))
     log.close(status, message, wall, steps, numba.get_num_threads())
     if log.error is not None and status == "completed":
-        io_code, message = _io_failure(log.error, False)
+        io_code, message = io_failure(log.error, False)
         status = "I/O error"
     if status == "completed":
         if not quiet:
@@ -427,7 +400,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
         try:
             _write_diagnostics(out / "diagnostics.txt", stopped, output, last_checkpoint, checkpoint_path, loaded.path)
         except OSError as err:
-            message += f" (diagnostics.txt not written: {_io_failure(err, False)[1]})"
+            message += f" (diagnostics.txt not written: {io_failure(err, False)[1]})"
         click.echo(f"run stopped: {message}; last state written to {out}", err=True)
         return EXIT_GUARD
     if status == "interrupted":
@@ -515,38 +488,6 @@ def _write_diagnostics(path: Path, err, output, last_checkpoint, checkpoint_path
         lines.append(f"last good state: {checkpoint_path} (t = {last_checkpoint[0]:.9e}, step {last_checkpoint[1]}); "
                      f"sphfem run {deck} --restart {checkpoint_path} continues from it with the same deck")
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
-
-
-class _RunLog:
-    """run.log (UTF-8). Opening it may raise OSError; later writes never do: the first failure is kept
-    in `error` and the log writes nothing more."""
-
-    def __init__(self, path: Path, deck: Path, append: bool = False):
-        self.error: OSError | None = None
-        self.file = path.open("a" if append else "w", encoding="utf-8")
-        self.file.write(
-            f"sphfem {__version__}\ncommand: {' '.join(sys.argv)}\ndeck: {deck.resolve()}\n"
-            f"host: {socket.gethostname()} ({platform.platform()}, Python {platform.python_version()})\n"
-            f"started: {time.strftime('%Y-%m-%d %H:%M:%S')}\n"
-        )
-        self.file.flush()
-
-    def write(self, text: str) -> None:
-        if self.error is not None or self.file.closed:
-            return
-        try:
-            self.file.write(text)
-            self.file.flush()
-        except OSError as err:
-            self.error = err
-
-    def close(self, status: str, message: str, wall: float, steps: int, threads: int) -> None:
-        self.write(f"threads: {threads}\nsteps: {steps}\nwall time: {wall:.3f} s\nstatus: {status}\n"
-                   + (f"message: {message}\n" if message else ""))
-        try:
-            self.file.close()
-        except OSError as err:
-            self.error = self.error or err
 
 
 class _Progress:
