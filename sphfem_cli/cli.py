@@ -256,7 +256,7 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
 
     from .output.checkpoint import (CHECKPOINT_NAME, CheckpointError, deck_hash, read_checkpoint,
                                     restore_simulation, write_checkpoint)
-    from .output.folder import clear_earlier_run, write_manifest
+    from .output.folder import clear_earlier_run, manifest_deck, write_manifest
     from .output.runlog import RunLog, errno_of, io_failure
     from .output.results import RunOutput, history_tables
     from .solver.explicit import RunStopped, Simulation
@@ -270,12 +270,15 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
             restore_simulation(sim, payload, restart)
         except CheckpointError as err:
             raise DeckProblem(str(err)) from None
+        if manifest_deck(out) not in (None, digest):
+            raise DeckProblem(f"{restart}: the output folder {out} does not hold the run of this checkpoint (it "
+                              "holds a run of another deck); give the run's folder with -o")
     checkpoint_path = out / CHECKPOINT_NAME
 
     try:
         if payload is None:
             clear_earlier_run(out)
-            write_manifest(out, history_tables(loaded.model))
+            write_manifest(out, history_tables(loaded.model), digest)
         (out / "deck.effective.yaml").write_text(
             f"# {loaded.path} with every default filled in (sphfem {__version__})\n"
             + yaml.safe_dump(loaded.deck.model_dump(mode="json"), sort_keys=False, allow_unicode=True),

@@ -137,6 +137,8 @@ def read_checkpoint(path: Path, digest: str) -> dict:
     deck of `digest`, with every byte as written. Only JSON and .npy members are parsed."""
     path = Path(path)
     try:
+        if path.exists() and not path.is_file():
+            raise CheckpointError(f"{path}: not a regular file (a checkpoint is a file sphfem wrote)")
         with path.open("rb") as fh:
             head = fh.read(4)
     except FileNotFoundError:
@@ -182,16 +184,22 @@ def _read_archive(path: Path, zf: zipfile.ZipFile, digest: str) -> dict:
     members = meta.get("members")
     if not isinstance(members, list) or sorted(members) != sorted(set(infos) - {_META}) or _STATE not in members:
         raise _refuse(path, "its members differ from the list in meta.json")
-    data = {name: zf.read(name) for name in members}
-    digests = [(name, hashlib.sha256(data[name]).hexdigest()) for name in members]
-    if _content_hash(meta, digests) != meta.get("content_sha256"):
-        raise CheckpointError(f"{path}: content hash mismatch: the file was changed after sphfem wrote it; "
-                              "it is not used (rerun, or restart from an unchanged checkpoint)")
-    state = json.loads(data[_STATE])
     names = [n for n in members if n != _STATE]
     if names != [f"arrays/{i:06d}.npy" for i in range(len(names))]:
         raise _refuse(path, "unexpected member names")
-    arrays = [_npy(path, n, data[n]) for n in names]
+    digests, arrays, state_bytes = [], [], b""
+    for name in members:  # one member's bytes at a time; nothing is used before the content hash matches
+        data = zf.read(name)
+        digests.append((name, hashlib.sha256(data).hexdigest()))
+        if name == _STATE:
+            state_bytes = data
+        else:
+            arrays.append(_npy(path, name, data))
+        del data
+    if _content_hash(meta, digests) != meta.get("content_sha256"):
+        raise CheckpointError(f"{path}: content hash mismatch: the file was changed after sphfem wrote it; "
+                              "it is not used (rerun, or restart from an unchanged checkpoint)")
+    state = json.loads(state_bytes)
     if not isinstance(state, dict) or not isinstance(state.get("output"), dict):
         raise _refuse(path, f"{_STATE} is malformed")
     return {"format": CHECKPOINT_FORMAT, "version": meta["sphfem"], "deck_hash": meta["deck_sha256"],

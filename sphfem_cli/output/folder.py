@@ -3,7 +3,8 @@ their removal (nothing else in the folder is touched).
 
 A run lists the files it writes in ``run.manifest.json`` before it writes any of them:
 
-    {"sphfem": version, "files": [paths relative to the folder, e.g. "histories/tip.csv"]}
+    {"sphfem": version, "deck_sha256": the deck's hash (output.checkpoint.deck_hash),
+     "files": [paths relative to the folder, e.g. "histories/tip.csv"]}
 
 so a later ``--overwrite`` removes exactly those, plus the checkpoint's temporary files and the PNGs
 ``sphfem plot`` drew from those histories (``plots/<table>.png``, ``plots/<table>.<column>.png``).
@@ -30,10 +31,20 @@ def run_files(tables: list[str]) -> list[str]:
     return [MANIFEST, *FIXED, *(f"histories/{t}.csv" for t in tables)]
 
 
-def write_manifest(directory: Path, tables: list[str]) -> None:
-    """Record the files a run into `directory` writes (before it writes any)."""
-    text = json.dumps({"sphfem": __version__, "files": run_files(tables)}, indent=1, ensure_ascii=False)
+def write_manifest(directory: Path, tables: list[str], digest: str) -> None:
+    """Record the files a run of the deck of hash `digest` into `directory` writes (before it writes any)."""
+    text = json.dumps({"sphfem": __version__, "deck_sha256": digest, "files": run_files(tables)}, indent=1,
+                      ensure_ascii=False)
     (Path(directory) / MANIFEST).write_text(text + "\n", encoding="utf-8")
+
+
+def manifest_deck(directory: Path) -> str | None:
+    """The deck hash the manifest of `directory` records (None without a readable manifest)."""
+    try:
+        digest = json.loads((Path(directory) / MANIFEST).read_text(encoding="utf-8")).get("deck_sha256")
+    except (OSError, ValueError, AttributeError):
+        return None
+    return digest if isinstance(digest, str) else None
 
 
 def _earlier_tables(directory: Path) -> list[str]:

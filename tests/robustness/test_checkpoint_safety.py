@@ -220,3 +220,24 @@ def test_the_guard_settings_are_not_in_the_checkpoint(finished):
     find(tree)
     assert decks_found and all(d["t"] in ("skip", "ref") for d in decks_found)
     assert "energy_band" not in members["state.json"].decode()
+
+
+def test_a_restart_into_the_folder_of_another_decks_run_touches_nothing(tmp_path, finished):
+    deck, out = finished
+    other = decks.write(tmp_path, "solid", end_time=1.0e-4)
+    code, text = _run(other, "-o", tmp_path / "other")
+    assert code == 0, text
+    before = {p: p.read_bytes() for p in (tmp_path / "other").rglob("*") if p.is_file()}
+    code, text = _run(deck, "-o", tmp_path / "other", "--restart", out / "checkpoint.npz")
+    assert code == 65, text
+    _one_line(text, "does not hold the run of this checkpoint", "another deck")
+    assert {p: p.read_bytes() for p in (tmp_path / "other").rglob("*") if p.is_file()} == before
+
+
+def test_a_fifo_given_as_checkpoint_is_refused_without_blocking(tmp_path, finished):
+    deck, out = finished
+    fifo = tmp_path / "checkpoint.npz"
+    os.mkfifo(fifo)
+    code, text = _run(deck, "-o", out, "--restart", fifo)
+    assert code == 65, text
+    _one_line(text, "not a regular file")
