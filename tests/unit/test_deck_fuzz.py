@@ -95,7 +95,7 @@ def test_mutated_decks_exit_0_or_65(tmp_path, data):
 def test_mutated_decks_run_or_exit_65(tmp_path, data, monkeypatch_steps):
     mutated, what = _mutated(tmp_path, data, RUN_DECKS)
     CASES["run"] += 1
-    result = CliRunner().invoke(main, ["run", "-q", str(mutated), "-o", str(tmp_path / "out")])
+    result = CliRunner().invoke(main, ["run", "-q", str(mutated), "-o", str(tmp_path / "out"), "--overwrite"])
     output = result.output or ""
     assert "Traceback" not in output, output
     assert result.exception is None or isinstance(result.exception, SystemExit), f"{what}: {result.exception!r}"
