@@ -226,3 +226,25 @@ def test_a_really_full_disk_is_exit_74_with_the_files_readable(tmp_path, tmpfs):
     assert code == 74, text
     assert len(text.strip().splitlines()) == 1 and "No space left on device" in text, text
     _assert_readable(point / "out")
+
+
+def test_unicode_names_run_stop_and_restart(tmp_path, monkeypatch):
+    """Part and history names in any Unicode: UTF-8 CSV, HDF5 and XDMF; a restart continues them."""
+    from .test_restart import _interrupt_at
+
+    text = decks.SOLID.replace("name: tip", "name: 名前").replace("  bar:", "  🔥:").replace("part: bar", "part: 🔥")
+    deck = tmp_path / "unicode.yaml"
+    deck.write_text(text, encoding="utf-8")
+    code, out = _run(deck, "-o", tmp_path / "whole")
+    assert code == 0, out
+    with monkeypatch.context() as patch:
+        _interrupt_at(patch, 120)
+        code, out = _run(deck, "-o", tmp_path / "split")
+    assert code == 130, out
+    code, out = _run(deck, "-o", tmp_path / "split", "--restart", tmp_path / "split" / "checkpoint.npz")
+    assert code == 0, out
+    for name in ("名前.csv", "matsum.csv"):
+        whole = (tmp_path / "whole" / "histories" / name).read_text(encoding="utf-8")
+        assert whole == (tmp_path / "split" / "histories" / name).read_text(encoding="utf-8")
+    assert whole.startswith("time,🔥_kinetic")
+    assert "🔥" in ET.parse(tmp_path / "split" / "results.xdmf").getroot().find(".//Grid/Grid/Grid").get("Name")
