@@ -63,3 +63,42 @@ def test_sigkill_mid_run_leaves_every_flushed_step_readable(tmp_path):
             assert file_name == "results.h5"
             dims = tuple(int(d) for d in item.get("Dimensions").split())
             assert f[path].shape == dims, path
+
+
+def test_sigkill_then_restart_loses_at_most_one_output_interval_and_ends_bit_identical(tmp_path):
+    from sphfem_cli.cli import load_model
+    from sphfem_cli.output.checkpoint import deck_hash, read_checkpoint
+
+    from .test_restart import _fields, _histories
+
+    deck = decks.write(tmp_path, "solid", end_time=2.0e-3)
+    interval = 2.0e-5
+    whole = subprocess.run([sys.executable, "-m", "sphfem_cli.cli", "run", str(deck), "-o", str(tmp_path / "whole"),
+                            "-q"], capture_output=True, text=True, timeout=600)
+    assert whole.returncode == 0, whole.stderr
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "sphfem_cli.cli", "run", str(deck), "-o", str(out), "-q"],
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        for _ in range(2400):
+            if (out / "results.xdmf").exists() and len(ET.parse(out / "results.xdmf").getroot().findall(
+                    ".//Time")) >= 5:
+                break
+            assert proc.poll() is None, proc.stderr.read()
+            time.sleep(0.025)
+    finally:
+        proc.send_signal(signal.SIGKILL)
+        proc.communicate(timeout=60)
+    assert proc.returncode == -signal.SIGKILL
+    with h5py.File(out / "results.h5", "r") as f:
+        reached = float(f["times"][-1])
+    loaded = load_model(str(deck))
+    saved = read_checkpoint(out / "checkpoint.npz", deck_hash(loaded.deck, loaded.model))
+    assert reached - saved["time"] <= interval * (1 + 1e-9)  # at most one output interval lost
+    again = subprocess.run([sys.executable, "-m", "sphfem_cli.cli", "run", str(deck), "-o", str(out), "-q",
+                            "--restart", str(out / "checkpoint.npz")], capture_output=True, text=True, timeout=600)
+    assert again.returncode == 0, again.stderr
+    a, b = _histories(tmp_path / "whole"), _histories(out)
+    assert sorted(a) == sorted(b) and all(np.array_equal(a[k], b[k]) for k in a)
+    fa, fb = _fields(tmp_path / "whole"), _fields(out)
+    assert [n for n, _ in fa] == [n for n, _ in fb] and all(np.array_equal(x, y) for (_, x), (_, y) in zip(fa, fb))
