@@ -83,20 +83,26 @@ class HistoryWriter:
 
     def _reopen(self, h5, rows: int) -> None:
         """Keep the header and the first `rows` rows of the CSV and of the HDF5 mirror; append after them."""
-        with open(self.path, encoding="utf-8", newline="\n") as fh:
-            lines = fh.read().split("\n")
-        header = ",".join(self.columns)
-        data = [line for line in lines[1:] if line]
-        if lines[0] != header or len(data) < rows:
-            raise ValueError(f"{self.path}: does not hold the {rows} rows of {header!r} the checkpoint expects")
-        kept = header + "\n" + "".join(line + "\n" for line in data[:rows])
-        with open(self.path, "w", encoding="utf-8", newline="\n") as fh:
-            fh.write(kept)
-        self._csv = open(self.path, "ab", buffering=0)
+        with open(self.path, "rb") as fh:
+            raw = fh.read()
+        header = (",".join(self.columns) + "\n").encode("utf-8")
+        offset, found = len(header), 0
+        while raw.startswith(header) and found < rows:
+            end = raw.find(b"\n", offset)
+            if end < 0:
+                break
+            offset, found = end + 1, found + 1
+        if not raw.startswith(header) or found < rows:
+            raise ValueError(f"{self.path}: does not hold the {rows} rows of {header.decode().strip()!r} the "
+                             "checkpoint expects")
+        self._csv = open(self.path, "r+b", buffering=0)  # cut after the kept rows: needs no disk space
+        self._csv.truncate(offset)
+        self._csv.seek(offset)
         if h5 is not None:
             self._dataset = h5.require_group("histories")[self.name]
             if self._dataset.shape[0] < rows:
                 raise ValueError(f"{self.name}: {self._dataset.shape[0]} rows in the HDF5 mirror, expected {rows}")
+            reserve_space(h5.file, 0)
             self._dataset.resize((rows, len(self.columns)))
 
     @property

@@ -234,6 +234,7 @@ class XdmfWriter:
                        for t, grids in state["steps"]]
         n = len(self._steps)
         self._times = self.h5["times"]
+        reserve_space(self.h5, 0)  # the truncation below rewrites metadata
         if self._times.shape[0] < n:
             raise ValueError(f"{self.h5_path}: {self._times.shape[0]} steps on disk, the checkpoint lists {n}")
         self._times.resize((n,))
