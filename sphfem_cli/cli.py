@@ -105,60 +105,15 @@ def main() -> None:
 def check(deck: str) -> None:
     """Validate DECK and print a model summary (counts, materials, stable step, memory)."""
     loaded = load_model(deck)
-    from .solver.explicit import RunStopped, Simulation
+    from .solver.guards import RunStopped
+    from .summary import model_summary
 
-    import numpy as np
-
-    from .materials.plausibility import material_figures
-    from .model.build import VOID
-
-    model = loaded.model
-    d = loaded.deck
     try:
-        with np.errstate(all="ignore"):
-            sim = Simulation(model)
-            dt = sim.stable_dt()
+        lines, warnings = model_summary(loaded.deck, loaded.model, Path(deck))
     except RunStopped as err:
         raise DeckProblem(f"{deck}:1:1: model: {err}") from None
-    force, pressure, density = d.units.derived
-    click.echo(f"{d.title or Path(deck).name}")
-    click.echo(f"  units: {d.units.length}-{d.units.mass}-{d.units.time} "
-               f"(force {force}, pressure {pressure}, density {density}); dimension {d.dimension}")
-    n_particles = model.particles.n if model.particles is not None else 0
-    n_nodes = model.n_nodes + (len(model.ale.nodes) if model.ale is not None else 0)
-    n_elements = model.n_elements + (len(model.ale.elements) if model.ale is not None else 0)
-    click.echo(f"  {n_nodes} nodes, {n_elements} elements, {n_particles} particles, {len(model.parts)} part(s)")
-    for p in model.parts:
-        kind = "rigid" if p.rigid else d.parts[p.name].section
-        if p.kind == "sph":
-            click.echo(f"    {p.name}: {p.particles.stop - p.particles.start} particles, "
-                       f"material {model.material_names[p.material]}, {kind}")
-            continue
-        if p.kind == "ale":
-            names = ", ".join(model.material_names[m] for m in model.ale.materials)
-            click.echo(f"    {p.name}: {len(model.ale.nodes)} nodes, {len(model.ale.elements)} ALE elements, "
-                       f"materials {names}, {kind}")
-            continue
-        click.echo(f"    {p.name}: {p.nodes.stop - p.nodes.start} nodes, {p.elements.stop - p.elements.start} "
-                   f"elements, material {model.material_names[p.material]}, {kind}")
-    warnings = []
-    for i, (name, m) in enumerate(d.materials.items()):
-        if model.material_type[i] == VOID:
-            click.echo(f"  material {name}: {m.type}")
-            continue
-        fig = material_figures(name, model.material_param[i], not hasattr(m, "youngs_modulus"), d.units,
-                               d.units.derived)
-        figures = [f"density {fig.density:g} {density}"]
-        if fig.modulus is not None:
-            figures.append(f"Young's modulus {fig.modulus:g} {pressure}")
-        if fig.sound_speed is not None:
-            figures.append(f"sound speed {fig.sound_speed:.4g} {d.units.length}/{d.units.time}")
-        click.echo(f"  material {name}: {m.type}, {', '.join(figures)}")
-        warnings += [f"warning: material {name}: {w}" for w in fig.warnings]
-    click.echo(f"  stable time step {dt:.4e} {d.units.time} (timestep_scale {d.control.timestep_scale}), set by "
-               f"{sim.limiter_description()}; about {d.control.end_time / dt:.3g} steps to end_time "
-               f"{d.control.end_time:g} {d.units.time}")
-    click.echo(f"  memory estimate {model.memory_bytes() / 2**20:.1f} MiB")
+    for line in lines:
+        click.echo(line)
     for w in warnings:
         click.echo(w, err=True)
 
@@ -169,7 +124,7 @@ def check(deck: str) -> None:
               help="Output folder. Default: <deck name>_results beside the current directory "
                    "(with --restart: the checkpoint's folder).")
 @click.option("--threads", type=click.IntRange(min=1), default=None,
-              help="Worker threads. Default: one per 20 000 elements, up to the number of cores "
+              help="Worker threads. Default: one per 20 000 solid elements, ALE elements and particles together, up to the number of cores "
                    "(small models run fastest on one thread).")
 @click.option("-q", "--quiet", is_flag=True, help="Print nothing but errors.")
 @click.option("-v", "--verbose", is_flag=True, help="Print the energy balance at every field output.")
