@@ -23,7 +23,8 @@ equal sub-segments. Each step, on the state n of both sides (kernels in coupling
 
 The ALE side receives the forces through ``AleSystem.f_couple`` with the impulse weight dt_avg of
 the structure's central difference, so the two impulses cancel exactly. The penetration state
-(``depth``, ``host``, ``stiff``) is plain numpy arrays, so the object pickles for a restart.
+(``depth``, ``host``, ``stiff``) is plain numpy arrays, which a checkpoint saves and restores by name
+(output.snapshot).
 """
 from __future__ import annotations
 

@@ -7,7 +7,6 @@ kinetic energy, little water left inside the block.
 """
 from __future__ import annotations
 
-import pickle
 
 import numpy as np
 
@@ -84,13 +83,19 @@ def test_rigid_block_into_ale_water(tmp_path):
     assert water < 0.02 * np.prod(hi - lo)  # measured 0.9 %
 
 
-def test_coupling_state_pickles(tmp_path):
+def test_coupling_state_survives_a_checkpoint(tmp_path):
+    """The coupling's penetration state (depth, host, stiff, work) is captured and restored by name
+    (output.snapshot, what checkpoint.npz holds) into a freshly built model."""
+    from sphfem_cli.output.snapshot import capture, restore
+
     sim = _sim(tmp_path)
     for _ in range(30):
         sim.step()
-    coupling = sim.interactions[0]
-    state = pickle.loads(pickle.dumps({k: getattr(coupling, k) for k in ("depth", "host", "stiff", "work")}))
-    assert np.array_equal(state["depth"], coupling.depth) and state["work"] == coupling.work
+    fresh = _sim(tmp_path)
+    restore(*capture(sim), fresh)
+    coupling, again = sim.interactions[0], fresh.interactions[0]
+    assert np.array_equal(again.depth, coupling.depth) and again.work == coupling.work
+    assert np.array_equal(again.host, coupling.host) and np.array_equal(again.stiff, coupling.stiff)
     assert np.isfinite(coupling.stable_dt()) and coupling.stable_dt() > 0.0
 
 
