@@ -6,7 +6,7 @@ is checked here against closed forms, then its converged value is pinned. Figure
 | model | first frequency |
 |---|---|
 | plate in vacuum, Timoshenko clamped-pinned, 60 elements | 1665.9 Hz (Euler-Bernoulli 1770 Hz) |
-| wet, closed rigid tank, hf 10 / 5 / 2.5 mm | 461.0 / 459.0 / 458.5 Hz |
+| wet, closed rigid tank, hf 10 / 5 / 2.5 mm (60 beam elements) | 461.0 / 459.0 / 458.2 Hz; beam 30 / 120 elements (hf 5 mm) 459.6 / 458.9 Hz |
 | wet, far side radiating (rho c), hf 5 mm | 440.6 Hz, zeta 0.034 |
 | wet, far side a free surface (p = 0), hf 5 mm | 430.1 Hz |
 
