@@ -28,6 +28,9 @@ Model (linear, small motion about rest; a coupled structural-acoustic eigenprobl
   depends weakly on omega); with radiation omega is complex: its real part the frequency, its
   imaginary part the decay rate, zeta = Im(omega)/|omega|.
 
+- Driven response (`driven_response`): the same matrices in the time domain, the bottom's w moved
+  as the decks' drive, Newmark's average acceleration (the decks' histories to compare with).
+
 The grid's columns of nodes (constant x) couple only to their neighbours, so A is block tridiagonal
 and A^-1 Q^T is computed by block elimination (numpy only).
 """
