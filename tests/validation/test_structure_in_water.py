@@ -1,10 +1,21 @@
 """The paper's section-4.1 scene, a plate in water driven at its bottom: decks/structure_in_water_{ale,sph}.yaml.
 
-Full runs (about 20 s each on one thread). No reference data exists for this scene (the paper gives
-no dimensions); the checks are the sanity of the run: the driven bottom follows the prescribed
-motion, the stress is finite and positive, energy is balanced, and the water holds the plate back
-against the same plate in vacuum (measured with the coupling removed: mid-height peak
-displacement 0.434 mm, peak velocity 1.84 m/s).
+Full runs (about 20 s each on one thread). The paper gives no data for this scene; the reference is
+computed without either solver (tests/verification/wet_plate_reference.py: Timoshenko beam and
+acoustic FE, the water attached and linear): mid-height peak displacement 0.570 mm at 1.25 ms, wet
+first frequency 458 Hz. Checks: the driven bottom follows the prescribed motion, the stress is
+finite and positive, energy is balanced, the wet plate (period 2.2 ms, long against the 0.5 ms
+pulse) overshoots where the plate in vacuum (period 0.64 ms; 0.434 mm, 1.84 m/s measured with the
+coupling removed) follows the drive, and peak and free-ringing frequency against the reference
+within the shipped decks' measured discretisation errors (10 mm fluid, 2 x 30 plate):
+
+| deck | peak (ref 0.570 mm) | ringing after the pulse (ref 458 Hz) |
+|---|---|---|
+| ALE 10 mm | 0.616 mm (+8 %) | 381 Hz (-17 %) |
+| SPH ratio 1 | 0.544 mm (-5 %) | 393 Hz (-14 %) |
+
+The frequency converges towards the reference with the fluid and the plate meshes (ALE 5 mm and a
+4 x 60 plate: 429 Hz, -6 %; docs/studies/structure_in_water.md).
 """
 from __future__ import annotations
 
@@ -21,6 +32,23 @@ V = 2.0                                             # m/s, the deck's drive velo
 CURVE = np.array([[0.0, 0.0], [1e-4, 1.0], [4e-4, 1.0], [5e-4, 0.0], [1.0, 0.0]])
 DRY_PEAK_DISPLACEMENT = 4.34e-4                     # m, the plate in vacuum
 DRY_PEAK_VELOCITY = 1.84                            # m/s
+REF_PEAK = 5.70e-4                                  # m, wet_plate_reference.driven_response
+REF_FREQUENCY = 458.0                               # Hz, wet_plate_reference.wet_mode (closed tank)
+
+
+def ringing_frequency(t: np.ndarray, u: np.ndarray, t0: float = 7e-4) -> float:
+    """Frequency [Hz] of u = c + exp(-s t)(a cos wt + b sin wt) fitted to u on t > t0 (grid over w, s)."""
+    m = t > t0
+    t, u = t[m] - t0, u[m]
+    best = (np.inf, 0.0)
+    for w in 2 * np.pi * np.arange(150.0, 1500.0, 1.0):
+        for s in np.linspace(0.0, 1500.0, 31):
+            e = np.exp(-s * t)
+            A = np.stack([np.ones_like(t), e * np.cos(w * t), e * np.sin(w * t)], axis=1)
+            r = np.sum((A @ np.linalg.lstsq(A, u, rcond=None)[0] - u) ** 2)
+            if r < best[0]:
+                best = (r, w)
+    return best[1] / (2 * np.pi)
 
 
 def prescribed_displacement(t: np.ndarray) -> np.ndarray:
@@ -53,10 +81,16 @@ def test_structure_in_water(variant, tmp_path):
     assert vm[1:].min() > 0.0 and 1e6 < vm.max() < 2e8  # the elastic plate stays far from 200 MPa
 
     glstat = table(out, "glstat")
-    assert np.all(np.abs(glstat["energy_ratio"][1:] - 1.0) < 0.05)
+    # from 0.1 ms on (the SPH run starts at 0.80 at 0.02 ms, 0.98 at 0.04 ms, while the 1 MPa
+    # ambient pressure settles the first particle layer onto the plate; the energies are small then)
+    late = glstat["time"] >= 1e-4
+    assert np.all(np.abs(glstat["energy_ratio"][late] - 1.0) < 0.02)
 
     mid = table(out, "mid")
     peak_u = np.abs(mid["displacement_x"]).max()
     peak_v = np.abs(mid["velocity_x"]).max()
-    assert 0.4 * DRY_PEAK_DISPLACEMENT < peak_u < DRY_PEAK_DISPLACEMENT  # the water holds it back
-    assert peak_v < DRY_PEAK_VELOCITY
+    assert peak_u > DRY_PEAK_DISPLACEMENT               # the heavier wet plate overshoots
+    assert peak_v < DRY_PEAK_VELOCITY                   # and moves slower
+    assert peak_u == pytest.approx(REF_PEAK, rel=0.12)
+    f = ringing_frequency(mid["time"], mid["displacement_x"])
+    assert 0.8 * REF_FREQUENCY < f < REF_FREQUENCY
