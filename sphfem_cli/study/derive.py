@@ -14,9 +14,11 @@ Works on the loaded YAML data (plain dicts and lists) and returns new data; the 
 - ``ale_boundary`` slip / fixed sides -> ``wall`` slip / no_slip; transmit sides -> the section's
   ``domain`` (particles leaving it are deactivated);
 - ``lagrange_in_solid`` -> one ``nodes_to_surface`` per coupled SPH part, soft-constraint stiffness
-  (pfac -> soft_scale, damping kept, thickness left at its default): the penalty form's stiffness
-  comes from the structure's bulk modulus and can shorten the step; the soft form never does
-  (measured on decks/structure_in_water_ale.yaml, docs/mesh-study.md);
+  (soft_scale at its default 0.1, damping kept, thickness left at its default): the penalty form's
+  stiffness comes from the structure's bulk modulus and can shorten the step; the soft form never does
+  (measured on decks/structure_in_water_ale.yaml, docs/mesh-study.md). The coupling's pfac is not
+  carried over: it scales a spring from the fluid's bulk modulus, soft_scale the spring's frequency
+  against the step (omega dt0 = sqrt(soft_scale)); soft_scale 1.0 was unstable on the §4.1 scene;
 - a fill's ``pressure`` (and ``density``) becomes a copy of its material whose EOS ``e0`` gives that
   pressure; a fill's ``velocity`` becomes an initial velocity of its SPH part.
 """
@@ -27,6 +29,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+
+from ..deck.schema.interaction import NodesToSurface
+
+SOFT_SCALE = NodesToSurface.model_fields["soft_scale"].default  # the contact's own default, written out
 
 
 class StudyError(Exception):
@@ -360,11 +366,11 @@ def _couplings(out: dict, deck, info: AleInfo, sph_parts: dict[str, str], derive
                 continue
             out.setdefault("contacts", []).append({
                 "type": "nodes_to_surface", "nodes": part, "surface": c["structure"],
-                "stiffness": "soft_constraint", "soft_scale": model.pfac, "damping": model.damping,
+                "stiffness": "soft_constraint", "soft_scale": SOFT_SCALE, "damping": model.damping,
             })
         derived.notes.append(f"coupling {c['structure']} <- {info.name} (pfac {model.pfac:g}, damping "
                              f"{model.damping:g}) became soft-constraint nodes_to_surface contacts "
-                             f"(soft_scale {model.pfac:g}) for "
+                             f"(soft_scale {SOFT_SCALE:g}) for "
                              f"{', '.join(p for p, m in sph_parts.items() if m in coupled) or 'no part'}")
 
 
