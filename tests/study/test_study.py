@@ -124,7 +124,7 @@ def test_boundaries_and_couplings_are_translated():
     assert domain["min"][1] < 0.0 and domain["max"][0] > 1.0  # walls: room beyond them
     assert "couplings" not in out and "ale" not in out["sections"]
     assert out["contacts"] == [{"type": "nodes_to_surface", "nodes": "tank_fill0", "surface": "plate",
-                                "stiffness": "soft_constraint", "soft_scale": 0.3, "damping": 0.2}]
+                                "stiffness": "soft_constraint", "soft_scale": 0.1, "damping": 0.2}]  # pfac 0.3 is not a soft_scale
     Deck.model_validate(out)  # a valid deck
 
 
