@@ -26,11 +26,28 @@ Positions are 1-based ``(line, col)``. :class:`Positions` maps each key path (a 
 keys and list indices, e.g. ``("parts", "plate", "material")``) to the position of the key (for a
 mapping entry) or of the item (for a sequence item); ``Positions.values`` maps the same paths to
 the position where the value starts. The empty path ``()`` is the document's root node.
+
+Bounds (each a one-line :class:`DeckError` naming the limit and the environment variable that
+raises it, read when a deck is loaded; see :data:`LIMITS`):
+
+==========================  ==========  ======================================================
+``SPHFEM_MAX_DECK_BYTES``   8388608     size of the deck file (8 MiB; the pure-Python scanner
+                                        reads about 3 MB/s of comments)
+``SPHFEM_MAX_DECK_NODES``   100000      YAML values (scalars, lists, mappings) in the deck with
+                                        every alias and merge key expanded: an alias bomb
+                                        ("billion laughs") stops here, after at most this many
+``SPHFEM_MAX_DECK_DEPTH``   100         nesting of lists and mappings (PyYAML's composer
+                                        recurses once per level)
+==========================  ==========  ======================================================
+
+A deck must be a regular file (not a FIFO, a device or a directory).
 """
 from __future__ import annotations
 
 import math
+import os
 import re
+import stat
 from collections.abc import Hashable
 from os import PathLike
 from pathlib import Path
@@ -38,6 +55,7 @@ from typing import Any
 
 import yaml
 from yaml.composer import Composer
+from yaml.events import AliasEvent, MappingStartEvent, SequenceStartEvent
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 from yaml.parser import Parser
 from yaml.reader import Reader
@@ -46,7 +64,7 @@ from yaml.scanner import Scanner
 
 from .errors import DeckError, format_path
 
-__all__ = ["Positions", "load", "loads", "resolve_plain_scalar"]
+__all__ = ["LIMITS", "Positions", "limit", "load", "loads", "resolve_plain_scalar"]
 
 Path_ = tuple[Hashable, ...]
 
@@ -54,6 +72,29 @@ _PLAIN = "tag:sphfem,2024:plain"
 _TAG = "tag:yaml.org,2002:"
 _T_STR, _T_INT, _T_FLOAT, _T_BOOL, _T_NULL, _T_SEQ, _T_MAP, _T_MERGE = (
     _TAG + t for t in ("str", "int", "float", "bool", "null", "seq", "map", "merge"))
+
+LIMITS = {"SPHFEM_MAX_DECK_BYTES": 8 * 2**20, "SPHFEM_MAX_DECK_NODES": 100_000, "SPHFEM_MAX_DECK_DEPTH": 100}
+"""Default bounds on a deck, by the environment variable that overrides each (module docstring)."""
+
+
+def limit(name: str, file: str = "<deck>") -> int:
+    """The bound ``name`` of :data:`LIMITS`: the environment's value if set, else the default."""
+    text = os.environ.get(name, "").strip()
+    if not text:
+        return LIMITS[name]
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise DeckError(f"the environment variable {name}={text!r} must be a positive integer",
+                        file=file, line=1, col=1, path="")
+    return value
+
+
+def _over(what: str, name: str, value: int, unit: str = "") -> str:
+    return f"{what} {value}{unit} (the limit {name}; set the environment variable {name} to raise it)"
+
 
 _NULLS = {"", "~", "null", "Null", "NULL"}
 _BOOLS = {"true": True, "True": True, "TRUE": True, "false": False, "False": False, "FALSE": False}
@@ -125,14 +166,47 @@ class _Resolver(BaseResolver):
 
 
 class _Composer(Reader, Scanner, Parser, Composer, _Resolver):
-    """PyYAML's pure-Python pipeline up to the node graph, with :class:`_Resolver`."""
+    """PyYAML's pure-Python pipeline up to the node graph, with :class:`_Resolver`.
 
-    def __init__(self, stream: str) -> None:
+    Counts the nodes it composes and the nesting depth, and stops at ``max_nodes`` or
+    ``max_depth`` with a DeckError at the node that crossed the bound.
+    """
+
+    def __init__(self, stream: str, file: str = "<string>", max_nodes: int | None = None,
+                 max_depth: int | None = None) -> None:
         Reader.__init__(self, stream)
         Scanner.__init__(self)
         Parser.__init__(self)
         Composer.__init__(self)
         _Resolver.__init__(self)
+        self.file = file
+        self.max_nodes = max_nodes if max_nodes is not None else limit("SPHFEM_MAX_DECK_NODES", file)
+        self.max_depth = max_depth if max_depth is not None else limit("SPHFEM_MAX_DECK_DEPTH", file)
+        self.n_nodes = 0
+        self.depth = 0
+
+    def _stop(self, event: Any, message: str) -> DeckError:
+        mark = event.start_mark
+        return DeckError(message, file=self.file, line=mark.line + 1, col=mark.column + 1, path="yaml")
+
+    def compose_node(self, parent: Node | None, index: Any) -> Node:
+        event = self.peek_event()
+        if isinstance(event, AliasEvent):
+            return super().compose_node(parent, index)
+        self.n_nodes += 1
+        if self.n_nodes > self.max_nodes:
+            raise self._stop(event, _over("the deck holds more values than", "SPHFEM_MAX_DECK_NODES",
+                                          self.max_nodes))
+        if not isinstance(event, (SequenceStartEvent, MappingStartEvent)):
+            return super().compose_node(parent, index)
+        self.depth += 1
+        if self.depth > self.max_depth:
+            raise self._stop(event, _over("lists and mappings nested deeper than",
+                                          "SPHFEM_MAX_DECK_DEPTH", self.max_depth))
+        try:
+            return super().compose_node(parent, index)
+        finally:
+            self.depth -= 1
 
 
 def _pos(node: Node) -> tuple[int, int]:
@@ -148,18 +222,29 @@ def _kind(value: Any) -> str:
 class _Builder:
     """Builds Python objects from a node tree, recording positions and rejecting bad structure."""
 
-    def __init__(self, file: str) -> None:
+    def __init__(self, file: str, max_nodes: int) -> None:
         self.file = file
         self.positions = Positions()
         self.active: set[int] = set()
+        self.max_nodes = max_nodes
+        self.n_nodes = 0
 
     def error(self, node: Node, path: Path_, message: str) -> DeckError:
         line, col = _pos(node)
         return DeckError(message, file=self.file, line=line, col=col, path=format_path(path))
 
+    def count(self, node: Node, path: Path_, n: int = 1) -> None:
+        """Count ``n`` values built (aliases and merges expanded); stop past ``max_nodes``."""
+        self.n_nodes += n
+        if self.n_nodes > self.max_nodes:
+            raise self.error(node, path, _over("with its aliases and merge keys expanded the deck "
+                                               "holds more values than", "SPHFEM_MAX_DECK_NODES",
+                                               self.max_nodes))
+
     def build(self, node: Node, path: Path_) -> Any:
         if id(node) in self.active:
             raise self.error(node, path, "recursive alias (a node that contains itself)")
+        self.count(node, path)
         self.positions.values[path] = _pos(node)
         self.active.add(id(node))
         try:
@@ -224,7 +309,9 @@ class _Builder:
                         raise self.error(source, path, "recursive merge (a mapping merges itself)")
                     self.active.add(id(source))
                     try:
-                        merged.extend(self.pairs(source, path))
+                        pairs = self.pairs(source, path)
+                        self.count(source, path, len(pairs))
+                        merged.extend(pairs)
                     finally:
                         self.active.discard(id(source))
                 continue
@@ -273,31 +360,46 @@ def loads(text: str, file: str = "<string>") -> tuple[Any, Positions]:
     """Parse one YAML document from ``text``; return ``(data, positions)``.
 
     Raises :class:`DeckError` for syntax errors, an empty stream, several documents, duplicate or
-    non-string keys, unsupported tags and recursive aliases.
+    non-string keys, unsupported tags, recursive aliases, and decks past the node or depth bounds.
     """
+    max_nodes, max_depth = limit("SPHFEM_MAX_DECK_NODES", file), limit("SPHFEM_MAX_DECK_DEPTH", file)
     try:
-        root = _Composer(text).get_single_node()
+        composer = _Composer(text, file, max_nodes, max_depth)  # the reader checks the characters here
+        root = composer.get_single_node()
     except yaml.YAMLError as exc:
         raise _syntax_error(exc, text, file) from None
+    except RecursionError:  # SPHFEM_MAX_DECK_DEPTH set beyond what Python's stack allows
+        raise _too_deep(file, max_depth) from None
     if root is None:
         raise DeckError("the file is empty (no YAML document)", file=file, line=1, col=1, path="")
-    builder = _Builder(file)
+    builder = _Builder(file, max_nodes)
     builder.positions[()] = _pos(root)
-    data = builder.build(root, ())
+    try:
+        data = builder.build(root, ())
+    except RecursionError:
+        raise _too_deep(file, max_depth) from None
     return data, builder.positions
 
 
+def _too_deep(file: str, depth: int) -> DeckError:
+    return DeckError(f"lists and mappings nested deeper than Python's stack allows (SPHFEM_MAX_DECK_DEPTH "
+                     f"is {depth}; lower it)", file=file, line=1, col=1, path="yaml")
+
+
 def load(path: str | PathLike[str]) -> tuple[Any, Positions]:
-    """Read and parse the YAML file at ``path`` (UTF-8); see :func:`loads`."""
+    """Read and parse the YAML file at ``path`` (UTF-8, a regular file within
+    ``SPHFEM_MAX_DECK_BYTES``); see :func:`loads`."""
     file = str(path)
+    max_bytes = limit("SPHFEM_MAX_DECK_BYTES", file)
     try:
-        raw = Path(path).read_bytes()
-    except IsADirectoryError:
-        raise DeckError("is a directory, not a deck file", file=file, line=1, col=1) from None
+        raw = read_regular_file(path, max_bytes, "a deck")
     except FileNotFoundError:
         raise DeckError("no such file", file=file, line=1, col=1) from None
-    except OSError as exc:
-        raise DeckError(f"cannot read: {exc.strerror or exc}", file=file, line=1, col=1) from None
+    except (OSError, ValueError) as exc:
+        raise DeckError(_reason(exc), file=file, line=1, col=1) from None
+    if len(raw) > max_bytes:
+        raise DeckError(_over("the deck file is larger than", "SPHFEM_MAX_DECK_BYTES", max_bytes, " bytes"),
+                        file=file, line=1, col=1)
     try:
         text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
@@ -306,3 +408,36 @@ def load(path: str | PathLike[str]) -> tuple[Any, Positions]:
         raise DeckError(f"not UTF-8 text (byte 0x{raw[exc.start]:02x})", file=file, line=line,
                         col=col, path="yaml") from None
     return loads(text, file)
+
+
+def _reason(exc: Exception) -> str:
+    if isinstance(exc, OSError):
+        return f"cannot read: {exc.strerror or exc}"
+    return str(exc)
+
+
+def read_regular_file(path: str | PathLike[str], max_bytes: int, what: str) -> bytes:
+    """The bytes of ``path``, at most ``max_bytes + 1`` of them (so a caller sees it is too large).
+
+    ``ValueError`` unless ``path`` is a regular file: a FIFO would block the read forever, a
+    device (``/dev/zero``) never ends, a directory has no bytes. The file is opened without
+    blocking and checked with ``fstat`` on the open descriptor (no race between check and read).
+    """
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_CLOEXEC", 0))
+    try:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            kind = ("a directory" if stat.S_ISDIR(mode) else "a FIFO (named pipe)" if stat.S_ISFIFO(mode)
+                    else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "a socket"
+                    if stat.S_ISSOCK(mode) else "not a regular file")
+            raise ValueError(f"is {kind}, not a regular file; {what} must be a regular file")
+        chunks, size = [], 0
+        while size <= max_bytes:
+            chunk = os.read(fd, min(max_bytes + 1 - size, 1 << 20))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+        return b"".join(chunks)
+    finally:
+        os.close(fd)

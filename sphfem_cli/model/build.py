@@ -548,7 +548,7 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
 
 def _mesh_part(name, part, dim, deck_path: Path) -> meshgen.MeshData:
     g = part.geometry
-    where = f"parts.{name}.geometry.{g.kind}"
+    where = f"parts.{name}.geometry.{g.kind}" + (".file" if g.kind == "file" else "")
     try:
         if g.box is not None:
             return meshgen.box_mesh(g.box.min, g.box.max, divisions=g.box.divisions, element_size=g.box.element_size)
@@ -568,11 +568,24 @@ def _mesh_part(name, part, dim, deck_path: Path) -> meshgen.MeshData:
 
 
 def _check_mesh(name: str, part, mesh: meshgen.MeshData) -> None:
-    """A mesh the elements can work with: finite coordinates, every element of positive size."""
-    sizes = meshgen.element_jacobian_sign_check(mesh.nodes, mesh.elements)
-    if not (np.all(np.isfinite(mesh.nodes)) and np.all(np.isfinite(sizes)) and np.all(sizes > 0)):
-        raise ModelError(f"parts.{name}.geometry.{part.geometry.kind}",
-                         "the mesh has non-finite coordinates or elements of zero size (check the sizes and units)")
+    """A mesh the elements can work with: finite coordinates, every corner Jacobian positive.
+
+    A corner Jacobian <= 0 (``mesh.corner_jacobians``) is an inverted, collapsed or re-entrant
+    element at t = 0; the error names the part, the element (0-based, in the part's order) and
+    its corner.
+    """
+    where = f"parts.{name}.geometry.{part.geometry.kind}"
+    if not np.all(np.isfinite(mesh.nodes)):
+        raise ModelError(where, "the mesh has non-finite coordinates (check the sizes and units)")
+    with np.errstate(over="ignore", invalid="ignore"):
+        corners = meshgen.corner_jacobians(mesh.nodes, mesh.elements)
+        bad = ~(np.isfinite(corners) & (corners > 0.0))
+    if np.any(bad):
+        e, c = np.unravel_index(int(np.argmax(bad)), bad.shape)
+        shape = "zero size" if np.all(corners[e] == 0.0) else "a corner Jacobian <= 0"
+        raise ModelError(where, f"element {e} of part '{name}' is inverted, collapsed or re-entrant at t = 0 "
+                         f"({shape} at its corner node {c}, {int(bad.any(axis=1).sum())} such element(s); "
+                         "check the sizes, the units and the mesh)")
 
 
 def _node_element_map(conn: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:

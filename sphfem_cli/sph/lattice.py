@@ -85,12 +85,9 @@ def closed_boundary(path: str, dim: int, scale: float = 1.0) -> tuple[np.ndarray
     segments, faces (F, 2). Raises ValueError unless the boundary is closed (3D: every edge shared
     by exactly two triangles; 2D: every vertex used by exactly two segments).
     """
-    import meshio
+    from ..model.mesh import read_meshio
 
-    try:
-        mesh = meshio.read(str(path))
-    except (meshio.ReadError, OSError, ValueError) as exc:
-        raise ValueError(f"meshio could not read the file: {exc}") from exc
+    mesh = read_meshio(path)
     vertices = np.asarray(mesh.points, dtype=np.float64)[:, :dim] * scale
     faces = []
     for block in mesh.cells:

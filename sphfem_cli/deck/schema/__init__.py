@@ -9,7 +9,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from .base import DeckModel, check_vector_lengths
+from .base import DeckModel, check_vector_lengths, name_problem
 from .interaction import Contact, Coupling, LagrangeInSolid, NodesToSurface
 from .materials import Detonation, EquationOfState, Material
 from .model import (
@@ -65,9 +65,29 @@ class Deck(DeckModel):
 
     @model_validator(mode="after")
     def _cross_references(self) -> "Deck":
+        _check_names(self)
         check_vector_lengths(self, self.dimension)
         _check_references(self)
         return self
+
+
+RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")
+"""Tables the solver writes itself (histories/<name>.csv); a history or probe cannot take these names."""
+
+
+def _check_names(deck: Deck) -> None:
+    """Every name is one the output files can carry (``base.name_problem``); no history overwrites a table."""
+    for family in ("curves", "equations_of_state", "materials", "sections", "parts", "sets"):
+        for name in getattr(deck, family):
+            if (why := name_problem(name)) is not None:
+                raise ValueError(f"@{family}.{name}: {why}")
+    for family in ("histories", "probes"):
+        for i, request in enumerate(getattr(deck.output, family)):
+            why = name_problem(request.name)
+            if why is None and request.name in RESERVED_HISTORIES:
+                why = f"'{request.name}' is a table the solver writes (reserved: {', '.join(RESERVED_HISTORIES)})"
+            if why is not None:
+                raise ValueError(f"@output.{family}.{i}.name: {why}")
 
 
 def _ref(name: str | None, known: dict, path: str, what: str) -> None:

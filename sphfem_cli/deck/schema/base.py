@@ -8,6 +8,9 @@ Vectors (`Vector`) hold one value per space dimension; their length is checked a
 """
 from __future__ import annotations
 
+import types
+import typing
+import unicodedata
 from typing import Annotated, Any
 
 from pydantic import BaseModel, ConfigDict, Field
@@ -49,11 +52,22 @@ def check_vector_lengths(model: BaseModel, dimension: int, path: tuple = ()) -> 
         here = path + (name,)
         if value is None:
             continue
-        if any(m is VECTOR for m in field.metadata) and len(value) != dimension:
+        if _is_vector(field.metadata, field.annotation) and len(value) != dimension:
             raise ValueError(
                 f"@{_dotted(here)}: expected {dimension} values (dimension {dimension}), got {len(value)}"
             )
         _walk(value, dimension, here)
+
+
+def _is_vector(metadata: list, annotation: Any) -> bool:
+    """Whether a field is a `Vector`: the marker on the field, or inside ``Vector | None``."""
+    if any(m is VECTOR for m in metadata):
+        return True
+    if typing.get_origin(annotation) is Annotated:
+        return any(m is VECTOR for m in annotation.__metadata__)
+    if typing.get_origin(annotation) in (typing.Union, types.UnionType):
+        return any(_is_vector([], a) for a in typing.get_args(annotation) if a is not type(None))
+    return False
 
 
 def _walk(value: Any, dimension: int, path: tuple) -> None:
@@ -70,3 +84,31 @@ def _walk(value: Any, dimension: int, path: tuple) -> None:
 
 def _dotted(path: tuple) -> str:
     return ".".join(str(p) for p in path)
+
+
+NAME_MAX_CHARS = 100
+NAME_MAX_BYTES = 200
+_NAME_FORBIDDEN = ',"/\\'
+
+
+def name_problem(name: str) -> str | None:
+    """Why ``name`` cannot name a deck entity, or None if it can.
+
+    Any Unicode is allowed (``名前``, ``🔥``): names become CSV column names and file names
+    (histories/<name>.csv), HDF5 and XDMF names, all written as UTF-8. Refused: the empty name,
+    control characters and line or paragraph separators (Unicode categories Cc, Cs, Zl, Zp), the
+    characters , " / \\ (CSV field and path separators), ``.`` and ``..``, and names over
+    NAME_MAX_CHARS characters or NAME_MAX_BYTES bytes of UTF-8 (file names end at 255 bytes).
+    """
+    if not name.strip():
+        return "a name must not be empty or blank"
+    for ch in name:
+        if unicodedata.category(ch) in ("Cc", "Cs", "Zl", "Zp"):
+            return f"a name must not hold the control character U+{ord(ch):04X}"
+        if ch in _NAME_FORBIDDEN:
+            return f"a name must not hold {ch!r} (names become CSV columns and file names)"
+    if name in (".", ".."):
+        return f"'{name}' cannot be a name (names become file names)"
+    if len(name) > NAME_MAX_CHARS or len(name.encode("utf-8")) > NAME_MAX_BYTES:
+        return f"a name has at most {NAME_MAX_CHARS} characters and {NAME_MAX_BYTES} bytes of UTF-8"
+    return None
