@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import difflib
+import json
 import re
 from collections.abc import Hashable, Iterable, Sequence
 
@@ -10,14 +11,24 @@ __all__ = ["ROOT", "DeckError", "DeckErrors", "did_you_mean", "format_path", "pa
 ROOT = "<root>"
 """How the empty path (the whole deck) is written in messages."""
 
-_SEGMENT = re.compile(r"\[(-?\d+)\]|([^.\[\]]+)")
+_SEGMENT = re.compile(r'\[(-?\d+)\]|\[("(?:[^"\\]|\\.)*")\]|([^.\[\]]+)')
+_QUOTED = re.compile(r'[.\[\]"]|^\s|\s$|^$')
 
 
 def format_path(path: Iterable[Hashable]) -> str:
-    """Dotted path with list indices in brackets: ``("bcs", 0, "part")`` -> ``bcs[0].part``."""
+    """Dotted path with list indices in brackets: ``("bcs", 0, "part")`` -> ``bcs[0].part``.
+
+    A key that is empty, starts or ends with white space, or holds ``.``, ``[``, ``]`` or ``"`` is
+    written as a JSON string in brackets: ``("parts", "a.b")`` -> ``parts["a.b"]``.
+    """
     text = ""
     for key in path:
-        text += f"[{key}]" if isinstance(key, int) else (f".{key}" if text else str(key))
+        if isinstance(key, int):
+            text += f"[{key}]"
+        elif _QUOTED.search(str(key)):
+            text += f"[{json.dumps(str(key), ensure_ascii=False)}]"
+        else:
+            text += f".{key}" if text else str(key)
     return text
 
 
@@ -26,7 +37,8 @@ def parse_path(text: str) -> tuple[str | int, ...]:
     text = text.strip()
     if text in ("", ROOT):
         return ()
-    return tuple(int(m[1]) if m[1] is not None else m[2] for m in _SEGMENT.finditer(text))
+    return tuple(int(m[1]) if m[1] is not None else json.loads(m[2]) if m[2] is not None else m[3]
+                 for m in _SEGMENT.finditer(text))
 
 
 def _one_line(text: str) -> str:

@@ -29,8 +29,9 @@ import annotated_types
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 
-from .schema import Deck
-from .schema.base import VECTOR
+from .loader import LIMITS
+from .schema import RESERVED_HISTORIES, Deck
+from .schema.base import NAME_MAX_BYTES, NAME_MAX_CHARS, VECTOR
 from .schema.model import UNIT_SYSTEMS
 
 __all__ = ["EXAMPLE_DECK", "DEFAULT_OUTPUT", "render_reference", "iter_models", "main"]
@@ -137,8 +138,23 @@ checked when the deck is read (an unknown name is an error that lists the known 
 | `loads[i].parts` (gravity) | `parts` |
 | `part`, `set` in `output.histories` items | `parts`, `sets` |
 
-A `pressure` load needs a segment set and a `nodal_force` load a node set. A name is any string;
-plain words (`steel`, `left_end`) need no quotes.
+A `pressure` load needs a segment set and a `nodal_force` load a node set. A name is any string
+of Unicode (`steel`, `left_end`, `名前`, `🔥`; plain words need no quotes) that the output files
+can carry, since names become CSV columns, file names (`histories/<name>.csv`) and HDF5/XDMF
+names, all written as UTF-8. Refused: an empty or blank name, control characters and line or
+paragraph separators, the characters `,` `"` `/` `\\`, the names `.` and `..`, and names over
+{name_chars} characters or {name_bytes} bytes of UTF-8. Histories and probes cannot take the
+names of the tables the solver writes itself ({reserved}).
+
+### Limits on the file
+
+A deck is a regular file (not a FIFO, a device or a directory), read with these bounds, each an
+error naming the bound when crossed; an environment variable raises each one:
+
+{limits}
+
+Mesh files named by `geometry.file` must be regular files too; a file that meshio cannot read
+(a corrupt `.vtu`, an unknown format) is an error at the deck's `file:` key.
 
 ### Vectors and `dimension`
 
@@ -530,13 +546,28 @@ def _unit_table() -> str:
     return "\n".join(rows)
 
 
+_LIMIT_TEXT = {
+    "SPHFEM_MAX_DECK_BYTES": "bytes in the deck file",
+    "SPHFEM_MAX_DECK_NODES": "values (scalars, lists and mappings) with every alias and merge key expanded: "
+                             "an alias bomb stops here",
+    "SPHFEM_MAX_DECK_DEPTH": "nesting depth of lists and mappings",
+}
+
+
+def _limit_table() -> str:
+    rows = ["| environment variable | default | bounds |", "|---|---|---|"]
+    rows += [f"| `{name}` | {value} | {_LIMIT_TEXT[name]} |" for name, value in LIMITS.items()]
+    return "\n".join(rows)
+
+
 def render_reference() -> str:
     """The whole deck reference as Markdown, built from the schema."""
     w = _Writer()
     w.add(_HEADER)
     w.heading(2, "A minimal deck", "a-minimal-deck")
     w.add("```yaml", EXAMPLE_DECK.rstrip("\n"), "```", "")
-    w.add(_CONVENTIONS.format(unit_table=_unit_table()))
+    w.add(_CONVENTIONS.format(unit_table=_unit_table(), name_chars=NAME_MAX_CHARS, name_bytes=NAME_MAX_BYTES,
+                              reserved=", ".join(f"`{n}`" for n in RESERVED_HISTORIES), limits=_limit_table()))
     w.heading(2, "Top-level keys", "top-level-keys")
     w.paragraph(_prose(_docstring(Deck)) + " Its keys, in the order of this reference:")
     w.add("| key | type | default | description |", "|---|---|---|---|")

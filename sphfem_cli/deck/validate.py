@@ -13,6 +13,9 @@ line and column. The path is dotted; list indices may be written ``boundaries.0.
 ``boundaries[0].part``. It is read *relative to the location pydantic gives the error* (the
 model whose validator raised it; for validators on ``Deck`` that is the deck root), and, if no
 such key exists there, as an absolute path from the deck root. ``@:`` means the model itself.
+The path ends at the first colon followed by white space, so names may hold spaces and colons
+(not ``": "``); a key holding ``.`` or ``[`` is written as :func:`errors.format_path` does,
+``parts["a.b"]``.
 If the key is absent from the deck, the error points at its nearest existing ancestor.
 A message without the marker is reported at pydantic's location.
 
@@ -43,7 +46,7 @@ __all__ = ["load_deck", "validate_model", "convert_validation_error"]
 M = TypeVar("M", bound=BaseModel)
 Path_ = tuple[Hashable, ...]
 
-_MARKER = re.compile(r"@([^:\s]*):\s*(.*)\Z", re.DOTALL)
+_MARKER = re.compile(r"@(.*?):(?:\s+|\Z)(.*)\Z", re.DOTALL)  # the path ends at the first ': ' (names hold spaces)
 _MISSING = object()
 
 _EXPECTED = {

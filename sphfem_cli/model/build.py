@@ -548,7 +548,7 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
 
 def _mesh_part(name, part, dim, deck_path: Path) -> meshgen.MeshData:
     g = part.geometry
-    where = f"parts.{name}.geometry.{g.kind}" + (".file" if g.kind == "file" else "")
+    where = _geometry_path(name, part)
     try:
         if g.box is not None:
             return meshgen.box_mesh(g.box.min, g.box.max, divisions=g.box.divisions, element_size=g.box.element_size)
@@ -567,6 +567,12 @@ def _mesh_part(name, part, dim, deck_path: Path) -> meshgen.MeshData:
         raise ModelError(where, str(exc).splitlines()[0]) from None
 
 
+def _geometry_path(name: str, part) -> str:
+    """Deck path of a part's geometry; of its file name (``geometry.file.file``) for a mesh file."""
+    kind = part.geometry.kind
+    return f"parts.{name}.geometry.{kind}" + (".file" if kind == "file" else "")
+
+
 def _check_mesh(name: str, part, mesh: meshgen.MeshData) -> None:
     """A mesh the elements can work with: finite coordinates, every corner Jacobian positive.
 
@@ -574,7 +580,7 @@ def _check_mesh(name: str, part, mesh: meshgen.MeshData) -> None:
     element at t = 0; the error names the part, the element (0-based, in the part's order) and
     its corner.
     """
-    where = f"parts.{name}.geometry.{part.geometry.kind}"
+    where = _geometry_path(name, part)
     if not np.all(np.isfinite(mesh.nodes)):
         raise ModelError(where, "the mesh has non-finite coordinates (check the sizes and units)")
     with np.errstate(over="ignore", invalid="ignore"):

@@ -321,3 +321,192 @@ def test_installed_sphfem_check_exits_65(name: str, cli_main) -> None:
     result = subprocess.run([str(exe), "check", str(deck)], capture_output=True, text=True,
                             timeout=120)
     _assert_cli_failure(deck, result.returncode, result.stderr, result.stdout)
+
+
+# ------------------------------------------------------------------ bounded parsing (issue 13, item 1)
+
+SMALL_DECK = (Path(__file__).parents[1] / "data" / "fuzz" / "fsi_sph.yaml").read_text(encoding="utf-8")
+
+
+def _check_cli(deck: Path, cli_main):
+    from click.testing import CliRunner
+
+    result = CliRunner().invoke(cli_main, ["check", str(deck)])
+    assert isinstance(result.exception, SystemExit | None), result.exception
+    assert "Traceback" not in result.output
+    return result
+
+
+def _one_deck_error(deck: Path, cli_main) -> re.Match[str]:
+    result = _check_cli(deck, cli_main)
+    lines = result.output.strip().splitlines()
+    assert result.exit_code == 65 and len(lines) == 1, result.output
+    match = ONE_LINE.match(lines[0])
+    assert match and match["file"] == str(deck), lines[0]
+    return match
+
+
+@pytest.mark.parametrize("levels", [5, 9])
+def test_alias_bomb_stops_at_the_value_bound(tmp_path, levels, cli_main) -> None:
+    bomb = "b0: &b0 [lol, lol, lol, lol, lol, lol, lol, lol, lol, lol]\n" + "".join(
+        f"b{k}: &b{k} [{', '.join([f'*b{k - 1}'] * 10)}]\n" for k in range(1, levels + 1))
+    deck = tmp_path / "bomb.yaml"
+    deck.write_text(SMALL_DECK + bomb)
+    match = _one_deck_error(deck, cli_main)
+    assert "more values than 100000" in match["msg"] and "SPHFEM_MAX_DECK_NODES" in match["msg"]
+
+
+def test_merge_key_bomb_stops_at_the_value_bound(tmp_path, cli_main) -> None:
+    bomb = "m0: &m0 {a: 1, b: 2}\n" + "".join(
+        f"m{k}: &m{k} {{<<: [{', '.join([f'*m{k - 1}'] * 10)}]}}\n" for k in range(1, 8))
+    deck = tmp_path / "merge.yaml"
+    deck.write_text(SMALL_DECK + bomb)
+    assert "SPHFEM_MAX_DECK_NODES" in _one_deck_error(deck, cli_main)["msg"]
+
+
+@pytest.mark.parametrize("depth", [1000, 20000])
+@pytest.mark.parametrize("style", ["flow_list", "flow_map", "block"])
+def test_deep_nesting_stops_at_the_depth_bound(tmp_path, depth, style, cli_main) -> None:
+    if style == "flow_list":
+        value = "[" * depth + "1" + "]" * depth
+    elif style == "flow_map":
+        value = "{a: " * depth + "1" + "}" * depth
+    else:
+        value = "\n" + "".join(" " * (i + 1) + "a:\n" for i in range(depth // 10)) + " " * (depth // 10 + 1) + "1"
+    deck = tmp_path / "deep.yaml"
+    deck.write_text(SMALL_DECK + f"deep: {value}\n")
+    match = _one_deck_error(deck, cli_main)
+    assert int(match["line"]) >= SMALL_DECK.count("\n") + 1
+    assert "nested deeper than 100" in match["msg"] and "SPHFEM_MAX_DECK_DEPTH" in match["msg"]
+
+
+def test_depth_bound_raised_past_the_stack_is_still_one_line(tmp_path, monkeypatch, cli_main) -> None:
+    monkeypatch.setenv("SPHFEM_MAX_DECK_DEPTH", "1000000")
+    deck = tmp_path / "deep.yaml"
+    deck.write_text(SMALL_DECK + "deep: " + "[" * 20000 + "1" + "]" * 20000 + "\n")
+    assert "Python's stack" in _one_deck_error(deck, cli_main)["msg"]
+
+
+def test_size_bound_refuses_a_huge_file_at_once(tmp_path, cli_main) -> None:
+    deck = tmp_path / "huge.yaml"
+    with deck.open("w") as fh:
+        fh.write(SMALL_DECK)
+        fh.write(("# " + "x" * 78 + "\n") * 375_000)  # 30 MB of comments
+    match = _one_deck_error(deck, cli_main)
+    assert (match["line"], match["col"]) == ("1", "1")
+    assert "larger than 8388608 bytes" in match["msg"] and "SPHFEM_MAX_DECK_BYTES" in match["msg"]
+
+
+def test_bounds_can_be_raised_and_a_bad_bound_is_one_line(tmp_path, monkeypatch, cli_main) -> None:
+    deck = tmp_path / "deck.yaml"
+    deck.write_text(SMALL_DECK)
+    monkeypatch.setenv("SPHFEM_MAX_DECK_BYTES", "100")
+    assert "SPHFEM_MAX_DECK_BYTES" in _one_deck_error(deck, cli_main)["msg"]
+    monkeypatch.setenv("SPHFEM_MAX_DECK_BYTES", str(10**6))
+    assert _check_cli(deck, cli_main).exit_code == 0
+    monkeypatch.setenv("SPHFEM_MAX_DECK_NODES", "ten")
+    assert "SPHFEM_MAX_DECK_NODES='ten' must be a positive integer" in _one_deck_error(deck, cli_main)["msg"]
+
+
+@pytest.mark.parametrize("kind", ["fifo", "device"])
+def test_a_deck_must_be_a_regular_file(tmp_path, kind, cli_main) -> None:
+    import os
+
+    deck = {"fifo": tmp_path / "deck.yaml", "device": Path("/dev/zero")}[kind]
+    if kind == "fifo":
+        os.mkfifo(deck)
+    assert "not a regular file" in _one_deck_error(deck, cli_main)["msg"]
+
+
+def test_a_directory_is_not_a_deck(tmp_path) -> None:  # the CLI refuses it as a usage error first
+    from sphfem_cli.deck.loader import load
+
+    with pytest.raises(DeckError, match="is a directory, not a regular file"):
+        load(tmp_path)
+
+
+def _solid_deck_with_mesh(tmp_path: Path, mesh: Path) -> Path:
+    deck = tmp_path / "mesh_deck.yaml"
+    deck.write_text(f"""dimension: 3
+control: {{end_time: 1.0e-4}}
+materials:
+  steel: {{type: elastic, density: 7850.0, youngs_modulus: 2.1e11, poisson_ratio: 0.3}}
+sections:
+  solid: {{type: solid}}
+parts:
+  block:
+    material: steel
+    section: solid
+    geometry:
+      file: {{file: {mesh}}}
+""")
+    return deck
+
+
+@pytest.mark.parametrize("kind", ["fifo", "directory", "truncated_vtu", "garbage_msh", "bad_inp", "empty_msh"])
+def test_unreadable_mesh_file_is_an_error_at_its_file_key(tmp_path, kind, cli_main) -> None:
+    import os
+
+    good = (Path(__file__).parents[1] / "data" / "hex_2x1x1_flipped.vtu").read_bytes()
+    mesh = tmp_path / {"fifo": "m.vtu", "directory": "d.vtu", "truncated_vtu": "t.vtu", "garbage_msh": "g.msh",
+                       "bad_inp": "b.inp", "empty_msh": "e.msh"}[kind]
+    if kind == "fifo":
+        os.mkfifo(mesh)
+    elif kind == "directory":
+        mesh.mkdir()
+    else:
+        mesh.write_bytes({"truncated_vtu": good[: len(good) // 2], "garbage_msh": bytes(range(256)) * 8,
+                          "bad_inp": b"*NODE\n1, a, b, c\n*ELEMENT, TYPE=C3D8\n1, 1\n", "empty_msh": b""}[kind])
+    match = _one_deck_error(_solid_deck_with_mesh(tmp_path, mesh), cli_main)
+    assert (match["line"], match["path"]) == ("12", "parts.block.geometry.file.file"), match[0]
+    assert str(mesh) in match["msg"]
+
+
+def test_re_entrant_imported_element_names_the_element_and_part(tmp_path, cli_main) -> None:
+    import meshio
+    import numpy as np
+
+    points = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1],
+                       [2, 0, 0], [2, 1, 0], [2, 0, 1], [2, 1, 1]], dtype=float)
+    points[6] = [0.2, 0.2, 0.2]  # element 1's shared corner pushed deep inside element 0: a re-entrant hex
+    cells = [("hexahedron", np.array([[0, 1, 2, 3, 4, 5, 6, 7], [1, 8, 9, 2, 5, 10, 11, 6]]))]
+    mesh = tmp_path / "reentrant.vtu"
+    meshio.write(mesh, meshio.Mesh(points, cells))
+    match = _one_deck_error(_solid_deck_with_mesh(tmp_path, mesh), cli_main)
+    assert match["path"] == "parts.block.geometry.file.file"
+    assert re.search(r"element \d of part 'block' is inverted, collapsed or re-entrant at t = 0", match["msg"])
+
+
+# ------------------------------------------------------------------ check checks what run needs (item 2)
+
+def test_unicode_names_check_and_run(tmp_path, cli_main) -> None:
+    from click.testing import CliRunner
+
+    text = (SMALL_DECK.replace("column", "名前").replace("rubber", "🔥").replace("block", "Ünï blöck")
+            .replace("end_time: 0.02", "end_time: 0.0005")
+            .replace("output: {interval: 0.005, history_interval: 0.0005}",
+                     "output:\n  interval: 0.0005\n  history_interval: 0.0001\n"
+                     "  histories: [{name: ënergie, part: Ünï blöck, quantities: [displacement]}]"))
+    deck = tmp_path / "名前.yaml"
+    deck.write_text(text, encoding="utf-8")
+    assert _check_cli(deck, cli_main).exit_code == 0
+    out = tmp_path / "out"
+    result = CliRunner().invoke(cli_main, ["run", "-q", str(deck), "-o", str(out)])
+    assert result.exit_code == 0, result.output
+    header = (out / "histories" / "matsum.csv").read_text(encoding="utf-8").splitlines()[0]
+    assert "名前_kinetic" in header and "Ünï blöck_internal" in header
+    assert (out / "histories" / "ënergie.csv").read_text(encoding="utf-8").startswith("time,displacement_x")
+
+
+@pytest.mark.parametrize("name, why", [("a,b", "','"), ("x/y", "'/'"), ("", "empty"), ("  ", "blank"),
+                                       ("..", "cannot be a name"), ("tab\\there", "U+0009"),
+                                       ("line\\u2028sep", "U+2028"), ("n" * 101, "at most 100")])
+def test_names_no_output_file_can_carry_are_refused(name, why) -> None:
+    from sphfem_cli.deck.loader import loads
+    from sphfem_cli.deck.schema import Deck
+
+    text = SMALL_DECK.replace("  rubber:", f'  "{name}":').replace("material: rubber", f'material: "{name}"')
+    data, positions = loads(text, "deck.yaml")
+    with pytest.raises(DeckError) as info:
+        validate_model(Deck, data, positions, "deck.yaml")
+    assert why in info.value.message and info.value.line == 9, str(info.value)

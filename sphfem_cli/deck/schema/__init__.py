@@ -9,6 +9,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
+from ..errors import format_path
 from .base import DeckModel, check_vector_lengths, name_problem
 from .interaction import Contact, Coupling, LagrangeInSolid, NodesToSurface
 from .materials import Detonation, EquationOfState, Material
@@ -80,7 +81,7 @@ def _check_names(deck: Deck) -> None:
     for family in ("curves", "equations_of_state", "materials", "sections", "parts", "sets"):
         for name in getattr(deck, family):
             if (why := name_problem(name)) is not None:
-                raise ValueError(f"@{family}.{name}: {why}")
+                raise ValueError(f"@{format_path((family, name))}: {why}")
     for family in ("histories", "probes"):
         for i, request in enumerate(getattr(deck.output, family)):
             why = name_problem(request.name)

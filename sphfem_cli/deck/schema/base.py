@@ -45,6 +45,17 @@ def exactly_one(model: BaseModel, names: tuple[str, ...], what: str, at: str = "
     return given[0]
 
 
+def check_extent(lo: list[float] | None, hi: list[float] | None, what: str, strict: bool = True) -> None:
+    """``ValueError('@max: ...')`` unless ``hi`` exceeds ``lo`` in every direction (``strict``), or
+    is at least ``lo`` (not strict: a box of zero width that selects the nodes of a plane)."""
+    if lo is None or hi is None:
+        return
+    if any(b < a for a, b in zip(lo, hi)):
+        raise ValueError(f"@max: every component of max must be >= min ({what})")
+    if strict and any(b == a for a, b in zip(lo, hi)):
+        raise ValueError(f"@max: {what} has zero width: every component of max must exceed min")
+
+
 def check_vector_lengths(model: BaseModel, dimension: int, path: tuple = ()) -> None:
     """Raise ``ValueError('@path: ...')`` for the first vector field whose length is not `dimension`."""
     for name, field in type(model).model_fields.items():

@@ -9,7 +9,7 @@ from typing import Annotated, Literal, Union
 
 from pydantic import Field, model_validator
 
-from .base import DeckModel, exactly_one, NonNegativeFloat, OptionalComponents, PositiveFloat, Vector
+from .base import DeckModel, check_extent, exactly_one, NonNegativeFloat, OptionalComponents, PositiveFloat, Vector
 
 # Consistent unit systems, as LS-DYNA lists them: (length, mass, time) -> (force, pressure, density).
 UNIT_SYSTEMS: dict[tuple[str, str, str], tuple[str, str, str]] = {
@@ -45,10 +45,24 @@ class Units(DeckModel):
 
 
 class Box(DeckModel):
-    """An axis-aligned box."""
+    """An axis-aligned box (max >= min in every direction)."""
 
     min: Vector = Field(description="Lower corner [length].")
     max: Vector = Field(description="Upper corner [length].")
+
+    @model_validator(mode="after")
+    def _ordered(self) -> "Box":
+        check_extent(self.min, self.max, "the box", strict=False)
+        return self
+
+
+class VolumeBox(Box):
+    """An axis-aligned box of positive width in every direction."""
+
+    @model_validator(mode="after")
+    def _volume(self) -> "VolumeBox":
+        check_extent(self.min, self.max, "the box")
+        return self
 
 
 class Plane(DeckModel):
@@ -184,7 +198,7 @@ class SphSection(DeckModel):
     pressure_cutoff: float | None = Field(
         None, description="Lowest pressure a particle may carry (cavitation) [pressure]. Default none."
     )
-    domain: Box | None = Field(
+    domain: VolumeBox | None = Field(
         None, description="{min, max}: particles leaving this box are deactivated and counted. Default none."
     )
 
@@ -351,7 +365,7 @@ class Fill(DeckModel):
     """A region of an ALE part holding one material, at a given state."""
 
     material: str = Field(description="Name of a fluid or void material.")
-    box: Box | None = Field(None, description="{min, max} box.")
+    box: VolumeBox | None = Field(None, description="{min, max} box.")
     ball: BallGeometry | None = Field(None, description="A disc (2D) or sphere (3D).")
     cylinder: FillCylinder | None = Field(None, description="A cylinder (3D).")
     polygon: PolygonGeometry | None = Field(None, description="A 2D polygon.")
@@ -510,6 +524,11 @@ class WallBoundary(DeckModel):
     )
     condition: Literal["slip", "no_slip"] = Field("slip", description="Tangential condition. Default slip.")
 
+    @model_validator(mode="after")
+    def _volume(self) -> "WallBoundary":
+        check_extent(self.min, self.max, "the walls' box")
+        return self
+
 
 class DummyWallBoundary(DeckModel):
     """Fixed dummy wall particles for SPH (Adami, Hu & Adams 2012): walls of any shape.
@@ -537,13 +556,14 @@ class DummyWallBoundary(DeckModel):
             raise ValueError("@type: give 'min', 'max' and 'sides' (layers outside a box) or 'region'")
         if self.region is not None and box_mode:
             raise ValueError(f"@{box_mode[0]}: give either 'region' or 'min'/'max'/'sides', not both")
+        check_extent(self.min, self.max, "the walls' box")
         return self
 
 
 class WallRegion(DeckModel):
     """A region filled with dummy wall particles."""
 
-    box: Box | None = Field(None, description="{min, max} box.")
+    box: VolumeBox | None = Field(None, description="{min, max} box.")
     ball: BallGeometry | None = Field(None, description="A disc (2D) or ball (3D).")
     polygon: PolygonGeometry | None = Field(None, description="A 2D polygon.")
 
