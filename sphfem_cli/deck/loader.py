@@ -222,11 +222,11 @@ def _kind(value: Any) -> str:
 class _Builder:
     """Builds Python objects from a node tree, recording positions and rejecting bad structure."""
 
-    def __init__(self, file: str, max_nodes: int) -> None:
+    def __init__(self, file: str, max_nodes: int, max_depth: int) -> None:
         self.file = file
         self.positions = Positions()
         self.active: set[int] = set()
-        self.max_nodes = max_nodes
+        self.max_nodes, self.max_depth = max_nodes, max_depth
         self.n_nodes = 0
 
     def error(self, node: Node, path: Path_, message: str) -> DeckError:
@@ -245,6 +245,9 @@ class _Builder:
         if id(node) in self.active:
             raise self.error(node, path, "recursive alias (a node that contains itself)")
         self.count(node, path)
+        if len(path) >= self.max_depth and not isinstance(node, ScalarNode):  # aliases nest too
+            raise self.error(node, path[:1], _over("with its aliases expanded, lists and mappings nest deeper "
+                                                   "than", "SPHFEM_MAX_DECK_DEPTH", self.max_depth))
         self.positions.values[path] = _pos(node)
         self.active.add(id(node))
         try:
@@ -372,7 +375,7 @@ def loads(text: str, file: str = "<string>") -> tuple[Any, Positions]:
         raise _too_deep(file, max_depth) from None
     if root is None:
         raise DeckError("the file is empty (no YAML document)", file=file, line=1, col=1, path="")
-    builder = _Builder(file, max_nodes)
+    builder = _Builder(file, max_nodes, max_depth)
     builder.positions[()] = _pos(root)
     try:
         data = builder.build(root, ())

@@ -4,7 +4,6 @@ The model is plain numpy arrays; nothing here runs per step.
 """
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -17,8 +16,11 @@ from ..materials.kernels import NHIST, NPARAM, RIGID
 
 VOID = -1  # material type id of void (ALE only; no row in the kernels)
 from ..materials.tables import pack_material
+from . import checks
 from . import mesh as meshgen
 from . import sets as selection
+from .sizes import (BYTES_PER_ELEMENT, BYTES_PER_NODE, BYTES_PER_PARTICLE,  # noqa: F401 - re-exported
+                    available_memory, check_memory, estimate_counts)
 
 
 class ModelError(Exception):
@@ -161,81 +163,6 @@ class Model:
                 + particles * BYTES_PER_PARTICLE)
 
 
-# Bytes a run holds per node, element and particle (model arrays, solver state, output buffers).
-BYTES_PER_NODE = 400
-BYTES_PER_ELEMENT = 900
-BYTES_PER_PARTICLE = 1000
-
-
-def _as_count(value) -> int:
-    """A count from a float estimate; an overflowing or non-finite one (extreme geometry) becomes 10**18."""
-    value = float(value)
-    return int(value) if value < 1e18 else 10**18
-
-
-@np.errstate(over="ignore", invalid="ignore")
-def estimate_counts(deck: Deck, name: str) -> tuple[int, int, int]:
-    """(nodes, elements, particles) a part will have, from the deck alone (0s for a mesh file)."""
-    part = deck.parts[name]
-    g = part.geometry
-    if part.spacing is not None:  # SPH: the lattice cells inside the shape's bounding box
-        if g.file is not None:
-            return 0, 0, 0  # known once the file is read
-        if g.box is not None:
-            lengths = np.subtract(g.box.max, g.box.min)
-        elif g.ball is not None:
-            lengths = np.full(deck.dimension, 2.0 * g.ball.radius)
-        else:
-            lengths = np.ptp(np.array(g.polygon.vertices, dtype=float), axis=0)
-        return 0, 0, _as_count(np.prod(np.maximum(np.rint(lengths / part.spacing), 1.0)))
-    if g.box is not None:
-        lengths = np.subtract(g.box.max, g.box.min)
-        div = (np.array(g.box.divisions, dtype=float) if g.box.divisions is not None
-               else np.maximum(np.rint(lengths / g.box.element_size), 1.0))
-        return _as_count(np.prod(div + 1)), _as_count(np.prod(div)), 0
-    if g.ring is not None or g.cylinder is not None:
-        r = g.ring or g.cylinder
-        layers = (g.cylinder.elements_along + 1) if g.cylinder is not None else 1
-        per_layer = r.elements_around * (r.elements_through + 1) + (r.elements_around // 4 + 1) ** 2
-        along = g.cylinder.elements_along if g.cylinder is not None else 1
-        return per_layer * layers, per_layer * along, 0
-    return 0, 0, 0
-
-
-def available_memory() -> int | None:
-    """Bytes of memory available to a new allocation (Linux MemAvailable), or None if unknown."""
-    try:
-        for line in Path("/proc/meminfo").read_text().splitlines():
-            if line.startswith("MemAvailable:"):
-                return int(line.split()[1]) * 1024
-    except OSError:
-        pass
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (ValueError, OSError, AttributeError):
-        return None
-
-
-def check_memory(deck: Deck) -> None:
-    """Refuse, before allocating anything, a deck whose model would not fit in the available memory."""
-    available = available_memory()
-    if available is None:
-        return
-    total, largest, largest_name = 0, -1, ""
-    for name in deck.parts:
-        nodes, elements, particles = estimate_counts(deck, name)
-        need = nodes * BYTES_PER_NODE + elements * BYTES_PER_ELEMENT + particles * BYTES_PER_PARTICLE
-        total += need
-        if need > largest:
-            largest, largest_name = need, name
-    if total > available:
-        raise ModelError(
-            f"parts.{largest_name}.geometry",
-            f"the model needs about {total / 2**30:.1f} GiB, more than the {available / 2**30:.1f} GiB "
-            "available (coarsen the mesh or the particle spacing)",
-        )
-
-
 def _packed(name: str, m, deck: Deck) -> tuple[int, np.ndarray]:
     """The (type id, parameter row) of material `name`; a derived constant that overflows is a deck error."""
     if m.type == "void":
@@ -277,7 +204,7 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
                                   False, kind=fluid_kind))
             continue
         mesh = _mesh_part(name, part, dim, deck_path)
-        _check_mesh(name, part, mesh)
+        checks.elements(name, part, mesh)
         conns.append(mesh.elements + n_nodes)
         coords.append(mesh.nodes)
         mat = material_names.index(part.material)
@@ -370,7 +297,7 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     name = model.parts[index].name
     part = deck.parts[name]
     mesh = _mesh_part(name, part, model.dim, deck_path)
-    _check_mesh(name, part, mesh)  # an ALE mesh too (a box 5e-324 wide failed later in AleSystem; found by fuzzing)
+    checks.elements(name, part, mesh)  # an ALE mesh too (a box 5e-324 wide failed later in AleSystem; found by fuzzing)
     nodes, conn = mesh.nodes, mesh.elements
     names = [part.material] + [f.material for f in part.fill if f.material != part.material]
     names = list(dict.fromkeys(names))
@@ -501,7 +428,9 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
             pts = lattice.polygon(g.polygon.vertices, dx)
         else:
             try:
-                pts = lattice.surface_fill((model.deck_path.parent / g.file.file).resolve(), model.dim, dx, g.file.scale)
+                memory = available_memory()
+                pts = lattice.surface_fill((model.deck_path.parent / g.file.file).resolve(), model.dim, dx,
+                                           g.file.scale, None if memory is None else memory // BYTES_PER_PARTICLE)
             except (ValueError, OSError) as exc:
                 raise ModelError(f"parts.{p.name}.geometry.file", f"{g.file.file}: {str(exc).splitlines()[0]}") from None
         if len(pts) == 0:
@@ -538,6 +467,8 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
         raise ModelError(f"parts.{model.parts[owners[k]].name}.material",
                          f"particle mass {mass[k]:g} and density {density[k]:g} must be finite positive normal "
                          "numbers (check the material density, the spacing and the units)")
+    checks.particle_density(model, deck, np.array(used), np.concatenate(mat), density, owners)
+    checks.fluid_state(model, deck, np.array(used), np.concatenate(mat), density, owners)
     return ParticleSet(
         x=x, mass=mass, density=density,
         material=np.concatenate(mat), part=owners, spacing=spacing,
@@ -548,7 +479,7 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
 
 def _mesh_part(name, part, dim, deck_path: Path) -> meshgen.MeshData:
     g = part.geometry
-    where = _geometry_path(name, part)
+    where = checks.geometry_path(name, part)
     try:
         if g.box is not None:
             return meshgen.box_mesh(g.box.min, g.box.max, divisions=g.box.divisions, element_size=g.box.element_size)
@@ -565,33 +496,6 @@ def _mesh_part(name, part, dim, deck_path: Path) -> meshgen.MeshData:
         return data
     except (ValueError, OSError) as exc:
         raise ModelError(where, str(exc).splitlines()[0]) from None
-
-
-def _geometry_path(name: str, part) -> str:
-    """Deck path of a part's geometry; of its file name (``geometry.file.file``) for a mesh file."""
-    kind = part.geometry.kind
-    return f"parts.{name}.geometry.{kind}" + (".file" if kind == "file" else "")
-
-
-def _check_mesh(name: str, part, mesh: meshgen.MeshData) -> None:
-    """A mesh the elements can work with: finite coordinates, every corner Jacobian positive.
-
-    A corner Jacobian <= 0 (``mesh.corner_jacobians``) is an inverted, collapsed or re-entrant
-    element at t = 0; the error names the part, the element (0-based, in the part's order) and
-    its corner.
-    """
-    where = _geometry_path(name, part)
-    if not np.all(np.isfinite(mesh.nodes)):
-        raise ModelError(where, "the mesh has non-finite coordinates (check the sizes and units)")
-    with np.errstate(over="ignore", invalid="ignore"):
-        corners = meshgen.corner_jacobians(mesh.nodes, mesh.elements)
-        bad = ~(np.isfinite(corners) & (corners > 0.0))
-    if np.any(bad):
-        e, c = np.unravel_index(int(np.argmax(bad)), bad.shape)
-        shape = "zero size" if np.all(corners[e] == 0.0) else "a corner Jacobian <= 0"
-        raise ModelError(where, f"element {e} of part '{name}' is inverted, collapsed or re-entrant at t = 0 "
-                         f"({shape} at its corner node {c}, {int(bad.any(axis=1).sum())} such element(s); "
-                         "check the sizes, the units and the mesh)")
 
 
 def _node_element_map(conn: np.ndarray, n_nodes: int) -> tuple[np.ndarray, np.ndarray]:

@@ -142,15 +142,22 @@ def inside_closed_boundary(points: np.ndarray, vertices: np.ndarray, faces: np.n
     return np.abs(w) > 0.5
 
 
-def surface_fill(path: str, dim: int, dx: float, scale: float = 1.0) -> np.ndarray:
+def surface_fill(path: str, dim: int, dx: float, scale: float = 1.0, max_points: int | None = None) -> np.ndarray:
     """Lattice points inside the closed boundary in a mesh file (see ``closed_boundary``); (N, dim).
 
     The lattice is anchored at the boundary's lower bounding-box corner, as for the other shapes.
+    ValueError, before anything is allocated, if the bounding box's lattice exceeds ``max_points``.
     """
     vertices, faces = closed_boundary(path, dim, scale)
     used = vertices[np.unique(faces)]
     lo, hi = used.min(axis=0), used.max(axis=0)
-    n = np.ceil((hi - lo) / dx).astype(int)
+    with np.errstate(over="ignore", invalid="ignore"):
+        cells = np.ceil((hi - lo) / dx)
+        count = float(np.prod(cells))
+    if not np.all(np.isfinite(cells)) or (max_points is not None and count > max_points):
+        raise ValueError(f"spacing {dx:g} makes a lattice of {count:.3g} points in the surface's bounding box, "
+                         f"more than the {max_points} the available memory holds (coarsen the spacing)")
+    n = cells.astype(int)
     pts = _grid(lo, lo + n * dx, dx)
     keep = np.zeros(len(pts), dtype=bool)
     chunk = 200_000

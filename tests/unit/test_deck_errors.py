@@ -510,3 +510,22 @@ def test_names_no_output_file_can_carry_are_refused(name, why) -> None:
     with pytest.raises(DeckError) as info:
         validate_model(Deck, data, positions, "deck.yaml")
     assert why in info.value.message and info.value.line == 9, str(info.value)
+
+
+def test_a_chain_of_aliases_nests_no_deeper_than_the_bound() -> None:
+    from sphfem_cli.deck.loader import loads
+
+    chain = "a0: &a0 [1]\n" + "".join(f"a{k}: &a{k} [*a{k - 1}]\n" for k in range(1, 1500))
+    with pytest.raises(DeckError, match=r"with its aliases expanded, lists and mappings nest deeper than 100 "
+                                        r".*SPHFEM_MAX_DECK_DEPTH"):
+        loads(chain, "deck.yaml")
+
+
+def test_dummy_walls_too_large_for_memory_are_refused_before_allocation(tmp_path, cli_main) -> None:
+    deck = tmp_path / "walls.yaml"
+    deck.write_text(SMALL_DECK.replace(
+        "  - {type: fixed, set: block_base}",
+        "  - {type: fixed, set: block_base}\n"
+        "  - {type: dummy_wall, region: {box: {min: [0.0, -1.0], max: [1000.0, 0.0]}}, spacing: 1.0e-5}"))
+    match = _one_deck_error(deck, cli_main)
+    assert match["path"] == "boundaries[2]" and "the dummy wall particles need about" in match["msg"], match[0]

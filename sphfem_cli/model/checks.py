@@ -1,0 +1,96 @@
+"""What a model must satisfy at t = 0 beyond the deck's schema: valid elements, a usable fluid state.
+
+Each check raises ``build.ModelError`` with the deck path to point at (the CLI turns it into
+``file:line:col: path: message``, exit 65), so a deck that passes ``sphfem check`` does not fail
+at the first step on an inverted element or a degenerate particle state.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import mesh as meshgen
+
+SPH_DENSITY_RATIO = 2.0
+"""Largest factor between a particle's initial density and its material's density (``particle_density``)."""
+
+
+def particle_density(model, deck, used: np.ndarray, local: np.ndarray, density: np.ndarray,
+                     owners: np.ndarray) -> None:
+    """Every particle's initial density within a factor SPH_DENSITY_RATIO of its material's density.
+
+    h = smoothing_ratio (m / rho)^(1/dim) sizes the kernel and the neighbour grid, and m = density
+    dx^dim; with rho far from that density h leaves dx (a reference density of 1e30 against 1000
+    gave h = 1e-16 dx and a grid of 1e32 cells: found by fuzzing).
+    """
+    from . import build
+
+    ratio = density / model.material_param[used[local], 0]
+    off = ~((ratio >= 1.0 / SPH_DENSITY_RATIO) & (ratio <= SPH_DENSITY_RATIO))
+    if off.any():
+        k = int(np.argmax(off))
+        name = model.parts[owners[k]].name
+        eos = getattr(deck.materials[deck.parts[name].material], "eos", None)
+        where = f"parts.{name}.hydrostatic" if deck.parts[name].hydrostatic else f"parts.{name}.material"
+        raise build.ModelError(where,
+                               f"the initial particle density {density[k]:g} is {ratio[k]:.3g} times the material's density "
+                               f"(allowed: 1/{SPH_DENSITY_RATIO:g} to {SPH_DENSITY_RATIO:g}): the material density "
+                               f"and the reference density of equation of state '{eos}' disagree (check them and the units)")
+
+
+def fluid_state(model, deck, used: np.ndarray, local: np.ndarray, density: np.ndarray,
+                owners: np.ndarray) -> None:
+    """The EOS gives every particle a finite pressure and a positive finite sound speed at t = 0.
+
+    Evaluated as the particle system does (``sph.kernels``: rho/rho0 and the EOS's initial energy)
+    at each material's lowest and highest initial density (the EOSs are monotonic in density). A
+    zero sound speed (density 1e-300 against a reference of 1000: c = c0 (1e-303)^3 underflows)
+    divided the ghosts' hydrostatic correction by zero (found by fuzzing).
+    """
+    from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0, eos_pressure, eos_sound_speed
+
+    from . import build
+
+    for j, m in enumerate(used):
+        row = model.material_param[m]
+        q = np.ascontiguousarray(row[EOS_OFFSET:])
+        mine = np.flatnonzero(local == j)
+        for k in (mine[np.argmin(density[mine])], mine[np.argmax(density[mine])]):
+            r = density[k] / row[P_RHO0]
+            with np.errstate(all="ignore"):
+                p, c = eos_pressure(int(row[P_EOS_TYPE]), q, r, q[1]), eos_sound_speed(int(row[P_EOS_TYPE]), q, r, q[1])
+            if not (np.isfinite(p) and np.isfinite(c) and c > 0.0):
+                name = model.parts[owners[k]].name
+                raise build.ModelError(f"parts.{name}.material",
+                                       f"at the initial density {density[k]:g} the equation of state of material "
+                                       f"'{model.material_names[m]}' gives pressure {p:g} and sound speed {c:g} (a "
+                                       "finite pressure and a positive sound speed are needed: check the densities, "
+                                       "the EOS constants and the units)")
+
+
+def geometry_path(name: str, part) -> str:
+    """Deck path of a part's geometry; of its file name (``geometry.file.file``) for a mesh file."""
+    kind = part.geometry.kind
+    return f"parts.{name}.geometry.{kind}" + (".file" if kind == "file" else "")
+
+
+def elements(name: str, part, mesh: meshgen.MeshData) -> None:
+    """A mesh the elements can work with: finite coordinates, every corner Jacobian positive.
+
+    A corner Jacobian <= 0 (``mesh.corner_jacobians``) is an inverted, collapsed or re-entrant
+    element at t = 0; the error names the part, the element (0-based, in the part's order) and
+    its corner.
+    """
+    from . import build
+
+    where = geometry_path(name, part)
+    if not np.all(np.isfinite(mesh.nodes)):
+        raise build.ModelError(where, "the mesh has non-finite coordinates (check the sizes and units)")
+    with np.errstate(over="ignore", invalid="ignore"):
+        corners = meshgen.corner_jacobians(mesh.nodes, mesh.elements)
+        bad = ~(np.isfinite(corners) & (corners > 0.0))
+    if np.any(bad):
+        e, c = np.unravel_index(int(np.argmax(bad)), bad.shape)
+        shape = "zero size" if np.all(corners[e] == 0.0) else "a corner Jacobian <= 0"
+        raise build.ModelError(where, f"element {e} of part '{name}' is inverted, collapsed or re-entrant at "
+                                      f"t = 0 ({shape} at its corner node {c}, {int(bad.any(axis=1).sum())} such "
+                                      "element(s); check the sizes, the units and the mesh)")
