@@ -529,3 +529,33 @@ def test_dummy_walls_too_large_for_memory_are_refused_before_allocation(tmp_path
         "  - {type: dummy_wall, region: {box: {min: [0.0, -1.0], max: [1000.0, 0.0]}}, spacing: 1.0e-5}"))
     match = _one_deck_error(deck, cli_main)
     assert match["path"] == "boundaries[2]" and "the dummy wall particles need about" in match["msg"], match[0]
+
+
+DAM_BREAK = (Path(__file__).parents[2] / "decks" / "dam_break_2d.yaml").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("old, new, path, text", [
+    ("reference_density: 1000.0", "reference_density: 1.0e30", "parts.column.hydrostatic",
+     "times the material's density (allowed: 1/2 to 2)"),
+    ("density: 1000.0, viscosity", "density: 1.0e-300, viscosity", "parts.column.material",
+     "gives pressure -32142.9 and sound speed 0"),  # -B, B = rho0 c0^2 / gamma
+])
+def test_sph_state_that_would_break_the_first_step_is_a_deck_error(tmp_path, old, new, path, text, cli_main) -> None:
+    deck = tmp_path / "dam.yaml"
+    assert old in DAM_BREAK
+    deck.write_text(DAM_BREAK.replace(old, new, 1))
+    match = _one_deck_error(deck, cli_main)
+    assert match["path"] == path and text in match["msg"], match[0]
+
+
+def test_corner_jacobians_see_what_the_centre_value_misses() -> None:
+    import numpy as np
+
+    from sphfem_cli.model import mesh as meshgen
+
+    box = meshgen.box_mesh([0.0, 0.0, 0.0], [1.0, 2.0, 3.0], divisions=[1, 1, 1])
+    assert np.allclose(meshgen.corner_jacobians(box.nodes, box.elements), 6.0)  # edge lengths 1 x 2 x 3
+    arrow = np.array([[0.0, 0.0], [2.0, 0.0], [0.3, 0.3], [0.0, 2.0]])  # a re-entrant quad, positive area
+    quad = np.array([[0, 1, 2, 3]])
+    assert meshgen.element_jacobian_sign_check(arrow, quad)[0] > 0
+    assert np.allclose(meshgen.corner_jacobians(arrow, quad), [[4.0, 0.6, -2.8, 0.6]])
