@@ -12,14 +12,15 @@ ROOT = "<root>"
 """How the empty path (the whole deck) is written in messages."""
 
 _SEGMENT = re.compile(r'\[(-?\d+)\]|\[("(?:[^"\\]|\\.)*")\]|([^.\[\]]+)')
-_QUOTED = re.compile(r'[.\[\]"]|^\s|\s$|^$')
+_QUOTED = re.compile(r'[.\[\]"]|^\s|\s$|^$|[^\S ]')  # also any white space but the plain space
 
 
 def format_path(path: Iterable[Hashable]) -> str:
     """Dotted path with list indices in brackets: ``("bcs", 0, "part")`` -> ``bcs[0].part``.
 
-    A key that is empty, starts or ends with white space, or holds ``.``, ``[``, ``]`` or ``"`` is
-    written as a JSON string in brackets: ``("parts", "a.b")`` -> ``parts["a.b"]``.
+    A key that is empty, starts or ends with white space, or holds ``.``, ``[``, ``]``, ``"`` or
+    white space other than a space is written as a JSON string in brackets: ``("parts", "a.b")`` ->
+    ``parts["a.b"]``. :class:`DeckError` writes what is still not printable as ``\\uXXXX``.
     """
     text = ""
     for key in path:
@@ -41,8 +42,14 @@ def parse_path(text: str) -> tuple[str | int, ...]:
                  for m in _SEGMENT.finditer(text))
 
 
+def _printable(text: str) -> str:
+    """``text`` with every non-printable character (controls, separators, escapes) as ``\\uXXXX``."""
+    return "".join(ch if ch.isprintable() else f"\\u{ord(ch):04x}" if ord(ch) < 0x10000 else f"\\U{ord(ch):08x}"
+                   for ch in text)
+
+
 def _one_line(text: str) -> str:
-    return " ".join(str(text).split())
+    return _printable(" ".join(str(text).split()))
 
 
 class DeckError(Exception):
@@ -58,7 +65,7 @@ class DeckError(Exception):
         self.file = str(file)
         self.line = int(line)
         self.col = int(col)
-        self.path = path
+        self.path = _printable(str(path))
         super().__init__(str(self))
 
     def __str__(self) -> str:

@@ -12,9 +12,9 @@ mutations to the tree and writes it back as YAML (`emit` below):
   an alias or a merge key ``<<`` between two values, an alias bomb, nesting 50 to 20 000 deep;
 - bytes: random bytes spliced into the file, the file truncated, the file padded past the size bound.
 
-`check` (click's CliRunner, in process) sees FUZZ_CHECK_CASES mutants, drawn with each base weighted
-by the inverse of its size (the three largest ALE decks take about 0.3 s a check, the rest about
-20 ms); each must exit 0, or 65 with exactly one line ``file:line:col: path: message`` whose line
+`check` (click's CliRunner, in process) sees FUZZ_CHECK_CASES mutants; bases with more than 3000
+nodes and particles are drawn a quarter as often as the others (the largest ALE decks take 0.2 to
+0.6 s a check, the small decks about 20 ms). Each must exit 0, or 65 with exactly one line ``file:line:col: path: message`` whose line
 lies in the file, within MUTANT_SECONDS. The deck bounds are lowered for the fuzzing
 (SPHFEM_MAX_DECK_NODES, SPHFEM_MAX_DECK_BYTES: module fixture) so that bombs and huge files stop
 after milliseconds; the default bounds have their own tests in test_deck_errors.py.
@@ -147,19 +147,17 @@ def _parse(deck: Path):
 BASES = {deck: _parse(deck) for deck in DECKS}
 
 
-def _size(tree) -> int:
-    parts = tree.get("parts", {})
-    total = 0
-    for part in parts.values():
-        box = (part.get("geometry") or {}).get("box") or {}
-        div = box.get("divisions")
-        if isinstance(div, list):
-            total += int(np.prod([d + 1 for d in div]))
-    return total
+def _size(deck: Path) -> int:
+    """Nodes (Lagrangian and ALE) and particles of a base's model."""
+    from sphfem_cli.cli import load_model
+
+    model = load_model(str(deck)).model
+    return (model.n_nodes + (len(model.ale.nodes) if model.ale is not None else 0)
+            + (model.particles.n if model.particles is not None else 0))
 
 
 # Bases sampled with weights: an ALE box of thousands of elements costs ten times a small deck's check.
-WEIGHTED = [d for d in DECKS for _ in range(1 if _size(BASES[d]) > 3000 else 4)]
+WEIGHTED = [d for d in DECKS for _ in range(1 if _size(d) > 3000 else 4)]
 
 
 def _copy(node):
