@@ -313,7 +313,7 @@ def _assert_one_line(result, path: Path, raw: bytes, what: str) -> None:
 CASES = {"check": 0, "run": 0, "check_65": 0, "check_0": 0}  # fuzz cases run in this session
 
 
-@settings(max_examples=FUZZ_CHECK_CASES, deadline=None, database=None,
+@settings(max_examples=FUZZ_CHECK_CASES, deadline=None, database=None, print_blob=True,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(data=st.data())
 def test_mutated_decks_exit_0_or_65(tmp_path, data):
@@ -351,7 +351,7 @@ def _non_finite(folder: Path) -> list[str]:
     return bad
 
 
-@settings(max_examples=40, deadline=None, database=None,
+@settings(max_examples=40, deadline=None, database=None, print_blob=True,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(data=st.data())
 def test_mutated_decks_run_or_exit_65(tmp_path, data, monkeypatch_steps):
