@@ -333,6 +333,9 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
             velocity[inside(*nodes.T)] = fill.velocity
         if part.hydrostatic and model.material_type[mats[k]] != VOID:
             _hydrostatic_fill(model, deck, name, j, nodes, conn, f, mats[k], density[:, k], pressure[:, k])
+    for k, m in enumerate(mats):
+        if model.material_type[m] != VOID:
+            checks.density_range(f"parts.{name}.material" if k == 0 else f"parts.{name}.fill", density[:, k])
     return AleMesh(index, nodes, conn, mats, fractions, density, pressure, velocity)
 
 

@@ -37,6 +37,24 @@ def particle_density(model, deck, used: np.ndarray, local: np.ndarray, density: 
                                f"and the reference density of equation of state '{eos}' disagree (check them and the units)")
 
 
+DENSITY_RANGE = (float(np.sqrt(np.finfo(np.float64).tiny)), float(np.sqrt(np.finfo(np.float64).max)))
+"""Densities whose square is a normal finite float64: the kernels divide by rho^2 (p / rho^2 in the
+SPH momentum sum); 1e-300 made rho^2 underflow to 0 and the first step divide by zero (found by fuzzing)."""
+
+
+def density_range(where: str, density: np.ndarray) -> None:
+    """Every initial density in DENSITY_RANGE (about 1.5e-154 to 1.3e154)."""
+    from . import build
+
+    lo, hi = DENSITY_RANGE
+    density = np.asarray(density, dtype=np.float64)
+    off = ~((density >= lo) & (density <= hi))
+    if off.any():
+        raise build.ModelError(where, f"an initial density of {density.flat[int(np.argmax(off))]:g} is outside "
+                                      f"[{lo:.3g}, {hi:.3g}], where its square is a normal number (the kernels "
+                                      "divide by density^2; check the densities and the units)")
+
+
 def fluid_state(model, deck, used: np.ndarray, local: np.ndarray, density: np.ndarray,
                 owners: np.ndarray) -> None:
     """The EOS gives every particle a finite pressure and a positive finite sound speed at t = 0.
@@ -50,6 +68,9 @@ def fluid_state(model, deck, used: np.ndarray, local: np.ndarray, density: np.nd
 
     from . import build
 
+    for j in np.unique(local):
+        first = int(np.flatnonzero(local == j)[0])
+        density_range(f"parts.{model.parts[owners[first]].name}.material", density[local == j])
     for j, m in enumerate(used):
         row = model.material_param[m]
         q = np.ascontiguousarray(row[EOS_OFFSET:])
