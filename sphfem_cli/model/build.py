@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
@@ -183,6 +184,7 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     rows = [_packed(name, m, deck) for name, m in deck.materials.items()]
     material_type = np.array([r[0] for r in rows], dtype=np.int64)
     material_param = np.vstack([r[1] for r in rows])
+    checks.moduli(SimpleNamespace(material_names=material_names, material_param=material_param))
 
     section_names = list(deck.sections)
     section_param = np.zeros((len(section_names), NSEC))
@@ -356,7 +358,7 @@ def _hydrostatic_fill(model: Model, deck: Deck, name: str, j: int, nodes, conn, 
              if isinstance(l, Gravity) and (l.parts is None or name in l.parts)), np.zeros(dim))
     if not np.any(g):
         raise ModelError(f"parts.{name}.hydrostatic", "a hydrostatic start needs a gravity load on the part")
-    up = -g / np.linalg.norm(g)
+    up = -_unit(g)
     hit = np.flatnonzero(f > 0)
     if not len(hit):  # a fill that covers no element has no hydrostatic state (found by fuzzing)
         return
@@ -368,7 +370,7 @@ def _hydrostatic_fill(model: Model, deck: Deck, name: str, j: int, nodes, conn, 
     row = model.material_param[m]
     rho0, eos, q = row[0], int(row[P_EOS_TYPE]), np.ascontiguousarray(row[EOS_OFFSET:])
     for i, e in enumerate(hit):
-        p = rho0 * np.linalg.norm(g) * (surface - mid[i])
+        p = rho0 * _norm(g) * (surface - mid[i])
         rho = rho0
         for _ in range(50):
             r = rho / rho0
@@ -382,6 +384,20 @@ def _hydrostatic_fill(model: Model, deck: Deck, name: str, j: int, nodes, conn, 
                 break
         density[e] = rho
         pressure[e] = p
+
+
+def _norm(v) -> float:
+    """|v| without underflow or overflow of the squares (a gravity of 1e-300 has |g| = 1e-300, not 0)."""
+    v = np.asarray(v, dtype=np.float64)
+    scale = float(np.max(np.abs(v))) if v.size else 0.0
+    return scale * float(np.linalg.norm(v / scale)) if scale > 0.0 else 0.0
+
+
+def _unit(v) -> np.ndarray:
+    """v / |v| for a nonzero finite v (see :func:`_norm`)."""
+    v = np.asarray(v, dtype=np.float64)
+    scaled = v / np.max(np.abs(v))
+    return scaled / np.linalg.norm(scaled)
 
 
 def _region(fill):
@@ -446,7 +462,7 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
                           np.zeros(model.dim))
             if not np.any(gravity):
                 raise ModelError(f"parts.{p.name}.hydrostatic", "a hydrostatic start needs a gravity load")
-            up = -gravity / np.linalg.norm(gravity)
+            up = -_unit(gravity)
             surface = pts[np.argmax(pts @ up)] + 0.5 * dx * up
             density = lattice.hydrostatic_density(pts, model.material_param[used], np.full(len(pts), local),
                                                   gravity, surface)
@@ -530,7 +546,7 @@ def _resolve_sets(model: Model, deck: Deck) -> None:
             keep &= np.all((x >= lo - tol) & (x <= hi + tol), axis=1)
         if s.plane is not None:
             normal = np.array(s.plane.normal, dtype=float)
-            normal /= np.linalg.norm(normal)
+            normal = _unit(normal)
             keep &= np.abs((x - np.array(s.plane.point)) @ normal) <= tol
         if s.sphere is not None:
             dist = np.linalg.norm(x - np.array(s.sphere.center), axis=1)

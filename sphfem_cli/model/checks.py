@@ -42,6 +42,22 @@ DENSITY_RANGE = (float(np.sqrt(np.finfo(np.float64).tiny)), float(np.sqrt(np.fin
 SPH momentum sum); 1e-300 made rho^2 underflow to 0 and the first step divide by zero (found by fuzzing)."""
 
 
+def moduli(model) -> None:
+    """Every material's E, G and K in DENSITY_RANGE where set: the kernels multiply moduli together and by
+    strains (E = 1e300 overflowed in the plastic return map of the first force pass; found by fuzzing)."""
+    from . import build
+    from ..materials.kernels import P_E, P_G, P_K
+
+    lo, hi = DENSITY_RANGE
+    for m, name in enumerate(model.material_names):
+        for slot, what in ((P_E, "Young's modulus"), (P_G, "shear modulus"), (P_K, "bulk modulus")):
+            value = float(model.material_param[m, slot])
+            if value != 0.0 and not (lo <= abs(value) <= hi):
+                raise build.ModelError(f"materials.{name}", f"the {what} {value:g} is outside [{lo:.3g}, {hi:.3g}], "
+                                                           "where its square is a normal number (check the "
+                                                           "constants and the units)")
+
+
 def density_range(where: str, density: np.ndarray) -> None:
     """Every initial density in DENSITY_RANGE (about 1.5e-154 to 1.3e154)."""
     from . import build

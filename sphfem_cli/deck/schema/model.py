@@ -71,6 +71,12 @@ class Plane(DeckModel):
     point: Vector = Field(description="A point on the plane [length].")
     normal: Vector = Field(description="Normal direction [-].")
 
+    @model_validator(mode="after")
+    def _direction(self) -> "Plane":
+        if not any(self.normal):
+            raise ValueError("@normal: a normal must not be the zero vector")
+        return self
+
 
 class Control(DeckModel):
     """Run control."""
@@ -185,8 +191,8 @@ class SphSection(DeckModel):
     artificial_viscosity: ArtificialViscosity = Field(
         default_factory=ArtificialViscosity, description="Monaghan artificial viscosity."
     )
-    density_diffusion: NonNegativeFloat = Field(
-        0.1, description="delta-SPH density diffusion coefficient (Molteni & Colagrossi 2009); 0 turns it off. Default 0.1."
+    density_diffusion: float = Field(
+        0.1, ge=0, le=1, description="delta-SPH density diffusion coefficient (Molteni & Colagrossi 2009), 0 to 1 (they use 0.1); 0 turns it off. Default 0.1."
     )
     diffusion_hydrostatic: bool = Field(
         True, description="Subtract the hydrostatic density difference in the density diffusion (Fourtakas-type), so that it does not smear a liquid at rest under gravity. Default true."
@@ -194,7 +200,7 @@ class SphSection(DeckModel):
     ghost_hydrostatic: bool = Field(
         True, description="Ghost particles carry the mirrored particle's pressure plus the hydrostatic increment rho g.(x_ghost - x); false is the paper's plain mirror, which leaves the rows next to a floor about 5 % low under gravity. Default true."
     )
-    xsph: NonNegativeFloat = Field(0.0, description="XSPH velocity smoothing coefficient; 0 turns it off. Default 0.")
+    xsph: float = Field(0.0, ge=0, le=1, description="XSPH velocity smoothing coefficient epsilon, 0 to 1 (Monaghan 1989 uses 0.5); 0 turns it off. Default 0.")
     pressure_cutoff: float | None = Field(
         None, description="Lowest pressure a particle may carry (cavitation) [pressure]. Default none."
     )
@@ -350,6 +356,12 @@ class HalfSpace(DeckModel):
 
     point: Vector = Field(description="A point on the plane [length].")
     normal: Vector = Field(description="Outward normal of the filled side [-].")
+
+    @model_validator(mode="after")
+    def _direction(self) -> "HalfSpace":
+        if not any(self.normal):
+            raise ValueError("@normal: a normal must not be the zero vector")
+        return self
 
 
 class FillCylinder(DeckModel):
