@@ -561,3 +561,21 @@ def test_corner_jacobians_see_what_the_centre_value_misses() -> None:
     quad = np.array([[0, 1, 2, 3]])
     assert meshgen.element_jacobian_sign_check(arrow, quad)[0] > 0
     assert np.allclose(meshgen.corner_jacobians(arrow, quad), [[4.0, 0.6, -2.8, 0.6]])
+
+
+@pytest.mark.parametrize("old, new, path, text", [
+    ("youngs_modulus: 1.0e6", "youngs_modulus: 1.0e300", "materials.rubber", "the Young's modulus 1e+300 is outside"),
+    ("smoothing_ratio: 1.2}", "smoothing_ratio: 1.2, density_diffusion: 1.0e29}", "sections.fluid.density_diffusion",
+     "must be <= 1"),
+    ("acceleration: [0.0, -9.81]", "acceleration: [0.0, -1.0e-300]", None, None),  # tiny but valid: no warning
+])
+def test_constants_the_kernels_cannot_square_are_deck_errors(tmp_path, old, new, path, text, cli_main) -> None:
+    deck = tmp_path / "fsi.yaml"
+    assert old in SMALL_DECK
+    deck.write_text(SMALL_DECK.replace(old, new, 1))
+    if path is None:
+        result = _check_cli(deck, cli_main)
+        assert result.exit_code == 0 and "Warning" not in result.output, result.output
+        return
+    match = _one_deck_error(deck, cli_main)
+    assert match["path"] == path and text in match["msg"], match[0]
