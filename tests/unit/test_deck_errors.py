@@ -564,7 +564,7 @@ def test_corner_jacobians_see_what_the_centre_value_misses() -> None:
 
 
 @pytest.mark.parametrize("old, new, path, text", [
-    ("youngs_modulus: 1.0e6", "youngs_modulus: 1.0e300", "materials.rubber", "the Young's modulus 1e+300 is outside"),
+    ("youngs_modulus: 1.0e6", "youngs_modulus: 1.0e300", "materials.rubber", "the Young's modulus 1e+300 is over 1.34e+154"),
     ("smoothing_ratio: 1.2}", "smoothing_ratio: 1.2, density_diffusion: 1.0e29}", "sections.fluid.density_diffusion",
      "must be <= 1"),
     ("acceleration: [0.0, -9.81]", "acceleration: [0.0, -1.0e-300]", None, None),  # tiny but valid: no warning
