@@ -487,7 +487,6 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
                          f"particle mass {mass[k]:g} and density {density[k]:g} must be finite positive normal "
                          "numbers (check the material density, the spacing and the units)")
     checks.particle_density(model, deck, np.array(used), np.concatenate(mat), density, owners)
-    checks.fluid_state(model, deck, np.array(used), np.concatenate(mat), density, owners)
     return ParticleSet(
         x=x, mass=mass, density=density,
         material=np.concatenate(mat), part=owners, spacing=spacing,

@@ -220,7 +220,7 @@ def _mutate_tree(data, tree):
     if kind == "delete":
         del parent[key]
     elif kind == "replace":
-        parent[key] = data.draw(st.sampled_from(REPLACEMENTS), label="value")
+        parent[key] = _copy(data.draw(st.sampled_from(REPLACEMENTS), label="value"))  # never share REPLACEMENTS
     elif kind == "vector":
         vectors = [(p, v) for p, v in leaves if isinstance(v, list) and v and all(isinstance(x, (int, float))
                                                                                  for x in v)]
