@@ -96,7 +96,7 @@ def check_memory(deck: Deck) -> None:
     """Refuse, before allocating anything, a deck whose model would not fit in the available memory."""
     from . import build
 
-    available = available_memory()
+    available = build.available_memory()  # looked up there: build is the module callers (and tests) patch
     if available is None:
         return
     total, largest, largest_name = 0, -1, ""
