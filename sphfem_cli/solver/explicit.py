@@ -54,7 +54,7 @@ def _stable_or_nan(stable_dt: Callable[[], float], *state: np.ndarray) -> float:
     NaN-derived zero raises ZeroDivisionError); a failure on a finite state is a bug and propagates."""
     try:
         return stable_dt()
-    except (ZeroDivisionError, FloatingPointError, OverflowError):
+    except (ZeroDivisionError, FloatingPointError, OverflowError, ValueError):  # ValueError: a cell grid sized by NaN
         if all(np.isfinite(a).all() for a in state):
             raise
         return float("nan")
@@ -252,6 +252,7 @@ class Simulation:
             dt, limiter = self.control.dt_max, "dt_max"
         self.limiter = limiter
         if not np.isfinite(dt):
+            self.limiter = "none"
             return self.control.end_time / 1000.0  # nothing deformable limits the step
         if not dt > 0.0:
             raise RunStopped(f"the stable time step of the {limiter} domain is {dt:g} at t = {st.time:.6e} "
@@ -294,7 +295,9 @@ class Simulation:
             return f"element {e} of ALE part '{self.ale.name}'"
         if self.limiter == "contact":
             return "a contact's stiffness"
-        return {"dt_max": "control.dt_max"}.get(self.limiter, self.limiter)
+        return {"dt_max": "control.dt_max",
+                "none": "nothing (no element, particle or contact limits it: end_time / 1000)"}.get(self.limiter,
+                                                                                                     self.limiter)
 
     def step(self, stop: float | None = None) -> None:
         """Advance one step, shortened if needed to land exactly on time `stop` (default end_time)."""
