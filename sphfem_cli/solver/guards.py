@@ -1,7 +1,7 @@
 """The checks that stop a run (docs/stability.md): what they test and the exception they raise.
 
-Every guard is judged at every step (`Simulation.step`), so its verdict does not depend on the
-output or history intervals.
+The guards are judged at a fixed step cadence (`Simulation.check_guards`: the state every step, the
+energies every ENERGY_GUARD_EVERY steps), so no verdict depends on the output or history intervals.
 """
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import numpy as np
 
 ENERGY_GUARD_STEPS = 100  # before this step the band is widened by (ENERGY_GUARD_STEPS / step)^2 (start-up error)
 ENERGY_GUARD_FIRST = 5  # the energy guard is judged from this step on (see energy_out_of_band)
+ENERGY_GUARD_EVERY = 10  # the energies are judged every this many steps, and at end_time
 
 
 class RunStopped(Exception):
@@ -27,15 +28,20 @@ class RunStopped(Exception):
 def first_non_finite(arrays: dict[str, np.ndarray]) -> tuple[str, int] | None:
     """(name, first row) of the first array of `arrays` that holds a NaN or an infinity, else None.
 
-    One `np.sum` per array finds it: NaN and infinity propagate through a sum. A sum of finite
-    values that overflows counts too (row -1 then): a state that large is no more usable.
+    One vectorised pass over every array (`kernels.first_non_finite_array`); the row is looked for
+    only once an array is found.
     """
-    with np.errstate(all="ignore"):
-        for name, a in arrays.items():
-            if a.size and not np.isfinite(np.sum(a)):
-                rows = np.flatnonzero(~np.isfinite(a.reshape(len(a), -1)).all(axis=1))
-                return name, int(rows[0]) if rows.size else -1
-    return None
+    from .kernels import first_non_finite_array
+
+    if not arrays:
+        return None
+    k = first_non_finite_array(tuple([a.ravel() for a in arrays.values()]))  # every state array is float64
+    if k < 0:
+        return None
+    name = list(arrays)[k]
+    a = arrays[name]
+    rows = np.flatnonzero(~np.isfinite(a.reshape(len(a), -1)).all(axis=1))
+    return name, int(rows[0])
 
 
 def energy_band_at(band: tuple[float, float], step: int) -> tuple[float, float]:

@@ -128,8 +128,8 @@ def test_energy_guard_verdict_does_not_depend_on_the_history_interval(tmp_path):
     assert verdicts[0] == verdicts[1]
 
 
-def test_energy_guard_still_judges_every_step(tmp_path):
-    """A history row only at the end: the guard trips at the same step as with a row every step."""
+def test_energy_guard_trips_at_the_same_step_whatever_the_history_interval(tmp_path):
+    """A history row only at the end: the guard trips at the same step as with a row every few steps."""
     steps = []
     for interval in (2.0e-6, 2.0e-4):
         deck = decks.write(tmp_path, "solid", timestep_scale=1.2)

@@ -94,8 +94,8 @@ class Control(DeckModel):
         "total energy less (initial energy plus external work), over the energy in play (the largest so far of "
         "|kinetic| + |internal| + |hourglass| + |contact| and of initial energy plus external work). Where every "
         "energy is positive this is the glstat energy_ratio leaving [low, high]; where energies of opposite sign "
-        "exchange (water released from rest) the ratio of two small numbers is not judged. Checked after every "
-        "step; before step 100 the band is widened by (100/step)^2 for the start-up error of the central "
+        "exchange (water released from rest) the ratio of two small numbers is not judged. Checked every 10 "
+        "steps from step 5 on and at end_time; before step 100 the band is widened by (100/step)^2 for the start-up error of the central "
         "difference. null switches the check off. Default [0.9, 1.1]."
     )
     max_steps: PositiveFloat = Field(
