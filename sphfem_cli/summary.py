@@ -44,7 +44,7 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
         if model.material_type[i] == VOID:
             lines.append(f"  material {name}: {m.type}")
             continue
-        fig = material_figures(name, model.material_param[i], not hasattr(m, "youngs_modulus"), units, units.derived)
+        fig = material_figures(name, model.material_param[i], not hasattr(m, "youngs_modulus"), units)
         figures = [f"density {fig.density:g} {density}"]
         if fig.modulus is not None:
             figures.append(f"Young's modulus {fig.modulus:g} {pressure}")

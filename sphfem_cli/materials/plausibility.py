@@ -62,13 +62,13 @@ def _outside(value: float, lo: float, hi: float) -> bool:
     return not lo <= value <= hi
 
 
-def material_figures(name: str, row, fluid: bool, units, unit_names: tuple[str, str, str]) -> MaterialFigures:
+def material_figures(name: str, row, fluid: bool, units) -> MaterialFigures:
     """Density, modulus and sound speed of one packed material row (`materials.tables`), with warnings.
 
-    `units`: the deck's `Units`; `unit_names`: its (force, pressure, density) unit names.
+    `units`: the deck's `Units`.
     """
     to_rho, to_pa, to_ms = si_factors(units.length, units.mass, units.time)
-    _, pressure, density_unit = unit_names
+    _, pressure, density_unit = units.derived
     speed_unit = f"{units.length}/{units.time}"
     rho, e, g, k = float(row[P_RHO0]), float(row[P_E]), float(row[P_G]), float(row[P_K])
     c = math.sqrt((k + 4.0 * g / 3.0) / rho) if rho > 0.0 and k + 4.0 * g / 3.0 > 0.0 else None

@@ -145,8 +145,8 @@ class Simulation:
 
             self.interactions += [LagrangeInSolidCoupling(self, spec) for spec in deck.couplings]
         self._dt_first: float | None = None
-        self.limiter = "solid"  # what set the last step: solid, sph, ale, contact or dt_max
-        self._energy_scale = 0.0  # the energy in play, largest so far (guards.energy_error)
+        self.limiter = "solid"  # what set the last step: solid, sph, ale, contact, dt_max or none
+        self._energy_scale = 0.0  # the energy in play, largest so far (guards.energy_out_of_band)
         self._erode_inverted, self._erode_strain = self._erosion_tables()
         self._has_strain_erosion = bool(np.isfinite(self._erode_strain).any())
         self.eroded: list[tuple[float, int, str, str]] = []  # (time, element, part, reason)

@@ -522,8 +522,7 @@ def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
     iprm[I_NY] = ny
     iprm[I_NZ] = nz
     iprm[I_NREAL] = x.shape[0]
-    if iprm.shape[0] > I_NWALL:  # (a parameter vector pickled before the slot existed has none)
-        iprm[I_NWALL] = wpos.shape[0]
+    iprm[I_NWALL] = wpos.shape[0]
     return perm, cell_start, sx, sd
 
 
@@ -858,7 +857,7 @@ def fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph,
     specialisation, so that numba compiles just the ones a run uses.
     """
     kernel, dim = int(iprm[I_KERNEL]), int(iprm[I_DIM])
-    lean = len(iprm) > I_NWALL and iprm[I_NWALL] == 0 and fprm[F_XSPH] == 0.0
+    lean = iprm[I_NWALL] == 0 and fprm[F_XSPH] == 0.0
     _fluid_rates(sx, sd, stau, perm, cell_start, fprm, iprm, acc, drho, de, xsph, wall_power,
                  _SHAPES[2 if kernel == WENDLAND_C2 else 1], _SHAPES[dim], _SHAPES[2 if lean else 1])
 
