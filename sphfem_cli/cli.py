@@ -566,19 +566,45 @@ def mesh_study(deck, ratios, reference, quantities, tolerance, workers, schedule
 
 @main.command()
 @click.argument("directory", type=click.Path(exists=True, file_okay=False))
-@click.option("--quantity", "quantities", multiple=True, help="TABLE.COLUMN to draw (repeatable). Default: all.")
+@click.option("--quantity", "quantities", multiple=True,
+              help="Quantity to draw, TABLE.COLUMN or a column found in one table (repeatable). Default: every table.")
+@click.option("--reference", "references", multiple=True, type=click.Path(exists=True, dir_okay=False),
+              help="CSV of a reference curve (time, value in the run's units; '#' lines are comments) drawn with "
+                   "each --quantity (repeatable). The deck's output.references are drawn without asking.")
 @click.option("-o", "--output", "outdir", type=click.Path(file_okay=False), default=None,
               help="Folder for the PNGs. Default: DIRECTORY/plots.")
-def plot(directory, quantities, outdir) -> None:
+def plot(directory, quantities, references, outdir) -> None:
     """Draw the histories of a run folder, or of every case of a study folder, to PNG."""
     from .study.plots import plot_dir
 
     try:
-        written = plot_dir(Path(directory), quantities, Path(outdir) if outdir else None)
-    except (FileNotFoundError, KeyError) as err:
+        written = plot_dir(Path(directory), quantities, Path(outdir) if outdir else None,
+                           [Path(r) for r in references], warn=lambda line: click.echo(line, err=True))
+    except (FileNotFoundError, ValueError) as err:
         raise click.UsageError(str(err)) from None
+    except KeyError as err:
+        raise click.UsageError(err.args[0]) from None
     for path in written:
         click.echo(str(path))
+
+
+@main.command()
+@click.option("-o", "--output", "path", type=click.Path(dir_okay=False), default=None,
+              help="File to write. Default: standard output.")
+def schema(path) -> None:
+    """Write the deck's JSON Schema, for completion and checks in YAML editors (docs/deck-reference.md)."""
+    from .deck.editor_schema import schema_text
+
+    text = schema_text()
+    if path is None:
+        click.echo(text, nl=False)
+        return
+    try:
+        Path(path).write_text(text)
+    except OSError as err:
+        click.echo(f"error: cannot write {path}: {err.strerror}", err=True)
+        raise SystemExit(73) from None
+    click.echo(path)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -1,5 +1,5 @@
 """PNG plots (matplotlib, Agg backend): the study's error, error-against-cost and history plots, and
-``sphfem plot``. Every plot has a title and units on both axes (the deck's ``units:``, see ``units``)."""
+``sphfem plot`` of a study folder (a run folder's plots are ``output.plots``). Every plot has a title and units on both axes (the deck's ``units:``, see ``units``)."""
 from __future__ import annotations
 
 import json
@@ -153,42 +153,10 @@ def overlay(quantity: str, runs: Sequence[tuple[str, Path]], path: Path, referen
     return _save(fig, path, plt)
 
 
-def _run_units(directory: Path) -> tuple[dict, int]:
-    """units and dimension of a run folder (its deck.effective.yaml), m-kg-s 2D if unknown."""
-    import yaml
-
-    eff = directory / "deck.effective.yaml"
-    if eff.exists():
-        data = yaml.safe_load(eff.read_text()) or {}
-        return data.get("units") or {}, int(data.get("dimension", 2))
-    return {}, 2
-
-
-def table_plot(table: Path, path: Path, units: dict, dimension: int) -> Path:
-    """Every column of a history table against time, one panel per unit (so each axis has one unit)."""
-    plt = _pyplot()
-    columns, data = metrics.read_history(table)
-    groups: dict[str, list[int]] = {}
-    for i, c in enumerate(columns[1:], start=1):
-        groups.setdefault(unit_of(c, units, dimension), []).append(i)
-    n = max(1, len(groups))
-    fig, axes = plt.subplots(n, 1, figsize=(7.0, 2.2 + 2.0 * n), sharex=True, squeeze=False)
-    for ax, (unit, idx) in zip(axes[:, 0], groups.items()):
-        for i in idx:
-            ax.plot(data[:, 0], data[:, i], label=columns[i])
-        ax.set_ylabel(label(columns[idx[0]], units, dimension) if len(idx) == 1 else f"value [{unit}]")
-        ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7, ncol=2)
-    axes[-1, 0].set_xlabel(label(columns[0], units, dimension))
-    run = table.parent.parent
-    name = f"{run.parent.name}/{run.name}" if run.name == "run" else run.name
-    axes[0, 0].set_title(f"{table.stem} history of {name}")
-    return _save(fig, path, plt)
-
-
-def plot_dir(directory: Path, quantities: Sequence[str] = (), outdir: Path | None = None) -> list[Path]:
+def plot_dir(directory: Path, quantities: Sequence[str] = (), outdir: Path | None = None,
+             reference_files: Sequence[Path] = (), warn=lambda line: None) -> list[Path]:
     """``sphfem plot``: a study folder gives one overlay per quantity across its cases; a run folder
-    (or its histories/) one PNG per quantity, or per table when no quantity is named."""
+    (or its histories/) goes to ``output.plots.plot_run``."""
     directory = Path(directory)
     study = directory / "study.json"
     written: list[Path] = []
@@ -208,18 +176,6 @@ def plot_dir(directory: Path, quantities: Sequence[str] = (), outdir: Path | Non
             written.append(overlay(q, runs, out / f"{_safe(q)}.png", reference=reference, units=info.get("units"),
                                    dimension=info.get("dimension", 2)))
         return written
-    histories = directory / "histories" if (directory / "histories").is_dir() else directory
-    tables = sorted(histories.glob("*.csv"))
-    if not tables:
-        raise FileNotFoundError(f"{directory}: neither a study folder (study.json) nor a run (histories/*.csv)")
-    units, dimension = _run_units(histories.parent)
-    out = Path(outdir) if outdir else directory / "plots"
-    out.mkdir(parents=True, exist_ok=True)
-    if quantities:
-        for q in quantities:
-            written.append(overlay(q, [(directory.name, histories)], out / f"{_safe(q)}.png", units=units,
-                                   dimension=dimension))
-        return written
-    for table in tables:
-        written.append(table_plot(table, out / f"{_safe(table.stem)}.png", units, dimension))
-    return written
+    from ..output.plots import plot_run
+
+    return plot_run(directory, quantities, outdir, reference_files, warn)
