@@ -26,7 +26,7 @@ def _best(fn, repeat: int = 5) -> float:
 def main(n: int = 30) -> None:
     import numba
 
-    from sphfem_cli.cli import load_model
+    from sphfem_cli.driver import load_model
     from sphfem_cli.output.checkpoint import CHECKPOINT_NAME, deck_hash, read_checkpoint, restore_simulation, \
         write_checkpoint
     from sphfem_cli.output.results import RunOutput

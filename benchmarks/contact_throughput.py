@@ -28,7 +28,7 @@ CASES = {"small": {"spacing": 0.025, "plate": 40, "steps": 200}, "large": {"spac
 
 
 def build(spacing: float, plate_elements: int):
-    from sphfem_cli.cli import load_model
+    from sphfem_cli.driver import load_model
     from sphfem_cli.solver.explicit import Simulation
 
     deck = yaml.safe_load(DECK.read_text())

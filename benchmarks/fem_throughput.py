@@ -55,7 +55,7 @@ initial:
 def element_steps_per_second(n: int, steps: int, threads: int) -> float:
     import numba
 
-    from sphfem_cli.cli import load_model
+    from sphfem_cli.driver import load_model
     from sphfem_cli.solver.explicit import Simulation
 
     numba.set_num_threads(threads)

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numba
 
-from sphfem_cli.cli import load_model
+from sphfem_cli.driver import load_model
 from sphfem_cli.solver.explicit import Simulation
 
 DECKS = Path(__file__).resolve().parents[1] / "decks"

@@ -225,7 +225,7 @@ def _sph_state(out: Path) -> str:
 
 def _long_run_deck(tree: dict, workdir: Path, steps: int) -> dict:
     """Set end_time so that the run takes about `steps` steps (from `sphfem check`'s stable step)."""
-    from sphfem_cli.cli import load_model
+    from sphfem_cli.driver import load_model
     from sphfem_cli.solver.explicit import Simulation
 
     probe = workdir / "probe.yaml"

@@ -116,7 +116,7 @@ def run_short(deck: Path, end_time: float | None, fraction: float, workdir: Path
     Returns (end time used, wall seconds, output folder, requested history names). Raises
     RuntimeError when the run does not complete.
     """
-    from .cli import execute, load_model
+    from .driver import execute, load_model
 
     loaded = load_model(str(deck))
     d = loaded.deck
@@ -134,7 +134,7 @@ def run_short(deck: Path, end_time: float | None, fraction: float, workdir: Path
     numba.set_num_threads(1)  # small models: a parallel launch per step costs more than it saves
     start = time.perf_counter()
     try:
-        code = execute(loaded, workdir, quiet=True)
+        code = execute(loaded, workdir, quiet=True).code
     finally:
         wall = time.perf_counter() - start
         numba.set_num_threads(threads)
@@ -295,7 +295,7 @@ def regress_deck(
         try:
             t_end, wall, outdir, names = run_short(deck, end_time, frac, Path(tmp))
         except Exception as err:  # noqa: BLE001 - a failing deck is a FAIL row, not a crash
-            from .cli import DeckProblem
+            from .driver import DeckProblem
 
             what = err.message if isinstance(err, DeckProblem) else f"{type(err).__name__}: {err}"
             result.rows.append(Row(deck.stem, "run", None, None, None, f"FAIL ({what})", tolerance))

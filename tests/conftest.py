@@ -17,7 +17,7 @@ _counter = itertools.count()
 
 def load_deck(directory: Path, deck: str | dict, name: str | None = None):
     """Write `deck` (YAML text or a dict) into `directory` and build it; returns the Model."""
-    from sphfem_cli.cli import load_model
+    from sphfem_cli.driver import load_model
 
     text = deck if isinstance(deck, str) else yaml.safe_dump(deck, sort_keys=False)
     path = Path(directory) / (name or f"deck_{next(_counter)}.yaml")
@@ -78,11 +78,11 @@ DECKS = Path(__file__).resolve().parents[1] / "decks"
 
 def run_shipped_deck(name: str, tmp_path: Path) -> Path:
     """Run decks/<name>.yaml to its end through the CLI path into tmp_path/<name>; its histories folder."""
-    from sphfem_cli.cli import execute, load_model
+    from sphfem_cli.driver import execute, load_model
 
     out = tmp_path / name
     out.mkdir()
-    code = execute(load_model(str(DECKS / f"{name}.yaml")), out, quiet=True)
+    code = execute(load_model(str(DECKS / f"{name}.yaml")), out, quiet=True).code
     assert code == 0, (out / "run.log").read_text()
     return out / "histories"
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from .. import __version__
 
-from ..cli import EXIT_CANTCREAT, EXIT_IOERR
+from ..driver import EXIT_CANTCREAT, EXIT_IOERR
 
 # errno values that mean a file or folder cannot be created (EX_CANTCREAT); other OSErrors are EX_IOERR
 _CANNOT_CREATE = {errno.EACCES, errno.EPERM, errno.EROFS, errno.ENOENT, errno.ENOTDIR, errno.EISDIR,

@@ -40,7 +40,7 @@ def driven_histories(deck_path: Path) -> dict[str, str]:
     quantities follow the drive, not the solution, so they are no default quantities."""
     import numpy as np
 
-    from ..cli import DeckProblem, load_model
+    from ..driver import DeckProblem, load_model
 
     try:
         loaded = load_model(str(deck_path))

@@ -120,7 +120,7 @@ def _first_steps(sim) -> dict:
 def _warm_up(deck: Path) -> dict:
     """Run the deck for WARM_STEPS steps into a scratch folder (compiles or loads every kernel it calls);
     returns the first stable step of each domain."""
-    from ..cli import execute, load_model
+    from ..driver import execute, load_model
     from ..solver.explicit import Simulation
 
     sim = Simulation(load_model(str(deck)).model)
@@ -161,7 +161,7 @@ def run_case(case_dir: str, threads: int = 1, repeat_budget_s: float = 4.0, max_
     try:
         import numba
 
-        from ..cli import DeckProblem, execute, load_model
+        from ..driver import DeckProblem, execute, load_model
 
         numba.set_num_threads(max(1, min(int(threads), numba.config.NUMBA_NUM_THREADS)))
         deck = case / DECK
@@ -195,7 +195,7 @@ def run_case(case_dir: str, threads: int = 1, repeat_budget_s: float = 4.0, max_
                         ale_elements=int(len(model.ale.elements)) if model.ale is not None else 0,
                         solid_elements=int(model.n_elements), threads=numba.get_num_threads())
                     run_dir.mkdir(exist_ok=True)
-                code = execute(loaded, target, quiet=True)
+                code = execute(loaded, target, quiet=True).code
             finally:
                 if not first:
                     shutil.rmtree(target, ignore_errors=True)

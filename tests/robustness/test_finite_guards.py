@@ -10,7 +10,8 @@ import numpy as np
 import yaml
 from click.testing import CliRunner
 
-from sphfem_cli.cli import default_threads, load_model, main
+from sphfem_cli.driver import default_threads, load_model
+from sphfem_cli.cli import main
 from sphfem_cli.solver import explicit
 
 from . import decks

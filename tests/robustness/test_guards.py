@@ -9,7 +9,8 @@ import pytest
 import yaml
 from click.testing import CliRunner
 
-from sphfem_cli.cli import load_model, main
+from sphfem_cli.driver import load_model
+from sphfem_cli.cli import main
 from sphfem_cli.solver import explicit
 
 from . import decks

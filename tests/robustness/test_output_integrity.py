@@ -66,7 +66,7 @@ def test_sigkill_mid_run_leaves_every_flushed_step_readable(tmp_path):
 
 
 def test_sigkill_then_restart_loses_at_most_one_output_interval_and_ends_bit_identical(tmp_path):
-    from sphfem_cli.cli import load_model
+    from sphfem_cli.driver import load_model
     from sphfem_cli.output.checkpoint import deck_hash, read_checkpoint
 
     from .test_restart import _fields, _histories

@@ -92,7 +92,7 @@ def test_sigterm_writes_a_checkpoint_at_a_complete_step(tmp_path, monkeypatch):
     _interrupt_at(monkeypatch, 50, signal.SIGTERM)
     code, text = _run(deck, "-o", tmp_path / "out")
     assert code == 130, text
-    from sphfem_cli.cli import load_model
+    from sphfem_cli.driver import load_model
     from sphfem_cli.output.checkpoint import deck_hash, load_simulation, read_checkpoint
 
     loaded = load_model(str(deck))

@@ -41,7 +41,7 @@ def test_water_air_shock_tube_deck(tmp_path):
 def test_ale_scene_compiles_no_fem_or_sph():
     script = f"""
 import json, sys
-from sphfem_cli.cli import load_model
+from sphfem_cli.driver import load_model
 from sphfem_cli.solver.explicit import Simulation
 sim = Simulation(load_model({str(DECK)!r}).model)
 sim.step()

@@ -149,7 +149,7 @@ BASES = {deck: _parse(deck) for deck in DECKS}
 
 def _size(deck: Path) -> int:
     """Nodes (Lagrangian and ALE) and particles of a base's model."""
-    from sphfem_cli.cli import load_model
+    from sphfem_cli.driver import load_model
 
     model = load_model(str(deck)).model
     return (model.n_nodes + (len(model.ale.nodes) if model.ale is not None else 0)

@@ -17,7 +17,7 @@ DECKS = Path(__file__).resolve().parents[2] / "decks"
 
 _PROBE = r"""
 import json, sys
-from sphfem_cli.cli import load_model
+from sphfem_cli.driver import load_model
 from sphfem_cli.solver.explicit import Simulation
 sim = Simulation(load_model(sys.argv[1]).model)
 for _ in range(3):

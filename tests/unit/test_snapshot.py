@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sphfem_cli.cli import load_model
+from sphfem_cli.driver import load_model
 from sphfem_cli.output.snapshot import SnapshotMismatch, capture, restore
 from sphfem_cli.solver.explicit import Simulation
 

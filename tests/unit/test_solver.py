@@ -7,7 +7,7 @@ import numba
 import numpy as np
 import pytest
 
-from sphfem_cli.cli import load_model
+from sphfem_cli.driver import load_model
 from sphfem_cli.solver.explicit import Simulation
 
 DATA = Path(__file__).parents[1] / "data"

@@ -80,7 +80,7 @@ def _compiled_report(deck: Path) -> dict:
     """Run a deck in a fresh interpreter; report which kernel families it imported and compiled."""
     script = f"""
 import json, sys
-from sphfem_cli.cli import load_model
+from sphfem_cli.driver import load_model
 from sphfem_cli.solver.explicit import Simulation
 sim = Simulation(load_model({str(deck)!r}).model)
 for _ in range(3):

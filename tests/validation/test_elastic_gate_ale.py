@@ -17,9 +17,9 @@ DECK = Path(__file__).resolve().parents[2] / "decks" / "elastic_gate_ale.yaml"
 
 @pytest.mark.validation
 def test_elastic_gate_ale(tmp_path, single_thread):
-    from sphfem_cli.cli import execute, load_model
+    from sphfem_cli.driver import execute, load_model
 
-    assert execute(load_model(str(DECK)), tmp_path, quiet=True) == 0, (tmp_path / "run.log").read_text()
+    assert execute(load_model(str(DECK)), tmp_path, quiet=True).code == 0, (tmp_path / "run.log").read_text()
     h = np.genfromtxt(tmp_path / "histories" / "gate_tip.csv", delimiter=",", names=True)
     i = int(np.argmax(h["displacement_x"]))
     assert h["time"][-1] == pytest.approx(0.4)

@@ -73,12 +73,12 @@ def amplitude_mean_period(t: np.ndarray, y: np.ndarray) -> tuple[float, float, f
 def test_csm3_tip_displacement(tmp_path):
     if not REFERENCE.is_file():
         pytest.skip(f"reference data not found at {REFERENCE} (the repository expects ../shared beside it)")
-    from sphfem_cli.cli import Loaded, execute
+    from sphfem_cli.driver import Loaded, execute
 
     model = load_deck(tmp_path, DECK, name="csm3.yaml")
     out = tmp_path / "results"
     out.mkdir()
-    code = execute(Loaded(model.deck, model, tmp_path / "csm3.yaml"), out, quiet=True)
+    code = execute(Loaded(model.deck, model, tmp_path / "csm3.yaml"), out, quiet=True).code
     assert code == 0, (out / "run.log").read_text()
 
     sim = np.loadtxt(out / "histories" / "tip.csv", delimiter=",", skiprows=1)

@@ -21,7 +21,8 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from sphfem_cli.cli import load_model, main
+from sphfem_cli.driver import load_model
+from sphfem_cli.cli import main
 from sphfem_cli.solver.explicit import Simulation
 
 DECK = Path(__file__).parents[2] / "decks" / "underwater_explosion_ale.yaml"

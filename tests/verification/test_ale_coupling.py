@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sphfem_cli.cli import load_model
+from sphfem_cli.driver import load_model
 from sphfem_cli.solver.explicit import Simulation
 
 DECK = """

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sphfem_cli.cli import execute, load_model
+from sphfem_cli.driver import execute, load_model
 from sphfem_cli.sph import scenes
 
 from conftest import DECKS, read_history
@@ -48,7 +48,7 @@ def ale_front(tmp_path: Path, per_a: int) -> np.ndarray:
     path.write_text(deck)
     out = tmp_path / "out"
     out.mkdir()
-    assert execute(load_model(str(path)), out, quiet=True) == 0, (out / "run.log").read_text()
+    assert execute(load_model(str(path)), out, quiet=True).code == 0, (out / "run.log").read_text()
     h = read_history(out / "histories", "front")
     return np.interp(T_REF, h["time"] * SCALE, h["front"] / A)
 

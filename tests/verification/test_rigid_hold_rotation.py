@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sphfem_cli.cli import DeckProblem
+from sphfem_cli.driver import DeckProblem
 
 pytestmark = pytest.mark.usefixtures("single_thread")
 
