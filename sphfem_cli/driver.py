@@ -190,7 +190,7 @@ def _execute(loaded: Loaded, out: Path, verbose: bool, restart: Path | None, dig
     try:
         if payload is None:
             clear_earlier_run(out)
-            write_manifest(out, history_tables(loaded.model), digest)
+            write_manifest(out, history_tables(loaded.model), digest, [p.name for p in loaded.model.parts])
         (out / "deck.effective.yaml").write_text(
             f"# {loaded.path} with every default filled in (sphfem {__version__})\n"
             + yaml.safe_dump(loaded.deck.model_dump(mode="json"), sort_keys=False, allow_unicode=True),

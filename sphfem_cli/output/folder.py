@@ -20,20 +20,21 @@ from pathlib import Path
 from .. import __version__
 
 MANIFEST = "run.manifest.json"
-FIXED = ("run.log", "deck.effective.yaml", "diagnostics.txt", "results.xdmf", "results.h5",
+FIXED = ("run.log", "deck.effective.yaml", "diagnostics.txt", "results.xdmf", "results.h5", "results.paraview.py",
          "checkpoint.npz", "checkpoint.pkl")
 _STANDARD_TABLES = ("glstat", "matsum", "ale_materials")
 _TEMPORARY = (".checkpoint.*.tmp", ".results.*.xdmf.tmp")
 
 
-def run_files(tables: list[str]) -> list[str]:
-    """The files (relative paths) of a run whose history tables are `tables`."""
-    return [MANIFEST, *FIXED, *(f"histories/{t}.csv" for t in tables)]
+def run_files(tables: list[str], parts: list[str] = ()) -> list[str]:
+    """The files (relative paths) of a run whose history tables are `tables` and whose parts are `parts`
+    (each has its own ``results.<part>.xdmf``, output.xdmf)."""
+    return [MANIFEST, *FIXED, *(f"results.{p}.xdmf" for p in parts), *(f"histories/{t}.csv" for t in tables)]
 
 
-def write_manifest(directory: Path, tables: list[str], digest: str) -> None:
+def write_manifest(directory: Path, tables: list[str], digest: str, parts: list[str] = ()) -> None:
     """Record the files a run of the deck of hash `digest` into `directory` writes (before it writes any)."""
-    text = json.dumps({"sphfem": __version__, "deck_sha256": digest, "files": run_files(tables)}, indent=1,
+    text = json.dumps({"sphfem": __version__, "deck_sha256": digest, "files": run_files(tables, parts)}, indent=1,
                       ensure_ascii=False)
     (Path(directory) / MANIFEST).write_text(text + "\n", encoding="utf-8")
 

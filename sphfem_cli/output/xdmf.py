@@ -15,6 +15,13 @@ File layout, for ``XdmfWriter(directory, "results")``::
     results.xdmf
         temporal collection of per-step spatial collections, one Uniform grid per part, every
         DataItem pointing into ``results.h5`` by relative path
+    results.<grid>.xdmf
+        one part alone: a temporal collection of that part's Uniform grids. ParaView and VTK open it
+        as one source named after the part at every time (their readers number the blocks of a
+        spatial collection per step, so a block chosen at one time is another block at the next)
+    results.paraview.py
+        a pvpython / ParaView-Python-shell script that opens every part file with a style per kind
+        (Point Gaussian for particles, a surface with edges for meshes), coloured by a chosen field
 
 Field shapes decide the XDMF attribute type: ``(n,)`` or ``(n, 1)`` is a Scalar, ``(n, 2)`` or
 ``(n, 3)`` a Vector (2D vectors are padded with a zero z component), ``(n, 6)`` a symmetric tensor
@@ -211,6 +218,7 @@ class XdmfWriter:
         self._grids: dict[str, _Grid] = {}
         self._steps: list[_StepRecord] = []
         self.xdmf_path.unlink(missing_ok=True)
+        self.script_path.unlink(missing_ok=True)
 
     def state(self) -> dict:
         """What :meth:`__init__` needs to continue this series later, as plain JSON-able data:
@@ -353,30 +361,45 @@ class XdmfWriter:
         )
         item.text = f"{self.h5_path.name}:{path}"
 
-    def _xml_tree(self) -> ET.Element:
+    def _uniform(self, parent: ET.Element, record: _GridRecord) -> ET.Element:
+        grid = self._grids[record.grid]
+        uniform = ET.SubElement(parent, "Grid", Name=grid.name, GridType="Uniform")
+        topo = ET.SubElement(uniform, "Topology", TopologyType=grid.topology, NumberOfElements=str(grid.n_cells),
+                             NodesPerElement=str(grid.nodes_per_cell))
+        self._data_item(topo, f"/{grid.name}/connectivity", (grid.n_cells, grid.nodes_per_cell), np.dtype(np.int64))
+        geometry = ET.SubElement(uniform, "Geometry", GeometryType="XYZ")
+        self._data_item(geometry, record.coordinates, (grid.n_points, 3), np.dtype(np.float64))
+        for attr in record.attributes:
+            element = ET.SubElement(uniform, "Attribute", Name=attr.name, AttributeType=attr.kind, Center=attr.center)
+            self._data_item(element, attr.path, attr.shape, attr.dtype)
+        return uniform
+
+    def _xml_tree(self, part: str | None = None) -> ET.Element:
+        """Every part per step (``part`` None), or the temporal series of one part."""
         root = ET.Element("Xdmf", Version="3.0")
         domain = ET.SubElement(root, "Domain")
-        series = ET.SubElement(domain, "Grid", Name="TimeSeries", GridType="Collection", CollectionType="Temporal")
+        series = ET.SubElement(domain, "Grid", Name=part or "TimeSeries", GridType="Collection",
+                               CollectionType="Temporal")
         for step in self._steps:
-            spatial = ET.SubElement(series, "Grid", Name="Parts", GridType="Collection", CollectionType="Spatial")
-            ET.SubElement(spatial, "Time", Value=repr(step.time))
+            if part is None:
+                spatial = ET.SubElement(series, "Grid", Name="Parts", GridType="Collection", CollectionType="Spatial")
+                ET.SubElement(spatial, "Time", Value=repr(step.time))
+                for record in step.grids:
+                    self._uniform(spatial, record)
+                continue
             for record in step.grids:
-                grid = self._grids[record.grid]
-                uniform = ET.SubElement(spatial, "Grid", Name=grid.name, GridType="Uniform")
-                topo = ET.SubElement(
-                    uniform,
-                    "Topology",
-                    TopologyType=grid.topology,
-                    NumberOfElements=str(grid.n_cells),
-                    NodesPerElement=str(grid.nodes_per_cell),
-                )
-                self._data_item(topo, f"/{grid.name}/connectivity", (grid.n_cells, grid.nodes_per_cell), np.dtype(np.int64))
-                geometry = ET.SubElement(uniform, "Geometry", GeometryType="XYZ")
-                self._data_item(geometry, record.coordinates, (grid.n_points, 3), np.dtype(np.float64))
-                for attr in record.attributes:
-                    element = ET.SubElement(uniform, "Attribute", Name=attr.name, AttributeType=attr.kind, Center=attr.center)
-                    self._data_item(element, attr.path, attr.shape, attr.dtype)
+                if record.grid == part:
+                    uniform = self._uniform(series, record)
+                    uniform.insert(0, ET.Element("Time", Value=repr(step.time)))
         return root
+
+    def part_path(self, part: str) -> Path:
+        """The XDMF file of one part: ``<basename>.<part>.xdmf``."""
+        return self.directory / f"{self.basename}.{part}.xdmf"
+
+    @property
+    def script_path(self) -> Path:
+        return self.directory / f"{self.basename}.paraview.py"
 
     def write_xml(self) -> None:
         """Rewrite the XDMF file atomically, listing every step written so far.
@@ -386,9 +409,19 @@ class XdmfWriter:
         if not self._steps:
             return
         started = time.monotonic()
-        root = self._xml_tree()
-        ET.indent(root, space="  ")
-        text = '<?xml version="1.0" ?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n' + ET.tostring(root, encoding="unicode") + "\n"
+        for part, path in ((None, self.xdmf_path), *((g, self.part_path(g)) for g in self._grids)):
+            root = self._xml_tree(part)
+            ET.indent(root, space="  ")
+            self._replace(path, '<?xml version="1.0" ?>\n<!DOCTYPE Xdmf SYSTEM "Xdmf.dtd" []>\n'
+                          + ET.tostring(root, encoding="unicode") + "\n")
+        if not self.script_path.exists():
+            self._replace(self.script_path, paraview_script(self.basename, {
+                g.name: g.topology for g in self._grids.values()}))
+        self._last_xml = time.monotonic()
+        self._xml_cost = self._last_xml - started
+
+    def _replace(self, path: Path, text: str) -> None:
+        """Write `path` atomically: a temporary file in the folder, fsync, rename."""
         fd, tmp = tempfile.mkstemp(prefix=f".{self.basename}.", suffix=".xdmf.tmp", dir=self.directory)
         try:
             with os.fdopen(fd, "w", encoding="utf-8") as fh:
@@ -396,13 +429,11 @@ class XdmfWriter:
                 fh.flush()
                 os.fsync(fh.fileno())
             os.chmod(tmp, 0o644)
-            os.replace(tmp, self.xdmf_path)
+            os.replace(tmp, path)
         except BaseException:
             if os.path.exists(tmp):
                 os.unlink(tmp)
             raise
-        self._last_xml = time.monotonic()
-        self._xml_cost = self._last_xml - started
 
     def close(self) -> None:
         """Write the final XML and close the HDF5 file; calling it again does nothing."""
@@ -419,3 +450,48 @@ class XdmfWriter:
 
     def __exit__(self, *exc) -> None:
         self.close()
+
+
+_COLOUR_BY = ("von_mises", "pressure", "velocity", "displacement", "density")
+
+
+def paraview_script(basename: str, grids: Mapping[str, str]) -> str:
+    """The text of ``<basename>.paraview.py``: open each part's XDMF as a source named after the part,
+    particles as Point Gaussian, meshes as surfaces with edges, coloured by the first field of
+    ``_COLOUR_BY`` the part has. Coordinates are the deformed ones at every step: no warp is needed."""
+    parts = ",\n".join(f"    ({name!r}, {'True' if topo == 'Polyvertex' else 'False'})" for name, topo in grids.items())
+    return f'''"""Open this run's parts in ParaView: `pvpython {basename}.paraview.py` (then File > Save State), or
+ParaView's View > Python Shell > Run Script. Written by sphfem; one source per part, named after it."""
+import os
+
+from paraview.simple import (ColorBy, GetActiveViewOrCreate, GetAnimationScene, Render, ResetCamera, Show,
+                             Xdmf3ReaderT)
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+PARTS = [
+{parts},
+]
+COLOUR_BY = {_COLOUR_BY!r}
+
+view = GetActiveViewOrCreate("RenderView")
+for name, particles in PARTS:
+    source = Xdmf3ReaderT(registrationName=name, FileName=[os.path.join(HERE, f"{basename}.{{name}}.xdmf")])
+    source.UpdatePipelineInformation()
+    shown = Show(source, view)
+    if particles:
+        shown.SetRepresentationType("Point Gaussian")
+        shown.GaussianRadius = 0.5 * shown.GaussianRadius
+    else:
+        shown.SetRepresentationType("Surface With Edges")
+    arrays = list(source.PointData.keys()) + list(source.CellData.keys())
+    for field in COLOUR_BY:
+        if field in arrays:
+            where = "POINTS" if field in source.PointData.keys() else "CELLS"
+            ColorBy(shown, (where, field))
+            shown.RescaleTransferFunctionToDataRange(True, False)
+            break
+GetAnimationScene().UpdateAnimationUsingDataTimeSteps()
+view.InteractionMode = "2D" if all(abs(b) < 1e-300 for b in source.GetDataInformation().GetBounds()[4:]) else "3D"
+ResetCamera(view)
+Render(view)
+'''
