@@ -216,6 +216,30 @@ def plot(directory, quantities, references, outdir) -> None:
 
 
 @main.command()
+@click.argument("directory", type=click.Path(exists=True, file_okay=False))
+@click.option("--point", required=True, callback=_number_list(float), help="X,Y (2D) or X,Y,Z: where to sample.")
+@click.option("--quantity", required=True, help="A saved field: displacement, velocity, von_mises, stress, pressure, ...")
+@click.option("--part", default=None, help="The part to sample. Default: the first that holds the point and the field.")
+@click.option("--name", default=None, help="Table name. Default: probe_<quantity>.")
+@click.option("-o", "--output", "path", type=click.Path(dir_okay=False), default=None,
+              help="CSV to write. Default: DIRECTORY/probes/<name>.csv.")
+def probe(directory, point, quantity, part, name, path) -> None:
+    """Sample a saved run's field at a point over time (SPH by kernel interpolation, meshes by element)."""
+    from .output.probe import ProbeError, probe as take
+
+    if len(point) not in (2, 3):
+        raise click.BadParameter(f"expected 2 or 3 coordinates, got {len(point)}", param_hint="--point")
+    try:
+        table = take(Path(directory), point, quantity, part)
+    except ProbeError as err:
+        raise click.UsageError(str(err)) from None
+    name = name or f"probe_{quantity}"
+    out = Path(path) if path else Path(directory) / "probes" / f"{name}.csv"
+    table.write(out, f"{quantity} at {','.join(f'{c:g}' for c in point)} in part {table.part} of {directory}")
+    click.echo(str(out))
+
+
+@main.command()
 @click.option("-o", "--output", "path", type=click.Path(dir_okay=False), default=None,
               help="File to write. Default: standard output.")
 def schema(path) -> None:

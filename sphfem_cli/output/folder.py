@@ -6,8 +6,9 @@ A run lists the files it writes in ``run.manifest.json`` before it writes any of
     {"sphfem": version, "deck_sha256": the deck's hash (output.checkpoint.deck_hash),
      "files": [paths relative to the folder, e.g. "histories/tip.csv"]}
 
-so a later ``--overwrite`` removes exactly those, plus the checkpoint's temporary files and the PNGs
-``sphfem plot`` drew from those histories (``plots/<table>.png``, ``plots/<table>.<column>.png``).
+so a later ``--overwrite`` removes exactly those, plus the checkpoint's temporary files, the PNGs
+``sphfem plot`` drew from those histories (``plots/<table>.png``, ``plots/<table>.<column>.png``) and
+the tables ``sphfem probe`` sampled from its results (``probes/*.csv`` that begin "# sphfem probe:").
 A folder written before manifests existed is recognised by the fixed names below and the history
 tables listed in its ``results.h5`` (or its ``deck.effective.yaml``).
 """
@@ -92,6 +93,15 @@ def earlier_run(directory: Path) -> list[Path]:
         for png in plots.glob("*.png"):
             if any(png.stem == s or png.stem.startswith(s + ".") for s in safe):
                 names.add(Path("plots") / png.name)
+    probes = directory / "probes"
+    if names and probes.is_dir():  # tables `sphfem probe` sampled from this run's results
+        for csv in probes.glob("*.csv"):
+            try:
+                with csv.open(encoding="utf-8") as f:
+                    if f.readline().startswith("# sphfem probe:"):
+                        names.add(Path("probes") / csv.name)
+            except (OSError, UnicodeDecodeError):
+                pass
     return sorted(directory / n for n in names if (directory / n).is_file() or (directory / n).is_symlink())
 
 
@@ -101,7 +111,7 @@ def clear_earlier_run(directory: Path) -> list[Path]:
     removed = earlier_run(directory)
     for path in removed:
         path.unlink()
-    for sub in ("histories", "plots"):
+    for sub in ("histories", "plots", "probes"):
         folder = Path(directory) / sub
         if folder.is_dir() and not any(folder.iterdir()):
             folder.rmdir()
