@@ -373,8 +373,13 @@ def main(
     paths = [Path(d) for d in decks] if decks else shipped_decks(root)
     refdir = Path(references) if references else root / "tests" / "regression" / "references"
     if not paths:
-        echo(f"no decks found under {root / 'decks'}")
-        return 1
+        echo(f"no decks found under {root / 'decks'}: `sphfem regress` is a repository command. It runs the "
+             "shipped decks (decks/*.yaml) against their references (tests/regression/references/) of a clone "
+             "of the repository: run it inside one, or name DECKS and --references FOLDER")
+        return 2
+    if not refdir.is_dir() and not update:
+        echo(f"no references folder {refdir}: give --references FOLDER, or --update-refs to write one")
+        return 2
     results = []
     for path in paths:
         results.append(regress_deck(path, refdir, update=update, fraction=fraction))
