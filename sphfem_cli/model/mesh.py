@@ -410,6 +410,10 @@ def read_meshio(path: str | PathLike):
         kind = ("a directory" if stat.S_ISDIR(mode) else "a FIFO (named pipe)" if stat.S_ISFIFO(mode)
                 else "a device" if stat.S_ISCHR(mode) or stat.S_ISBLK(mode) else "not a regular file")
         raise ValueError(f"{path}: is {kind}; a mesh file must be a regular file")
+    from .keyword_mesh import SUFFIXES, read_keyword_mesh
+
+    if os.path.splitext(str(path))[1].lower() in SUFFIXES:
+        return read_keyword_mesh(path)
     import meshio
 
     said = io.StringIO()
@@ -427,7 +431,8 @@ def read_meshio(path: str | PathLike):
 def read_mesh(path: str | PathLike, dim: int) -> MeshData:
     """Read a quad4 (``dim=2``) or hex8 (``dim=3``) mesh with meshio.
 
-    Any format meshio reads works (Gmsh .msh 2.2/4.1, Abaqus .inp, VTU, ...). Only linear
+    Any format meshio reads works (Gmsh .msh 2.2/4.1, Abaqus .inp, VTU, ...), and LS-DYNA keyword
+    files (.k, .key, .dyn: ``keyword_mesh``). Only linear
     ``quad`` (2D) or ``hexahedron`` (3D) cells become elements, in file order; other cells
     (boundary lines, faces, points) only contribute to sets. Unused nodes are dropped and the
     rest renumbered in their original order. In 2D the x, y columns are kept and z must be
