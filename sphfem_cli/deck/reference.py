@@ -30,9 +30,8 @@ from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 
 from .loader import LIMITS
-from .schema import RESERVED_HISTORIES, Deck
+from .schema import RESERVED_HISTORIES, UNIT_SYSTEMS, Deck
 from .schema.base import NAME_MAX_BYTES, NAME_MAX_CHARS, VECTOR
-from .schema.model import UNIT_SYSTEMS
 
 __all__ = ["EXAMPLE_DECK", "DEFAULT_OUTPUT", "render_reference", "iter_models", "main"]
 

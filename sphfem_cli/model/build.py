@@ -10,8 +10,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ..deck.schema import Deck
-from ..deck.schema.model import SegmentSet
+from ..deck.schema import Deck, SegmentSet
 from ..fem.kernels import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2, hex8_volumes
 from ..materials.kernels import NHIST, NPARAM, RIGID
 
@@ -350,7 +349,7 @@ def _hydrostatic_fill(model: Model, deck: Deck, name: str, j: int, nodes, conn, 
     the element's pressure p = rho0 |g| (s - h_c) at the middle h_c = h_lo + f (h_hi - h_lo) / 2 of
     its part, and its density solves p_eos(rho, e0) = p by Newton's method.
     """
-    from ..deck.schema.model import Gravity
+    from ..deck.schema import Gravity
     from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, eos_pressure, eos_sound_speed
 
     dim = nodes.shape[1]
@@ -429,7 +428,7 @@ def _region(fill):
 
 def _particles(model: Model, deck: Deck) -> ParticleSet:
     """Fill every SPH part with lattice particles; one fluid sub-table for the particle system."""
-    from ..deck.schema.model import Gravity
+    from ..deck.schema import Gravity
     from ..sph import lattice
 
     sph = [(i, p) for i, p in enumerate(model.parts) if p.kind == "sph"]

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..deck.schema.model import FIELD_NAMES
+from ..deck.schema import FIELD_NAMES
 from ..solver.explicit import EnergyRow, Simulation
 from .history import HistoryWriter
 from .xdmf import GridStep, XdmfWriter

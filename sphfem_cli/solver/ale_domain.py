@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..ale.system import AleSystem
-from ..deck.schema.model import AleBoundary, Gravity
+from ..deck.schema import AleBoundary, Gravity
 from ..model import sets as selection
 from ..model.build import VOID, Model
 

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..deck.schema.model import DummyWallBoundary, Gravity, InitialVelocity, WallBoundary
+from ..deck.schema import DummyWallBoundary, Gravity, InitialVelocity, WallBoundary
 from ..model.build import Model
 from ..sph import lattice
 from ..sph.system import ParticleSystem, SPHOptions, WallParticles, box_walls

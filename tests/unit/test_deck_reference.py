@@ -86,7 +86,7 @@ def test_example_deck_validates(rendered, tmp_path):
 
 def test_type_rendering():
     t = reference._type_text
-    from sphfem_cli.deck.schema.model import BoxGeometry, Control, PrescribedVelocity
+    from sphfem_cli.deck.schema import BoxGeometry, Control, PrescribedVelocity
 
     assert t(Control.model_fields["end_time"].annotation, Control.model_fields["end_time"].metadata, "x") == "number > 0"
     f = Control.model_fields["timestep_scale"]
