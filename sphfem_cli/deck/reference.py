@@ -5,7 +5,7 @@ default, its meaning and units) already lives in the schema: ``Field(description
 field and a docstring on every model. :func:`render_reference` walks the models reachable from
 :class:`~sphfem_cli.deck.schema.Deck` and turns them into Markdown, so the reference cannot say
 something the schema does not. The hand-written parts (header, example deck, conventions) are in
-``reference_prose``; how a field's type and default read as text is ``schema_text``::
+``reference_prose``; how a field's type and default read as text is ``reference_fields``::
 
     python -m sphfem_cli.deck.reference            # rewrite docs/deck-reference.md
     python -m sphfem_cli.deck.reference --check    # exit 1 if docs/deck-reference.md is stale
@@ -24,11 +24,11 @@ from typing import Any
 from pydantic import BaseModel
 from pydantic.fields import FieldInfo
 
+from .reference_fields import (anchor_of, cell, default_text, docstring, field_type_text, iter_models, models_in,
+                               nested_path, ordered_fields, prose, strip_annotated, type_tag)
 from .reference_prose import CONVENTIONS, EXAMPLE_DECK, HEADER, limit_table, unit_table
 from .schema import RESERVED_HISTORIES, Deck
 from .schema.base import NAME_MAX_BYTES, NAME_MAX_CHARS
-from .schema_text import (anchor_of, cell, default_text, docstring, field_type_text, iter_models, models_in,
-                          nested_path, ordered_fields, prose, strip_annotated, type_tag)
 
 __all__ = ["EXAMPLE_DECK", "DEFAULT_OUTPUT", "render_reference", "iter_models", "main"]
 
