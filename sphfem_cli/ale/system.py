@@ -77,6 +77,7 @@ import math
 import numpy as np
 
 from ..materials import kernels as mk
+from ..materials import slots as ms
 from ..materials.burn import burn_fraction, lighting_time, quad_size
 from . import kernels as K
 
@@ -142,7 +143,7 @@ def energy_from_pressure(row: np.ndarray, rho: np.ndarray, p: np.ndarray) -> np.
     p = np.asarray(p, dtype=float)
     eos = int(row[mk.P_EOS_TYPE])
     q = np.ascontiguousarray(row[mk.EOS_OFFSET:])
-    rho0 = q[0]
+    rho0 = q[ms.Q_RHO0]
     out = np.zeros(np.broadcast(rho, p).shape)
     for idx in np.ndindex(out.shape):
         r = float(np.broadcast_to(rho, out.shape)[idx]) / rho0
@@ -455,7 +456,7 @@ class AleSystem:
         rows = []
         for m, row in enumerate(materials):
             if isinstance(row, tuple):
-                row = row[1]
+                _, row = row  # (type id, parameter row)
             rows.append(row)
             if row is None:
                 continue
@@ -681,7 +682,7 @@ class AleSystem:
         q = np.ascontiguousarray(self.mat_q[m])
         p0, _, dpde = mk._eos_state(int(self.mat_eos[m]), q, rho / rho0, 0.0)
         if energy is None and pressure is None:
-            e = float(q[1]) / rho0  # the EOS's e0 (per reference volume), as an initial fill
+            e = float(q[ms.Q_E0]) / rho0  # the EOS's e0 (per reference volume), as an initial fill
         elif energy is None:
             e = 0.0 if dpde == 0.0 else (float(pressure) - p0) / dpde / rho0
         else:

@@ -31,7 +31,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..ale.kernels import RHO_VOID
-from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, eos_sound_speed
+from ..materials.kernels import eos_sound_speed
+from ..materials.slots import EOS_OFFSET, P_EOS_TYPE, P_RHO0, Q_E0
 from ..model.build import VOID
 from . import coupling_kernels as ck
 from .surface import master_segments
@@ -58,12 +59,12 @@ class LagrangeInSolidCoupling:
             if model.material_type[m] != VOID and (wanted is None or model.material_names[m] in wanted)
         ], dtype=np.int64)
         self.mat_bulk = np.zeros(len(mats))
-        self.mat_rho0 = np.array([float(model.material_param[m][0]) for m in mats])
+        self.mat_rho0 = np.array([float(model.material_param[m, P_RHO0]) for m in mats])
         for j in self.coupling_mats:
             row = model.material_param[mats[j]]
             q = np.ascontiguousarray(row[EOS_OFFSET:])
-            c0 = eos_sound_speed(int(row[P_EOS_TYPE]), q, 1.0, q[1])
-            self.mat_bulk[j] = row[0] * c0 * c0
+            c0 = eos_sound_speed(int(row[P_EOS_TYPE]), q, 1.0, q[Q_E0])
+            self.mat_bulk[j] = row[P_RHO0] * c0 * c0
         size = np.sqrt(ale.vol0.min())
         self.probe = 0.5 * size
         self.cell = float(np.sqrt(ale.vol0.mean()))

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..deck.schema.interaction import NodesToSurface
-from ..materials.kernels import P_K
+from ..materials.slots import P_K
 from . import kernels as K
 from .surface import master_segments
 

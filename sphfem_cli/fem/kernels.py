@@ -26,6 +26,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..materials.kernels import sound_speed, update_stress
+from ..materials.slots import P_G, P_RHO0
 
 HG_VISCOUS = 0
 HG_STIFFNESS = 1
@@ -318,7 +319,7 @@ def solid_element_forces(
             rel_volume = ve_new / vol0[e]
             update_stress(mat_type[m], p, sig, hist[e], deps, dt, rel_volume, energy[e] / vol0[e])
 
-            rho = p[0] / rel_volume
+            rho = p[P_RHO0] / rel_volume
             c_snd = sound_speed(mat_type[m], p, rel_volume, energy[e] / vol0[e])
             if dim == 2:
                 length = quad4_char_length(xe, ve_new)
@@ -357,7 +358,7 @@ def solid_element_forces(
                     scale = ve_new ** ((dim - 1.0) / dim)
                     coef = 0.25 * qm * rho * c_snd * scale
                 else:
-                    coef = 0.5 * qm * p[3] * ve_new * bb
+                    coef = 0.5 * qm * p[P_G] * ve_new * bb
                 for mode in range(n_modes):
                     # gamma_a = Gamma_a - (Gamma . x_k) b_k
                     gx[0] = gx[1] = gx[2] = 0.0

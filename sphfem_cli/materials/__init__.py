@@ -1,8 +1,9 @@
 """Constitutive models and equations of state.
 
 ``kernels`` holds the numba functions (``update_stress``, ``sound_speed``, ``eos_pressure``,
-``eos_sound_speed``) and the type-id constants; ``tables.pack_material`` turns a deck material
-(and its equation of state) into ``(type id, parameter row)``. Theory: docs/theory/materials.md.
+``eos_sound_speed``) and the type-id constants; ``slots`` names every slot of the parameter, EOS
+and history rows; ``tables.pack_material`` turns a deck material (and its equation of state) into
+``(type id, parameter row)``. Theory: docs/theory/materials.md.
 """
 from __future__ import annotations
 
@@ -12,22 +13,19 @@ from .kernels import (
     EOS_JWL,
     EOS_LINEAR_POLYNOMIAL,
     EOS_NONE,
-    EOS_OFFSET,
     EOS_STIFFENED_GAS,
     EOS_TAIT,
     ELASTIC,
     ELASTIC_PLASTIC,
     FLUID,
     JOHNSON_COOK,
-    NHIST,
-    NPARAM,
-    P_EOS_TYPE,
     RIGID,
     eos_pressure,
     eos_sound_speed,
     sound_speed,
     update_stress,
 )
+from .slots import EOS_OFFSET, NHIST, NPARAM, P_EOS_TYPE
 
 __all__ = [
     "ELASTIC", "ELASTIC_PLASTIC", "JOHNSON_COOK", "RIGID", "FLUID",

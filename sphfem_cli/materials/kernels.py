@@ -3,7 +3,8 @@
 Conventions (see docs/architecture.md): symmetric tensors are 6-vectors ``xx, yy, zz, xy, yz, zx``
 with tensor shear components; pressure is positive in compression, sigma = s - p I. A material is
 an integer type id plus a parameter row ``p`` of ``NPARAM`` floats packed by
-``materials.tables.pack_material`` (slot table there). The equation-of-state parameters live in
+``materials.tables.pack_material``; every slot is named in ``materials.slots`` (the only place a
+slot number is written). The equation-of-state parameters live in
 the same row from ``EOS_OFFSET`` on, so an EOS is called as
 ``eos_pressure(int(p[P_EOS_TYPE]), p[EOS_OFFSET:], rho_ratio, e_int)``.
 
@@ -14,6 +15,16 @@ from __future__ import annotations
 import math
 
 from numba import njit
+
+from .slots import NHIST, NPARAM  # noqa: F401  (re-exported: row lengths for callers of the kernels)
+from .slots import (
+    EOS_OFFSET, H_BACK_XX, H_BACK_XY, H_BACK_YY, H_BACK_YZ, H_BACK_ZX, H_BACK_ZZ, H_EPS, H_WP, P_EOS_TYPE,
+    P_EP_BETA, P_EP_EP, P_EP_SIGMA_Y0, P_G, P_JC_A, P_JC_B, P_JC_C, P_JC_CP, P_JC_M, P_JC_N,
+    P_JC_RATE0, P_JC_TM, P_JC_TR, P_K, P_RHO0, P_VISCOSITY, Q_GR_A, Q_GR_C, Q_GR_GAMMA0, Q_GR_S1, Q_GR_S2,
+    Q_GR_S3, Q_IG_GAMMA, Q_JWL_A, Q_JWL_B, Q_JWL_OMEGA, Q_JWL_R1, Q_JWL_R2, Q_LP_C0, Q_LP_C1, Q_LP_C2,
+    Q_LP_C3, Q_LP_C4, Q_LP_C5, Q_LP_C6, Q_RHO0, Q_SG_GAMMA, Q_SG_PINF, Q_TAIT_B, Q_TAIT_C0, Q_TAIT_GAMMA,
+    Q_TAIT_PB, Q_TAIT_RHO_REF,
+)
 
 # material type ids
 ELASTIC = 0
@@ -31,23 +42,6 @@ EOS_IDEAL_GAS = 3
 EOS_STIFFENED_GAS = 4
 EOS_JWL = 5
 
-NPARAM = 32
-NHIST = 8
-
-# common slots of the parameter row
-P_RHO0 = 0
-P_E = 1
-P_NU = 2
-P_G = 3
-P_K = 4
-P_EOS_TYPE = 15
-EOS_OFFSET = 16  # q = p[EOS_OFFSET:]; q[0] = rho0, q[1] = e0, q[2] = v0, q[3:] model constants
-
-# history slots
-H_EPS = 0  # effective plastic strain
-H_BACK = 1  # back stress, slots 1..6
-H_WP = 7  # plastic work per unit initial volume
-
 _JC_MAXIT = 100
 _JC_RTOL = 1e-12
 
@@ -63,7 +57,8 @@ def _eos_state(eos_type, q, r, e):
     """
     mu = r - 1.0
     if eos_type == EOS_LINEAR_POLYNOMIAL:
-        c0, c1, c2, c3, c4, c5, c6 = q[3], q[4], q[5], q[6], q[7], q[8], q[9]
+        c0, c1, c2, c3 = q[Q_LP_C0], q[Q_LP_C1], q[Q_LP_C2], q[Q_LP_C3]
+        c4, c5, c6 = q[Q_LP_C4], q[Q_LP_C5], q[Q_LP_C6]
         if mu < 0.0:  # LS-DYNA drops the quadratic terms in tension
             c2 = 0.0
             c6 = 0.0
@@ -72,7 +67,8 @@ def _eos_state(eos_type, q, r, e):
         dpde = c4 + mu * (c5 + mu * c6)
         return p, dpdmu, dpde
     if eos_type == EOS_GRUNEISEN:
-        rho0, c, s1, s2, s3, g0, a = q[0], q[3], q[4], q[5], q[6], q[7], q[8]
+        rho0, c, s1, s2, s3 = q[Q_RHO0], q[Q_GR_C], q[Q_GR_S1], q[Q_GR_S2], q[Q_GR_S3]
+        g0, a = q[Q_GR_GAMMA0], q[Q_GR_A]
         k0 = rho0 * c * c
         dpde = g0 + a * mu
         if mu > 0.0:
@@ -88,21 +84,22 @@ def _eos_state(eos_type, q, r, e):
             dpdmu = k0 + a * e
         return p, dpdmu, dpde
     if eos_type == EOS_TAIT:
-        rho0, rho_ref, c, gam, pb, b = q[0], q[3], q[4], q[5], q[6], q[7]
+        rho0, rho_ref, c, gam = q[Q_RHO0], q[Q_TAIT_RHO_REF], q[Q_TAIT_C0], q[Q_TAIT_GAMMA]
+        pb, b = q[Q_TAIT_PB], q[Q_TAIT_B]
         x = rho0 * r / rho_ref
         xg1 = x ** (gam - 1.0)
         p = b * (xg1 * x - 1.0) + pb
         dpdmu = b * gam * xg1 * rho0 / rho_ref
         return p, dpdmu, 0.0
     if eos_type == EOS_IDEAL_GAS:
-        gm1 = q[3] - 1.0
+        gm1 = q[Q_IG_GAMMA] - 1.0
         return gm1 * r * e, gm1 * e, gm1 * r
     if eos_type == EOS_STIFFENED_GAS:
-        gam, pinf = q[3], q[4]
+        gam, pinf = q[Q_SG_GAMMA], q[Q_SG_PINF]
         gm1 = gam - 1.0
         return gm1 * r * e - gam * pinf, gm1 * e, gm1 * r
     if eos_type == EOS_JWL:
-        a, b, r1, r2, w = q[3], q[4], q[5], q[6], q[7]
+        a, b, r1, r2, w = q[Q_JWL_A], q[Q_JWL_B], q[Q_JWL_R1], q[Q_JWL_R2], q[Q_JWL_OMEGA]
         v = 1.0 / r
         x1 = math.exp(-r1 * v)
         x2 = math.exp(-r2 * v)
@@ -121,7 +118,7 @@ def eos_pressure(eos_type, q, rho_ratio, e_int):
     """Pressure p(rho/rho0, E) of equation of state ``eos_type`` with parameter row ``q``.
 
     ``e_int`` is the internal energy per unit reference volume (LS-DYNA's E). Formulas per type in
-    docs/theory/materials.md; the row layout is in ``materials.tables``.
+    docs/theory/materials.md; the row layout is in ``materials.slots``.
     """
     return _eos_state(eos_type, q, rho_ratio, e_int)[0]
 
@@ -134,7 +131,7 @@ def eos_sound_speed(eos_type, q, rho_ratio, e_int):
     c^2 = (dp/dmu + p (dp/dE) / (rho/rho0)^2) / rho0. Negative c^2 is clamped to 0.
     """
     p, dpdmu, dpde = _eos_state(eos_type, q, rho_ratio, e_int)
-    c2 = (dpdmu + p * dpde / (rho_ratio * rho_ratio)) / q[0]
+    c2 = (dpdmu + p * dpde / (rho_ratio * rho_ratio)) / q[Q_RHO0]
     return math.sqrt(c2) if c2 > 0.0 else 0.0
 
 
@@ -149,11 +146,12 @@ def _bilinear_return(p, hist, s0, s1, s2, s3, s4, s5, G):
     times the unit flow direction xi/xi_eq; deps_p = f/(3G + Ep). Updates ``hist`` and returns the
     corrected deviator and the plastic work s_{n+1} : deps^p.
     """
-    sy0, beta, ep_mod = p[5], p[7], p[8]
-    a0, a1, a2, a3, a4, a5 = hist[1], hist[2], hist[3], hist[4], hist[5], hist[6]
+    sy0, beta, ep_mod = p[P_EP_SIGMA_Y0], p[P_EP_BETA], p[P_EP_EP]
+    a0, a1, a2 = hist[H_BACK_XX], hist[H_BACK_YY], hist[H_BACK_ZZ]
+    a3, a4, a5 = hist[H_BACK_XY], hist[H_BACK_YZ], hist[H_BACK_ZX]
     x0, x1, x2, x3, x4, x5 = s0 - a0, s1 - a1, s2 - a2, s3 - a3, s4 - a4, s5 - a5
     xeq = math.sqrt(1.5 * (x0 * x0 + x1 * x1 + x2 * x2 + 2.0 * (x3 * x3 + x4 * x4 + x5 * x5)))
-    eps = hist[0]
+    eps = hist[H_EPS]
     f = xeq - (sy0 + beta * ep_mod * eps)
     if f <= 0.0:
         return s0, s1, s2, s3, s4, s5, 0.0
@@ -161,12 +159,12 @@ def _bilinear_return(p, hist, s0, s1, s2, s3, s4, s5, G):
     k = 3.0 * G * dl / xeq
     s0, s1, s2, s3, s4, s5 = s0 - k * x0, s1 - k * x1, s2 - k * x2, s3 - k * x3, s4 - k * x4, s5 - k * x5
     h = (1.0 - beta) * ep_mod * dl / xeq
-    hist[1], hist[2], hist[3] = a0 + h * x0, a1 + h * x1, a2 + h * x2
-    hist[4], hist[5], hist[6] = a3 + h * x3, a4 + h * x4, a5 + h * x5
-    hist[0] = eps + dl
+    hist[H_BACK_XX], hist[H_BACK_YY], hist[H_BACK_ZZ] = a0 + h * x0, a1 + h * x1, a2 + h * x2
+    hist[H_BACK_XY], hist[H_BACK_YZ], hist[H_BACK_ZX] = a3 + h * x3, a4 + h * x4, a5 + h * x5
+    hist[H_EPS] = eps + dl
     sx = s0 * x0 + s1 * x1 + s2 * x2 + 2.0 * (s3 * x3 + s4 * x4 + s5 * x5)
     dwp = 1.5 * dl * sx / xeq
-    hist[7] += dwp
+    hist[H_WP] += dwp
     return s0, s1, s2, s3, s4, s5, dwp
 
 
@@ -176,22 +174,22 @@ def jc_thermal_factor(p, wp):
 
     ``wp`` is the plastic work per unit initial volume; cp = 0 means isothermal (factor 1).
     """
-    cp = p[13]
+    cp = p[P_JC_CP]
     if cp <= 0.0:
         return 1.0
-    troom, tmelt = p[12], p[11]
-    tstar = (wp / (p[0] * cp)) / (tmelt - troom)
+    troom, tmelt = p[P_JC_TR], p[P_JC_TM]
+    tstar = (wp / (p[P_RHO0] * cp)) / (tmelt - troom)
     if tstar <= 0.0:
         return 1.0
     if tstar >= 1.0:
         return 0.0
-    return 1.0 - tstar ** p[9]
+    return 1.0 - tstar ** p[P_JC_M]
 
 
 @njit(cache=True)
 def jc_flow_stress(p, eps, rate_star, theta):
     """Johnson-Cook flow stress (A + B eps^n)(1 + C ln max(rate*, 1)) theta."""
-    a, b, n, c = p[5], p[6], p[7], p[8]
+    a, b, n, c = p[P_JC_A], p[P_JC_B], p[P_JC_N], p[P_JC_C]
     hard = a + b * eps ** n if eps > 0.0 else a
     rate = 1.0 + c * math.log(rate_star) if rate_star > 1.0 else 1.0
     return hard * rate * theta
@@ -205,15 +203,15 @@ def _jc_return(p, hist, s0, s1, s2, s3, s4, s5, G, dt):
     safeguarded by bisection on [0, xi_eq/(3G)]; the rate is the plastic strain rate dl/dt and
     the temperature is taken from the plastic work at the start of the step.
     """
-    a, b, n, c, rate0 = p[5], p[6], p[7], p[8], p[10]
+    a, b, n, c, rate0 = p[P_JC_A], p[P_JC_B], p[P_JC_N], p[P_JC_C], p[P_JC_RATE0]
     xeq = math.sqrt(1.5 * (s0 * s0 + s1 * s1 + s2 * s2 + 2.0 * (s3 * s3 + s4 * s4 + s5 * s5)))
-    eps = hist[0]
-    theta = jc_thermal_factor(p, hist[7])
+    eps = hist[H_EPS]
+    theta = jc_thermal_factor(p, hist[H_WP])
     if xeq <= jc_flow_stress(p, eps, 0.0, theta):
         return s0, s1, s2, s3, s4, s5, 0.0
     if theta <= 0.0:  # melted: no deviatoric strength
         dl = xeq / (3.0 * G)
-        hist[0] = eps + dl
+        hist[H_EPS] = eps + dl
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     inv_rate = 1.0 / (dt * rate0) if dt > 0.0 else 0.0
     lo = 0.0
@@ -242,9 +240,9 @@ def _jc_return(p, hist, s0, s1, s2, s3, s4, s5, G, dt):
             break
         dl = nxt
     scale = 1.0 - 3.0 * G * dl / xeq
-    hist[0] = eps + dl
+    hist[H_EPS] = eps + dl
     dwp = dl * scale * xeq
-    hist[7] += dwp
+    hist[H_WP] += dwp
     return s0 * scale, s1 * scale, s2 * scale, s3 * scale, s4 * scale, s5 * scale, dwp
 
 
@@ -275,7 +273,7 @@ def update_stress(mtype, p, sig, hist, deps, dt, rel_volume, e_int):
     else:
         sm_new = sm + p[P_K] * tr
     if mtype == FLUID:
-        k = 2.0 * p[5] / dt if dt > 0.0 else 0.0
+        k = 2.0 * p[P_VISCOSITY] / dt if dt > 0.0 else 0.0
         sig[0] = sm_new + k * (deps[0] - third)
         sig[1] = sm_new + k * (deps[1] - third)
         sig[2] = sm_new + k * (deps[2] - third)

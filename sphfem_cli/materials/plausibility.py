@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import math
 
-from .kernels import P_E, P_G, P_K, P_RHO0
+from .slots import P_E, P_G, P_K, P_RHO0
 
 LENGTH = {"m": 1.0, "mm": 1e-3, "cm": 1e-2}
 MASS = {"kg": 1.0, "t": 1e3, "g": 1e-3}

@@ -1,44 +1,8 @@
 """Pack deck materials and equations of state into ``(type id, parameter row)`` for the kernels.
 
-Parameter row ``p`` (``NPARAM`` = 32 float64); unused slots are 0.
-
-===========  ==================  ================================================================
-slot         model               meaning
-===========  ==================  ================================================================
-0            all                 reference density rho0
-1            all                 Young's modulus E (fluid: 0)
-2            all                 Poisson ratio nu (fluid: 0.5)
-3            all                 shear modulus G = E/(2(1+nu)) (fluid: 0)
-4            all                 bulk modulus K = E/(3(1-2nu)) (fluid: rho0 c0^2 from the EOS)
-5            elastic_plastic     initial yield stress sigma_y0
-6            elastic_plastic     tangent modulus Et
-7            elastic_plastic     hardening mix beta (1 isotropic, 0 kinematic)
-8            elastic_plastic     plastic modulus Ep = E Et/(E - Et)
-5..13        johnson_cook        A, B, n, C, m, reference strain rate, Tm, Tr, cp (0 = isothermal)
-5            fluid               dynamic viscosity mu
-5            high_explosive      0 (inviscid)
-6            high_explosive      detonation velocity D (packed as a fluid; 0 for other fluids)
-15           all                 EOS type id (``EOS_NONE`` = -1 when no EOS is attached)
-16..31       all                 EOS row q = p[16:] (below)
-===========  ==================  ================================================================
-
-EOS row ``q`` (``q[i]`` = ``p[EOS_OFFSET + i]``):
-
-=====  ==================  ===================================================================
-q[i]   EOS                 meaning
-=====  ==================  ===================================================================
-0      all                 rho0 of the material (the reference density of mu = rho/rho0 - 1)
-1      all                 e0, initial internal energy per unit reference volume
-2      all                 v0, initial relative volume (linear_polynomial; 1 otherwise)
-3..9   linear_polynomial   C0, C1, C2, C3, C4, C5, C6
-3..8   gruneisen           C, S1, S2, S3, gamma0, a
-3..7   tait                rho_ref, c0, gamma, p_b, B = rho_ref c0^2 / gamma
-3      ideal_gas           gamma
-3..4   stiffened_gas       gamma, p_inf
-3..7   jwl                 A, B, R1, R2, omega
-=====  ==================  ===================================================================
-
-The model builder initialises the internal energy per unit initial volume from ``q[1]``.
+The row layout (parameter row ``p``, EOS row ``q = p[EOS_OFFSET:]``) is declared in
+``materials.slots``; this module only fills it. The model builder initialises the internal energy
+per unit initial volume from ``q[Q_E0]``.
 """
 from __future__ import annotations
 
@@ -46,6 +10,14 @@ import numpy as np
 
 from ..deck.schema import materials as sm
 from . import kernels as k
+from .slots import (
+    EOS_OFFSET, NPARAM, NQ, P_DETONATION_VELOCITY, P_E, P_EOS_TYPE, P_EP_BETA, P_EP_EP, P_EP_ET,
+    P_EP_SIGMA_Y0, P_G, P_JC_A, P_JC_B, P_JC_C, P_JC_CP, P_JC_M, P_JC_N, P_JC_RATE0, P_JC_TM, P_JC_TR,
+    P_K, P_NU, P_RHO0, P_VISCOSITY, Q_E0, Q_GR_A, Q_GR_C, Q_GR_GAMMA0, Q_GR_S1, Q_GR_S2, Q_GR_S3,
+    Q_IG_GAMMA, Q_JWL_A, Q_JWL_B, Q_JWL_OMEGA, Q_JWL_R1, Q_JWL_R2, Q_LP_C0, Q_LP_C1, Q_LP_C2, Q_LP_C3,
+    Q_LP_C4, Q_LP_C5, Q_LP_C6, Q_RHO0, Q_SG_GAMMA, Q_SG_PINF, Q_TAIT_B, Q_TAIT_C0, Q_TAIT_GAMMA,
+    Q_TAIT_PB, Q_TAIT_RHO_REF, Q_V0,
+)
 
 MATERIAL_IDS = {
     "elastic": k.ELASTIC,
@@ -55,9 +27,6 @@ MATERIAL_IDS = {
     "fluid": k.FLUID,
     "high_explosive": k.FLUID,
 }
-
-P_DETONATION_VELOCITY = 6
-"""Slot of the detonation velocity D of a ``high_explosive`` (a fluid row); 0 for other fluids."""
 
 EOS_IDS = {
     "linear_polynomial": k.EOS_LINEAR_POLYNOMIAL,
@@ -70,24 +39,27 @@ EOS_IDS = {
 
 
 def pack_eos(eos, rho0: float) -> tuple[int, np.ndarray]:
-    """EOS type id and its row ``q`` (length ``NPARAM - EOS_OFFSET``) for a material of density rho0."""
-    q = np.zeros(k.NPARAM - k.EOS_OFFSET)
-    q[0] = rho0
-    q[1] = getattr(eos, "e0", 0.0)
-    q[2] = getattr(eos, "v0", 1.0)
+    """EOS type id and its row ``q`` (length ``NQ``, slots ``Q_*``) for a material of density rho0."""
+    q = np.zeros(NQ)
+    q[Q_RHO0] = rho0
+    q[Q_E0] = getattr(eos, "e0", 0.0)
+    q[Q_V0] = getattr(eos, "v0", 1.0)
     if isinstance(eos, sm.LinearPolynomial):
-        q[3:10] = [eos.c0, eos.c1, eos.c2, eos.c3, eos.c4, eos.c5, eos.c6]
+        q[Q_LP_C0], q[Q_LP_C1], q[Q_LP_C2], q[Q_LP_C3] = eos.c0, eos.c1, eos.c2, eos.c3
+        q[Q_LP_C4], q[Q_LP_C5], q[Q_LP_C6] = eos.c4, eos.c5, eos.c6
     elif isinstance(eos, sm.Gruneisen):
-        q[3:9] = [eos.c, eos.s1, eos.s2, eos.s3, eos.gamma0, eos.a]
+        q[Q_GR_C], q[Q_GR_S1], q[Q_GR_S2], q[Q_GR_S3] = eos.c, eos.s1, eos.s2, eos.s3
+        q[Q_GR_GAMMA0], q[Q_GR_A] = eos.gamma0, eos.a
     elif isinstance(eos, sm.Tait):
-        b = eos.reference_density * eos.sound_speed**2 / eos.gamma
-        q[3:8] = [eos.reference_density, eos.sound_speed, eos.gamma, eos.background_pressure, b]
+        q[Q_TAIT_RHO_REF], q[Q_TAIT_C0], q[Q_TAIT_GAMMA] = eos.reference_density, eos.sound_speed, eos.gamma
+        q[Q_TAIT_PB] = eos.background_pressure
+        q[Q_TAIT_B] = eos.reference_density * eos.sound_speed**2 / eos.gamma
     elif isinstance(eos, sm.IdealGas):
-        q[3] = eos.gamma
+        q[Q_IG_GAMMA] = eos.gamma
     elif isinstance(eos, sm.StiffenedGas):
-        q[3:5] = [eos.gamma, eos.p_inf]
+        q[Q_SG_GAMMA], q[Q_SG_PINF] = eos.gamma, eos.p_inf
     elif isinstance(eos, sm.JWL):
-        q[3:8] = [eos.A, eos.B, eos.R1, eos.R2, eos.omega]
+        q[Q_JWL_A], q[Q_JWL_B], q[Q_JWL_R1], q[Q_JWL_R2], q[Q_JWL_OMEGA] = eos.A, eos.B, eos.R1, eos.R2, eos.omega
     else:
         raise TypeError(f"not an equation of state model: {type(eos).__name__}")
     return EOS_IDS[eos.type], q
@@ -104,35 +76,37 @@ def pack_material(material, eos=None) -> tuple[int, np.ndarray]:
     if eos is not None and not wants_eos:
         raise ValueError(f"material of type {material.type} takes no equation of state here")
 
-    p = np.zeros(k.NPARAM)
-    p[k.P_EOS_TYPE] = k.EOS_NONE
+    p = np.zeros(NPARAM)
+    p[P_EOS_TYPE] = k.EOS_NONE
     rho0 = material.density
-    p[k.P_RHO0] = rho0
+    p[P_RHO0] = rho0
     if eos is not None:
         eos_id, q = pack_eos(eos, rho0)
-        p[k.P_EOS_TYPE] = eos_id
-        p[k.EOS_OFFSET :] = q
+        p[P_EOS_TYPE] = eos_id
+        p[EOS_OFFSET :] = q
 
     if isinstance(material, (sm.Fluid, sm.HighExplosive)):
-        c0 = float(k.eos_sound_speed(int(p[k.P_EOS_TYPE]), p[k.EOS_OFFSET :], 1.0, p[k.EOS_OFFSET + 1]))
-        p[k.P_E], p[k.P_NU], p[k.P_G], p[k.P_K] = 0.0, 0.5, 0.0, rho0 * c0 * c0
+        c0 = float(k.eos_sound_speed(int(p[P_EOS_TYPE]), p[EOS_OFFSET :], 1.0, p[EOS_OFFSET + Q_E0]))
+        p[P_E], p[P_NU], p[P_G], p[P_K] = 0.0, 0.5, 0.0, rho0 * c0 * c0
         if isinstance(material, sm.HighExplosive):
             p[P_DETONATION_VELOCITY] = material.detonation_velocity
         else:
-            p[5] = material.viscosity
+            p[P_VISCOSITY] = material.viscosity
         return k.FLUID, p
 
     e, nu = material.youngs_modulus, material.poisson_ratio
-    p[k.P_E], p[k.P_NU] = e, nu
-    p[k.P_G] = e / (2.0 * (1.0 + nu))
-    p[k.P_K] = e / (3.0 * (1.0 - 2.0 * nu))
+    p[P_E], p[P_NU] = e, nu
+    p[P_G] = e / (2.0 * (1.0 + nu))
+    p[P_K] = e / (3.0 * (1.0 - 2.0 * nu))
     if isinstance(material, sm.ElasticPlastic):
         et = material.tangent_modulus
-        p[5:9] = [material.yield_stress, et, material.hardening_beta, e * et / (e - et)]
+        p[P_EP_SIGMA_Y0], p[P_EP_ET], p[P_EP_BETA] = material.yield_stress, et, material.hardening_beta
+        p[P_EP_EP] = e * et / (e - et)
     elif isinstance(material, sm.JohnsonCook):
         m = material
-        cp = m.specific_heat if m.specific_heat is not None else 0.0
-        p[5:14] = [m.A, m.B, m.n, m.C, m.m, m.reference_strain_rate, m.melt_temperature, m.room_temperature, cp]
+        p[P_JC_A], p[P_JC_B], p[P_JC_N], p[P_JC_C], p[P_JC_M] = m.A, m.B, m.n, m.C, m.m
+        p[P_JC_RATE0], p[P_JC_TM], p[P_JC_TR] = m.reference_strain_rate, m.melt_temperature, m.room_temperature
+        p[P_JC_CP] = m.specific_heat if m.specific_heat is not None else 0.0
     elif not isinstance(material, (sm.Elastic, sm.Rigid)):
         raise TypeError(f"not a material model: {type(material).__name__}")
     return MATERIAL_IDS[material.type], p

@@ -10,10 +10,10 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ..deck.schema import Deck
-from ..deck.schema.model import SegmentSet
+from ..deck.schema import Deck, SegmentSet
 from ..fem.kernels import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2, hex8_volumes
-from ..materials.kernels import NHIST, NPARAM, RIGID
+from ..materials.kernels import RIGID
+from ..materials.slots import EOS_OFFSET, NPARAM, P_EOS_TYPE, P_G, P_K, P_RHO0, Q_E0
 
 VOID = -1  # material type id of void (ALE only; no row in the kernels)
 from ..materials.tables import pack_material
@@ -233,7 +233,7 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     else:
         volume0 = meshgen.element_jacobian_sign_check(coordinates, connectivity)  # exact quad4 areas
     mass = np.zeros(len(coordinates))
-    np.add.at(mass, connectivity, (material_param[element_material, 0] * volume0 / npe)[:, None])
+    np.add.at(mass, connectivity, (material_param[element_material, P_RHO0] * volume0 / npe)[:, None])
 
     ptr, idx = _node_element_map(connectivity, len(coordinates))
     dt_factor = free_dilatation_factor(connectivity, dim, material_param[element_material])
@@ -275,8 +275,6 @@ def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarra
     group "thin 3D parts"). With the margin a k = 1 element takes 0.941 of the step at nu = 0.3.
     None when every factor is 1 (a mesh without thin parts).
     """
-    from ..materials.kernels import P_G, P_K
-
     if not len(connectivity):
         return None
     exterior = selection.exterior_faces(connectivity, dim)
@@ -294,7 +292,7 @@ def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarra
 def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     """Mesh the ALE part and lay out its materials: the part's material, then each fill in order."""
     from ..ale.system import fill_fractions
-    from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, eos_pressure
+    from ..materials.kernels import eos_pressure
     index = next(i for i, p in enumerate(model.parts) if p.kind == "ale")
     name = model.parts[index].name
     part = deck.parts[name]
@@ -305,13 +303,14 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     names = list(dict.fromkeys(names))
     mats = [model.material_names.index(n) for n in names]
     n_elem, n_mat = len(conn), len(mats)
-    rho0 = np.array([model.material_param[m, 0] for m in mats])
+    rho0 = np.array([model.material_param[m, P_RHO0] for m in mats])
 
     def state(m: int, density: float) -> float:
         row = model.material_param[m]
         if model.material_type[m] == VOID:
             return 0.0
-        return float(eos_pressure(int(row[P_EOS_TYPE]), row[EOS_OFFSET:], density / row[0], row[EOS_OFFSET + 1]))
+        return float(eos_pressure(int(row[P_EOS_TYPE]), row[EOS_OFFSET:], density / row[P_RHO0],
+                                  row[EOS_OFFSET + Q_E0]))
 
     fractions = np.zeros((n_elem, n_mat))
     fractions[:, 0] = 1.0
@@ -350,8 +349,8 @@ def _hydrostatic_fill(model: Model, deck: Deck, name: str, j: int, nodes, conn, 
     the element's pressure p = rho0 |g| (s - h_c) at the middle h_c = h_lo + f (h_hi - h_lo) / 2 of
     its part, and its density solves p_eos(rho, e0) = p by Newton's method.
     """
-    from ..deck.schema.model import Gravity
-    from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, eos_pressure, eos_sound_speed
+    from ..deck.schema import Gravity
+    from ..materials.kernels import eos_pressure, eos_sound_speed
 
     dim = nodes.shape[1]
     g = sum((np.array(l.acceleration[:dim], dtype=float) for l in deck.loads
@@ -368,17 +367,17 @@ def _hydrostatic_fill(model: Model, deck: Deck, name: str, j: int, nodes, conn, 
     surface = top.max()
     mid = lo + 0.5 * f[hit] * (hi - lo)
     row = model.material_param[m]
-    rho0, eos, q = row[0], int(row[P_EOS_TYPE]), np.ascontiguousarray(row[EOS_OFFSET:])
+    rho0, eos, q = row[P_RHO0], int(row[P_EOS_TYPE]), np.ascontiguousarray(row[EOS_OFFSET:])
     for i, e in enumerate(hit):
         p = rho0 * _norm(g) * (surface - mid[i])
         rho = rho0
         for _ in range(50):
             r = rho / rho0
-            c = eos_sound_speed(eos, q, r, q[1])
+            c = eos_sound_speed(eos, q, r, q[Q_E0])
             if c <= 0.0:
                 raise ModelError(f"parts.{name}.fill.{j}", "hydrostatic start: the EOS has no sound speed at the "
                                  "reference density")
-            step = (eos_pressure(eos, q, r, q[1]) - p) / (c * c)
+            step = (eos_pressure(eos, q, r, q[Q_E0]) - p) / (c * c)
             rho -= step
             if abs(step) <= 1e-14 * rho:
                 break
@@ -429,7 +428,7 @@ def _region(fill):
 
 def _particles(model: Model, deck: Deck) -> ParticleSet:
     """Fill every SPH part with lattice particles; one fluid sub-table for the particle system."""
-    from ..deck.schema.model import Gravity
+    from ..deck.schema import Gravity
     from ..sph import lattice
 
     sph = [(i, p) for i, p in enumerate(model.parts) if p.kind == "sph"]
@@ -455,7 +454,7 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
         if len(pts) == 0:
             raise ModelError(f"parts.{p.name}.spacing", f"spacing {dx:g} leaves no particle in the part's geometry")
         local = used.index(p.material)
-        density = np.full(len(pts), model.material_param[p.material, 0])
+        density = np.full(len(pts), model.material_param[p.material, P_RHO0])
         if part.hydrostatic:
             gravity = sum((np.array(l.acceleration) for l in deck.loads
                            if isinstance(l, Gravity) and (l.parts is None or p.name in l.parts)),
@@ -477,7 +476,7 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
     spacing = np.concatenate(dx_of)
     density = np.concatenate(rho)
     volume = spacing ** model.dim
-    mass = model.material_param[np.array(used)[np.concatenate(mat)], 0] * volume
+    mass = model.material_param[np.array(used)[np.concatenate(mat)], P_RHO0] * volume
     owners = np.concatenate(owner)
     tiny = np.finfo(np.float64).tiny
     degenerate = ~((mass >= tiny) & np.isfinite(mass) & (density >= tiny) & np.isfinite(density))

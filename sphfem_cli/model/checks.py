@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..materials.slots import P_E, P_G, P_K, P_RHO0
 from . import mesh as meshgen
 
 SPH_DENSITY_RATIO = 2.0
@@ -27,7 +28,7 @@ def particle_density(model, deck, used: np.ndarray, local: np.ndarray, density: 
 
     for part in np.unique(owners):
         density_range(f"parts.{model.parts[part].name}.material", density[owners == part])
-    ratio = density / model.material_param[used[local], 0]
+    ratio = density / model.material_param[used[local], P_RHO0]
     off = ~((ratio >= 1.0 / SPH_DENSITY_RATIO) & (ratio <= SPH_DENSITY_RATIO))
     if off.any():
         k = int(np.argmax(off))
@@ -50,7 +51,6 @@ def moduli(model) -> None:
     multiply moduli together (E = 1e300 overflowed in the plastic return map of the first force pass; found
     by fuzzing). Tiny moduli are left to the solver's step guards (E = 1e-300 runs into them)."""
     from . import build
-    from ..materials.kernels import P_E, P_G, P_K
 
     hi = DENSITY_RANGE[1]
     for m, name in enumerate(model.material_names):

@@ -12,7 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..deck.schema.model import FIELD_NAMES
+from ..deck.schema import FIELD_NAMES
+from ..materials.slots import H_EPS, P_RHO0
 from ..solver.explicit import EnergyRow, Simulation
 from .history import HistoryWriter
 from .xdmf import GridStep, XdmfWriter
@@ -134,7 +135,7 @@ class RunOutput:
         accel = (st.f_int + st.f_ext) * sim.inv_mass[:, None]
         vm = von_mises(st.stress)
         pressure = -st.stress[:, :3].mean(axis=1)
-        density = model.material_param[model.element_material, 0] * model.volume0 / st.volume
+        density = model.material_param[model.element_material, P_RHO0] * model.volume0 / st.volume
         data = {}
         order = sim.particles.original_order() if sim.particles is not None else None
         for i, p in enumerate(model.parts):
@@ -157,7 +158,7 @@ class RunOutput:
                 "stress": st.stress[e],
                 "von_mises": vm[e],
                 "pressure": pressure[e],
-                "plastic_strain": st.hist[e, 0],
+                "plastic_strain": st.hist[e, H_EPS],
                 "density": density[e],
             }
             data[p.name] = GridStep(
@@ -223,7 +224,7 @@ class _HistoryProbe:
             return [float(von_mises(stress).max())]
         if q == "pressure":
             return [float(-stress[:, :3].mean())]
-        return [float(st.hist[rows, 0].max())]
+        return [float(st.hist[rows, H_EPS].max())]
 
     def append(self) -> None:
         sim, st = self.sim, self.sim.state

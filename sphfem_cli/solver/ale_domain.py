@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 
 from ..ale.system import AleSystem
-from ..deck.schema.model import AleBoundary, Gravity
+from ..deck.schema import AleBoundary, Gravity
+from ..materials.slots import P_RHO0
 from ..model import sets as selection
 from ..model.build import VOID, Model
 
@@ -139,7 +140,7 @@ def _add_inflow_materials(model: Model, deck, part: str) -> None:
         if m in mesh.materials:
             continue
         n_elem = len(mesh.elements)
-        rho0 = float(model.material_param[m, 0])
+        rho0 = float(model.material_param[m, P_RHO0])
         mesh.materials.append(m)
         mesh.fractions = np.hstack([mesh.fractions, np.zeros((n_elem, 1))])
         mesh.density = np.hstack([mesh.density, np.full((n_elem, 1), rho0)])

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..deck.schema.model import (
+from ..deck.schema import (
     AleBoundary, DummyWallBoundary, FixedBoundary, Gravity, NodalForce, PrescribedVelocity, PressureLoad, SymmetryBoundary,
     WallBoundary,
 )

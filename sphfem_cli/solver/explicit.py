@@ -40,7 +40,7 @@ from typing import Callable
 import numpy as np
 
 from ..fem import kernels as fem
-from ..materials.kernels import EOS_OFFSET, NHIST, P_EOS_TYPE
+from ..materials.slots import EOS_OFFSET, H_EPS, NHIST, P_EOS_TYPE, Q_E0
 from ..model.build import Model
 from .boundary import Constraints, Curves, Loads, RigidBodies
 from .guards import ENERGY_GUARD_EVERY, RunStopped, energy_band_at, energy_out_of_band, first_non_finite
@@ -163,7 +163,7 @@ class Simulation:
         self.rigid.set_initial_velocity(v)
         n_modes = 1 if dim == 2 else 4
         has_eos = m.material_param[m.element_material, P_EOS_TYPE] >= 0
-        e0 = np.where(has_eos, m.material_param[m.element_material, EOS_OFFSET + 1], 0.0) * m.volume0
+        e0 = np.where(has_eos, m.material_param[m.element_material, EOS_OFFSET + Q_E0], 0.0) * m.volume0
         st = State(
             time=0.0, step=0, dt=0.0, x=m.coordinates.copy(), v=v,
             f_int=np.zeros((n, dim)), f_ext=np.zeros((n, dim)),
@@ -433,7 +433,7 @@ class Simulation:
             self._erode(st, bad[self._erode_inverted[bad]], "negative volume")
             bad = bad[~self._erode_inverted[bad]]
         if self._has_strain_erosion:
-            over = np.flatnonzero(m.element_active & (st.hist[:, 0] > self._erode_strain))
+            over = np.flatnonzero(m.element_active & (st.hist[:, H_EPS] > self._erode_strain))
             if len(over):
                 self._erode(st, over, "plastic strain")
         if len(bad):

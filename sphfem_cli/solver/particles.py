@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..deck.schema.model import DummyWallBoundary, Gravity, InitialVelocity, WallBoundary
+from ..deck.schema import DummyWallBoundary, Gravity, InitialVelocity, WallBoundary
 from ..model.build import Model
 from ..sph import lattice
 from ..sph.system import ParticleSystem, SPHOptions, WallParticles, box_walls
@@ -69,7 +69,7 @@ class Particles:
             (ps_model.material_type, ps_model.material_param), options,
             wall_particles=dummy_walls(deck, float(ps_model.spacing.min())),
         )
-        from ..materials.tables import P_DETONATION_VELOCITY
+        from ..materials.slots import P_DETONATION_VELOCITY
 
         if np.any(ps_model.material_param[:, P_DETONATION_VELOCITY] > 0.0):  # a high_explosive
             self.system.set_burn([(det.point, det.time) for det in deck.detonations])

@@ -31,6 +31,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0, _eos_state, eos_pressure, eos_sound_speed
+from ..materials.slots import P_VISCOSITY, Q_E0, Q_RHO0
 
 CUBIC_SPLINE = 0
 WENDLAND_C2 = 1
@@ -53,9 +54,6 @@ NF = 15
 # slots of the integer parameter vector iprm
 I_DIM, I_KERNEL, I_NX, I_NY, I_NZ, I_VISCOUS, I_DELTA_HYDRO, I_NREAL, I_NWALL = 0, 1, 2, 3, 4, 5, 6, 7, 8
 NI = 9
-
-# slots of the fluid parameter row used here (materials.tables)
-P_VISCOSITY = 5
 
 # Fast-math flags without nnan/ninf (NaN checks keep working), without "contract" and, but for the
 # additions of the neighbour sums (_FMV, _pair_sums), without "reassoc". numba links a copy of each
@@ -156,7 +154,7 @@ def update_particle_state(rho, e, m, mat, active, params, eta, dim, pmin, p, c, 
         ee = rho0 * e[i]
         pr, dpdmu, dpde = _eos_state(int(params[k, P_EOS_TYPE]), q, r, ee)
         p[i] = pr if pr > pmin else pmin
-        c2 = (dpdmu + pr * dpde / (r * r)) / q[0]  # as eos_sound_speed
+        c2 = (dpdmu + pr * dpde / (r * r)) / q[Q_RHO0]  # as eos_sound_speed
         c[i] = math.sqrt(c2) if c2 > 0.0 else 0.0
         vol = m[i] / rho[i]
         if dim == 2:
@@ -198,7 +196,7 @@ def densities_from_pressures(pressure, mat, params, out):
         k = mat[i]
         rho0 = params[k, P_RHO0]
         q = params[k, EOS_OFFSET:]
-        out[i] = density_from_pressure(int(params[k, P_EOS_TYPE]), q, rho0, pressure[i], q[1], rho0)
+        out[i] = density_from_pressure(int(params[k, P_EOS_TYPE]), q, rho0, pressure[i], q[Q_E0], rho0)
 
 
 # ------------------------------------------------------------------------------------- ghosts
@@ -601,11 +599,11 @@ def wall_pressure(sx, sd, cell_start, fprm, iprm, params):
             pw = (spw + gx * srx + gy * sry + gz * srz) / sw
         if pw < pmin:
             pw = pmin
-        rw = density_from_pressure(eos, q, rho0, pw, q[1], sd[k, D_RHO])
+        rw = density_from_pressure(eos, q, rho0, pw, q[Q_E0], sd[k, D_RHO])
         sd[k, D_VOL] *= sd[k, D_RHO] / rw  # same mass at the new density
         sd[k, D_RHO] = rw
         sd[k, D_PR] = pw / (rw * rw)
-        sd[k, D_C] = eos_sound_speed(eos, q, rw / rho0, q[1])
+        sd[k, D_C] = eos_sound_speed(eos, q, rw / rho0, q[Q_E0])
 
 
 @njit(cache=True, parallel=True, fastmath=_FM, error_model="numpy")

@@ -13,6 +13,7 @@ from typing import Sequence
 
 import numpy as np
 
+from ..materials.slots import P_RHO0
 from . import kernels as k
 
 
@@ -191,7 +192,7 @@ def hydrostatic_density(points: np.ndarray, params: np.ndarray, material: np.nda
     g = np.asarray(gravity, dtype=np.float64).reshape(-1)[:dim]
     s = np.asarray(surface_point, dtype=np.float64).reshape(-1)[:dim]
     mat = np.asarray(material, dtype=np.int64).reshape(len(pts))
-    rho0 = params[mat, 0]
+    rho0 = params[mat, P_RHO0]
     with np.errstate(over="ignore", invalid="ignore"):  # an overflowing column is model.checks' deck error
         pressure = np.maximum(rho0 * ((pts - s) @ g), 0.0)
     out = np.empty(len(pts))

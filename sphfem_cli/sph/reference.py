@@ -12,6 +12,7 @@ import itertools
 import numpy as np
 
 from ..materials import kernels as mk
+from ..materials import slots as ms
 from . import kernels as k
 
 
@@ -99,7 +100,7 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
     c = np.empty(n)
     for i in range(n):
         row = params[mat[i]]
-        eos, q, r, ee = int(row[mk.P_EOS_TYPE]), row[mk.EOS_OFFSET:], rho[i] / row[0], row[0] * e[i]
+        eos, q, r, ee = int(row[mk.P_EOS_TYPE]), row[mk.EOS_OFFSET:], rho[i] / row[ms.P_RHO0], row[ms.P_RHO0] * e[i]
         p[i] = max(mk.eos_pressure(eos, q, r, ee), opt.pressure_min)
         c[i] = mk.eos_sound_speed(eos, q, r, ee)
     h = opt.smoothing_ratio * (m / rho) ** (1.0 / dim)
@@ -136,13 +137,14 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
         pw = np.where(sw > 0, (W @ p + (rho[None, :, None] * rwf * W[:, :, None]).sum(1) @ g) / np.where(sw > 0, sw, 1), 0.0)
         pw = np.maximum(pw, opt.pressure_min)
         eos, q = int(row[mk.P_EOS_TYPE]), row[mk.EOS_OFFSET:]
-        rw = np.array([k.density_from_pressure(eos, q, row[0], pp, q[1], row[0]) for pp in pw])
-        cw = np.array([mk.eos_sound_speed(eos, q, r / row[0], q[1]) for r in rw])
+        rho0 = row[ms.P_RHO0]
+        rw = np.array([k.density_from_pressure(eos, q, rho0, pp, q[ms.Q_E0], rho0) for pp in pw])
+        cw = np.array([mk.eos_sound_speed(eos, q, r / rho0, q[ms.Q_E0]) for r in rw])
         X.append(wx3)
         V.append(np.zeros((nw, 3)))
         VV.append(np.zeros((nw, 3)))
         R.append(rw)
-        M.append(np.full(nw, row[0] * spacing**dim))
+        M.append(np.full(nw, rho0 * spacing**dim))
         P.append(pw)
         C.append(cw)
         H.append(hw)
@@ -161,8 +163,8 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
     vol = M / R
 
     # viscous stress at every point (needs the gradient at all points, fluid i -> all i)
-    mu = params[MAT, k.P_VISCOSITY]
-    viscous = bool(np.any(params[:, k.P_VISCOSITY] > 0) or opt.dilatational_viscosity > 0)
+    mu = params[MAT, ms.P_VISCOSITY]
+    viscous = bool(np.any(params[:, ms.P_VISCOSITY] > 0) or opt.dilatational_viscosity > 0)
     if viscous:
         ra = X[:, None, :] - X[None, :, :]
         rr = np.sqrt((ra**2).sum(-1))

@@ -25,6 +25,7 @@ from typing import Callable, Sequence
 import numpy as np
 
 from ..materials import kernels as mk
+from ..materials import slots as ms
 from . import kernels as k
 
 KERNELS = {"cubic_spline": k.CUBIC_SPLINE, "wendland_c2": k.WENDLAND_C2}
@@ -165,7 +166,7 @@ class ParticleSystem:
         if np.any(self.params[:, mk.P_EOS_TYPE] < 0):
             raise ValueError("every SPH fluid material needs an equation of state")
         if energy is None:
-            self.e = self.params[self.mat, mk.EOS_OFFSET + 1] / self.params[self.mat, mk.P_RHO0]
+            self.e = self.params[self.mat, mk.EOS_OFFSET + ms.Q_E0] / self.params[self.mat, mk.P_RHO0]
         else:
             self.e = np.array(energy, dtype=np.float64).reshape(n).copy()
         if opt.kernel not in KERNELS:
@@ -229,7 +230,7 @@ class ParticleSystem:
                            np.zeros(0), np.zeros(0))
         self._no_flips = np.ones((1, 3))
         self._no_stress = np.zeros((1, 6))
-        self.viscous = bool(np.any(self.params[:, k.P_VISCOSITY] > 0.0) or opt.dilatational_viscosity > 0.0)
+        self.viscous = bool(np.any(self.params[:, ms.P_VISCOSITY] > 0.0) or opt.dilatational_viscosity > 0.0)
         self.fprm = np.zeros(k.NF)
         self.fprm[[k.F_ALPHA, k.F_BETA, k.F_EPS, k.F_DELTA, k.F_XSPH]] = [
             opt.alpha, opt.beta, opt.eps, opt.delta, opt.xsph]
@@ -262,9 +263,8 @@ class ParticleSystem:
         velocity (a ``high_explosive``): lighting time at its current position from ``detonations``
         [(point, time), ...], size delta its spacing (m / rho)^(1/dim) now. Kept per particle id."""
         from ..materials.burn import lighting_time
-        from ..materials.tables import P_DETONATION_VELOCITY
 
-        d = self.params[self.mat, P_DETONATION_VELOCITY]
+        d = self.params[self.mat, ms.P_DETONATION_VELOCITY]
         self.burn_light = np.full(self.n, np.inf)
         self.burn_velocity = np.zeros(self.n)
         self.burn_delta = np.ones(self.n)

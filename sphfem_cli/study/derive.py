@@ -198,7 +198,8 @@ def _lattice_points(geometry: dict, dx: float) -> np.ndarray:
 def _energy_for_pressure(deck, material: str, pressure: float, density_ratio: float = 1.0) -> float | None:
     """E0 [pressure] at which the material's EOS gives ``pressure`` at rho/rho0 = density_ratio
     (every EOS here is linear in E); None when the pressure does not depend on E (Tait)."""
-    from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, eos_pressure
+    from ..materials.kernels import eos_pressure
+    from ..materials.slots import EOS_OFFSET, P_EOS_TYPE
     from ..materials.tables import pack_material
 
     mat = deck.materials[material]

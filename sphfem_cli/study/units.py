@@ -1,4 +1,4 @@
-"""Units of history columns, from the deck's ``units:`` (the unit systems of deck/schema/model.py).
+"""Units of history columns, from the deck's ``units:`` (the unit systems of deck/schema/control.py).
 
 A column's physical dimension follows from its name (the names output/results.py writes):
 lengths (displacement, coordinates, height, front), velocity, acceleration, stresses and
@@ -9,7 +9,7 @@ thickness (docs/deck-reference.md), so they carry a "/length".
 """
 from __future__ import annotations
 
-from ..deck.schema.model import UNIT_SYSTEMS
+from ..deck.schema import UNIT_SYSTEMS
 
 _LENGTH = ("displacement", "coordinates", "height", "front", "surface_height")
 _ENERGY = ("kinetic", "internal", "hourglass", "contact", "external_work", "total")

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from sphfem_cli.deck import reference
+from sphfem_cli.deck import reference, reference_fields
 from sphfem_cli.deck.reference import EXAMPLE_DECK, iter_models, render_reference
 from sphfem_cli.deck.schema import Deck
 from sphfem_cli.deck.validate import load_deck
@@ -55,10 +55,10 @@ def test_every_model_has_a_docstring():
 
 def test_reference_covers_every_family_and_type(rendered):
     for name in Deck.model_fields:
-        assert f'<a id="{reference._anchor(name)}"></a>' in rendered, name
+        assert f'<a id="{reference_fields.anchor_of(name)}"></a>' in rendered, name
     for model in iter_models(Deck):
         if "type" in model.model_fields and model.model_fields["type"].is_required():
-            assert f"with `type: {reference._type_tag(model)}`" in rendered, model.__name__
+            assert f"with `type: {reference_fields.type_tag(model)}`" in rendered, model.__name__
     families = [line[4:-1] for line in rendered.splitlines() if line.startswith("## `")]
     assert families == list(Deck.model_fields)
 
@@ -85,8 +85,8 @@ def test_example_deck_validates(rendered, tmp_path):
 
 
 def test_type_rendering():
-    t = reference._type_text
-    from sphfem_cli.deck.schema.model import BoxGeometry, Control, PrescribedVelocity
+    t = reference_fields.field_type_text
+    from sphfem_cli.deck.schema import BoxGeometry, Control, PrescribedVelocity
 
     assert t(Control.model_fields["end_time"].annotation, Control.model_fields["end_time"].metadata, "x") == "number > 0"
     f = Control.model_fields["timestep_scale"]

@@ -9,6 +9,7 @@ from pydantic import TypeAdapter, ValidationError
 
 from sphfem_cli.deck.schema.materials import EquationOfState, Material
 from sphfem_cli.materials import kernels as k
+from sphfem_cli.materials import slots as ms
 from sphfem_cli.materials.tables import pack_eos, pack_material
 
 MAT = TypeAdapter(Material)
@@ -50,7 +51,7 @@ def uniaxial_step(t, p, sig, hist, dexx, dt=1e-6):
 
 def drive(t, p, strains, steps_per_unit=2e5, dt=1e-6):
     """Drive uniaxial stress through the total strains in `strains`; return (strain, stress) pairs."""
-    sig, hist = np.zeros(6), np.zeros(k.NHIST)
+    sig, hist = np.zeros(6), np.zeros(ms.NHIST)
     eps, out = 0.0, []
     for target in strains:
         n = max(1, int(abs(target - eps) * steps_per_unit))
@@ -67,7 +68,7 @@ def drive(t, p, strains, steps_per_unit=2e5, dt=1e-6):
 def test_elastic_shear_and_volume():
     t, p = material(type="elastic", density=RHO, youngs_modulus=E, poisson_ratio=NU)
     g, kb = E / (2 * (1 + NU)), E / (3 * (1 - 2 * NU))
-    sig, hist = np.zeros(6), np.zeros(k.NHIST)
+    sig, hist = np.zeros(6), np.zeros(ms.NHIST)
     gam = 1e-4  # tensor shear strain eps_xy
     assert k.update_stress(t, p, sig, hist, np.array([0, 0, 0, gam, 0, 0.0]), 1e-6, 1.0, 0.0) == 0.0
     assert sig[3] == pytest.approx(2 * g * gam, rel=1e-14)
@@ -83,7 +84,7 @@ def test_plane_strain_keeps_szz():
     t, p = material(type="elastic", density=RHO, youngs_modulus=E, poisson_ratio=NU)
     lam = E * NU / ((1 + NU) * (1 - 2 * NU))
     sig = np.zeros(6)
-    k.update_stress(t, p, sig, np.zeros(k.NHIST), np.array([1e-4, -2e-5, 0, 0, 0, 0.0]), 1e-6, 1.0, 0.0)
+    k.update_stress(t, p, sig, np.zeros(ms.NHIST), np.array([1e-4, -2e-5, 0, 0, 0, 0.0]), 1e-6, 1.0, 0.0)
     assert sig[2] == pytest.approx(lam * 0.8e-4, rel=1e-13)
 
 
@@ -124,10 +125,10 @@ def test_bilinear_cycle_isotropic_vs_kinematic(beta):
     if beta == 1.0:
         assert srev == pytest.approx(-smax)
     # plastic work = integral of sigma d eps_p along the path (trapezoid on the fine path)
-    eps_p = np.array([h[0] for _, _, h in path])
+    eps_p = np.array([h[ms.H_EPS] for _, _, h in path])
     stress = np.array([abs(s) for _, s, _ in path])
     wp = np.sum(0.5 * (stress[1:] + stress[:-1]) * np.diff(eps_p))
-    assert hist[7] == pytest.approx(wp, rel=1e-3)
+    assert hist[ms.H_WP] == pytest.approx(wp, rel=1e-3)
 
 
 # ----------------------------------------------------------------------------------- Johnson-Cook
@@ -141,7 +142,7 @@ def test_jc_reference_rate_follows_hardening_curve():
     rate = 1.0
     de = 1e-5
     path, _, _ = drive(t, p, [0.1], steps_per_unit=1 / de, dt=de / rate)
-    plastic = [(s, h[0]) for _, s, h in path if h[0] > 0]
+    plastic = [(s, h[ms.H_EPS]) for _, s, h in path if h[ms.H_EPS] > 0]
     assert len(plastic) > 1000
     for s, ep in plastic[::50]:
         assert s == pytest.approx(JC["A"] + JC["B"] * ep ** JC["n"], rel=1e-3)
@@ -151,19 +152,19 @@ def test_jc_rate_and_thermal_terms_satisfied_each_step():
     t, p = material(**JC, specific_heat=477.0)
     rate, de = 1e3, 1e-4
     dt = de / rate
-    sig, hist = np.zeros(6), np.zeros(k.NHIST)
+    sig, hist = np.zeros(6), np.zeros(ms.NHIST)
     checked = 0
     for _ in range(1500):
-        ep0, wp0 = hist[0], hist[7]
+        ep0, wp0 = hist[ms.H_EPS], hist[ms.H_WP]
         s = uniaxial_step(t, p, sig, hist, de, dt)
-        dl = hist[0] - ep0
+        dl = hist[ms.H_EPS] - ep0
         if dl > 0:
             rs = dl / dt / JC["reference_strain_rate"]
             tstar = wp0 / (RHO * 477.0) / (JC["melt_temperature"] - JC["room_temperature"])
-            sy = (JC["A"] + JC["B"] * hist[0] ** JC["n"]) * (1 + JC["C"] * math.log(max(rs, 1.0))) * (1 - tstar)
+            sy = (JC["A"] + JC["B"] * hist[ms.H_EPS] ** JC["n"]) * (1 + JC["C"] * math.log(max(rs, 1.0))) * (1 - tstar)
             assert s == pytest.approx(sy, rel=1e-8)
             checked += 1
-    assert checked > 1000 and hist[7] > 0
+    assert checked > 1000 and hist[ms.H_WP] > 0
 
 
 def test_jc_with_eos_takes_pressure_from_eos():
@@ -171,7 +172,7 @@ def test_jc_with_eos_takes_pressure_from_eos():
     t, p = material(**JC, eos="lp", _eos=dict(type="linear_polynomial", c1=kb, c2=2 * kb))
     sig = np.zeros(6)
     v = 0.98
-    k.update_stress(t, p, sig, np.zeros(k.NHIST), np.array([-0.02, 0, 0, 0, 0, 0.0]), 1e-6, v, 0.0)
+    k.update_stress(t, p, sig, np.zeros(ms.NHIST), np.array([-0.02, 0, 0, 0, 0, 0.0]), 1e-6, v, 0.0)
     mu = 1 / v - 1
     assert -sig[:3].mean() == pytest.approx(kb * mu + 2 * kb * mu * mu, rel=1e-12)
 
@@ -268,11 +269,11 @@ def test_eos_sound_speed_matches_finite_difference(rho0, spec, r):
 def test_fluid_stress_and_speed():
     t, p = material(type="fluid", density=1000.0, viscosity=1e-3, eos="w",
                     _eos=dict(type="tait", reference_density=1000.0, sound_speed=50.0))
-    assert p[k.P_G] == 0.0 and p[k.P_K] == pytest.approx(1000 * 2500, rel=1e-14)
+    assert p[ms.P_G] == 0.0 and p[ms.P_K] == pytest.approx(1000 * 2500, rel=1e-14)
     sig, dt = np.zeros(6), 1e-5
     deps = np.array([2e-6, -1e-6, -1e-6, 3e-6, 0, 0])
     v = 1 / 1.001
-    k.update_stress(t, p, sig, np.zeros(k.NHIST), deps, dt, v, 0.0)
+    k.update_stress(t, p, sig, np.zeros(ms.NHIST), deps, dt, v, 0.0)
     pr = 1000 * 2500 / 7 * (1.001**7 - 1)
     assert sig[0] == pytest.approx(-pr + 2e-3 * 2e-6 / dt, rel=1e-12)
     assert sig[3] == pytest.approx(2e-3 * 3e-6 / dt, rel=1e-12)
@@ -282,7 +283,7 @@ def test_fluid_stress_and_speed():
 def test_rigid_untouched():
     t, p = material(type="rigid", density=RHO, youngs_modulus=E, poisson_ratio=NU)
     sig = np.arange(6.0)
-    assert k.update_stress(t, p, sig, np.zeros(k.NHIST), np.full(6, 1e-3), 1e-6, 1.0, 0.0) == 0.0
+    assert k.update_stress(t, p, sig, np.zeros(ms.NHIST), np.full(6, 1e-3), 1e-6, 1.0, 0.0) == 0.0
     assert np.all(sig == np.arange(6.0))
 
 
@@ -331,3 +332,56 @@ def test_pack_material_eos_mismatch():
     f = MAT.validate_python(dict(type="fluid", density=1000.0, eos="w"))
     with pytest.raises(ValueError):
         pack_material(f, None)
+
+
+# ------------------------------------------------------------------------------ slot layout
+
+
+def test_slot_layouts_are_disjoint_in_range_and_complete():
+    """Within one model (or EOS) no two names share a slot; each stays in its part of the row; every
+    slot name of materials/slots.py belongs to one layout."""
+    value = lambda names: [getattr(ms, n) for n in names]  # noqa: E731
+    common = value(ms.COMMON_SLOTS)
+    assert sorted(common) == list(range(ms.P_MODEL))
+    for model, names in ms.MODEL_SLOTS.items():
+        slots = value(names)
+        assert len(set(slots)) == len(slots) and all(ms.P_MODEL <= s < ms.P_EOS_TYPE for s in slots), model
+    assert ms.P_EOS_TYPE < ms.EOS_OFFSET and ms.NQ == ms.NPARAM - ms.EOS_OFFSET
+    assert sorted(value(ms.COMMON_EOS_SLOTS)) == list(range(ms.Q_MODEL))
+    for eos, names in ms.EOS_SLOTS.items():
+        slots = value(names)
+        assert len(set(slots)) == len(slots) and all(ms.Q_MODEL <= s < ms.NQ for s in slots), eos
+    assert sorted(value(ms.HISTORY_SLOTS)) == list(range(ms.NHIST))
+    declared = {n for n in dir(ms) if n[:2] in ("P_", "Q_", "H_") and n not in ("P_MODEL", "Q_MODEL", "P_EOS_TYPE")}
+    listed = set(ms.COMMON_SLOTS) | set(ms.COMMON_EOS_SLOTS) | set(ms.HISTORY_SLOTS)
+    listed |= {n for names in (*ms.MODEL_SLOTS.values(), *ms.EOS_SLOTS.values()) for n in names}
+    assert declared == listed
+
+
+def _packed_slots(row):
+    return {int(i) for i in np.flatnonzero(row)}
+
+
+@pytest.mark.parametrize("rho0,spec", EOS_CASES, ids=[c[1]["type"] for c in EOS_CASES])
+def test_pack_eos_fills_only_its_declared_slots(rho0, spec):
+    _, q = eos_row(rho0, **spec)
+    allowed = {getattr(ms, n) for n in (*ms.COMMON_EOS_SLOTS, *ms.EOS_SLOTS[spec["type"]])}
+    assert _packed_slots(q) <= allowed and len(q) == ms.NQ
+    assert {getattr(ms, n) for n in ms.EOS_SLOTS[spec["type"]]} <= _packed_slots(q)  # every constant given is nonzero
+
+
+def test_pack_material_fills_only_its_declared_slots():
+    jc = dict(type="johnson_cook", density=RHO, youngs_modulus=E, poisson_ratio=NU, A=350e6, B=275e6, n=0.36,
+              C=0.022, m=1.0, reference_strain_rate=1.0, melt_temperature=1356.0, room_temperature=293.0,
+              specific_heat=383.0)
+    cases = {"elastic_plastic": bilinear()[1], "johnson_cook": material(**jc)[1],
+             "elastic": material(type="elastic", density=RHO, youngs_modulus=E, poisson_ratio=NU)[1],
+             "fluid": material(type="fluid", density=1000.0, viscosity=1e-3, eos="w",
+                               _eos=dict(type="ideal_gas", gamma=1.4))[1]}
+    for model, p in cases.items():
+        own = {getattr(ms, n) for n in (*ms.COMMON_SLOTS, *ms.MODEL_SLOTS[model])}
+        model_part = {s for s in _packed_slots(p) if s < ms.P_EOS_TYPE}
+        assert model_part <= own, model
+        assert {getattr(ms, n) for n in ms.MODEL_SLOTS[model]} - {ms.P_DETONATION_VELOCITY} <= model_part, model
+    assert cases["elastic_plastic"][ms.P_EP_EP] == pytest.approx(E * ET / (E - ET), rel=1e-15)
+    assert cases["johnson_cook"][ms.P_JC_CP] == 383.0 and cases["fluid"][ms.P_VISCOSITY] == 1e-3

@@ -11,7 +11,8 @@ import pytest
 from sphfem_cli.deck.schema import materials as sm
 from sphfem_cli.materials import kernels as mk
 from sphfem_cli.materials.burn import burn_fraction, lighting_time, quad_size
-from sphfem_cli.materials.tables import P_DETONATION_VELOCITY, pack_material
+from sphfem_cli.materials.slots import P_DETONATION_VELOCITY
+from sphfem_cli.materials.tables import pack_material
 
 D = 6930.0
 RHO0 = 1630.0

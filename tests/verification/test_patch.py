@@ -17,7 +17,7 @@ import pytest
 from conftest import load_deck
 from sphfem_cli.deck.schema.materials import Elastic
 from sphfem_cli.fem import kernels as fem
-from sphfem_cli.materials.kernels import NHIST
+from sphfem_cli.materials.slots import NHIST
 from sphfem_cli.materials.tables import pack_material
 from sphfem_cli.model.mesh import box_mesh
 from sphfem_cli.solver.explicit import Simulation

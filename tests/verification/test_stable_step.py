@@ -26,7 +26,7 @@ import pytest
 
 from conftest import load_deck
 from sphfem_cli.fem import kernels as fem
-from sphfem_cli.materials.kernels import NHIST
+from sphfem_cli.materials.slots import NHIST
 from sphfem_cli.solver.explicit import Simulation
 
 pytestmark = pytest.mark.usefixtures("single_thread")

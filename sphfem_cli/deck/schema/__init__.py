@@ -1,5 +1,12 @@
 """The deck: one pydantic model per keyword family, and cross-reference checks over the whole.
 
+Each keyword family has its module (``control`` for units, control and curves; ``materials`` for
+materials and equations of state; ``sections``; ``parts``; ``sets``; ``boundaries``; ``initial``;
+``loads``; ``interaction`` for contacts and couplings; ``output``), and ``shapes`` holds the
+boxes, balls and planes several of them use. Every public name of those modules is importable
+from this package. Field descriptions are the deck reference's text (docs/deck-reference.md is
+generated from them), so each states meaning, units and default.
+
 Cross-reference errors are raised as ``ValueError("@dotted.path: message")`` so that
 ``deck.validate`` can point at the offending key's line and column.
 """
@@ -10,32 +17,25 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from ..errors import format_path
+from . import boundaries, control, initial, interaction, loads, materials, output, parts, sections, sets, shapes
 from .base import DeckModel, check_vector_lengths, name_problem
-from .interaction import Contact, Coupling, LagrangeInSolid, NodesToSurface
-from .materials import Detonation, EquationOfState, Material
-from .model import (
-    MESH_KINDS,
-    PARTICLE_KINDS,
-    Boundary,
-    Control,
-    Curve,
-    Gravity,
-    Initial,
-    Load,
-    NodalForce,
-    Output,
-    Part,
-    PressureLoad,
-    Section,
-    SegmentSet,
-    SetDef,
-    AleBoundary,
-    DummyWallBoundary,
-    Units,
-    WallBoundary,
-)
+from .boundaries import *  # noqa: F403
+from .control import *  # noqa: F403
+from .initial import *  # noqa: F403
+from .interaction import *  # noqa: F403
+from .loads import *  # noqa: F403
+from .materials import *  # noqa: F403
+from .output import *  # noqa: F403
+from .parts import *  # noqa: F403
+from .sections import *  # noqa: F403
+from .sets import *  # noqa: F403
+from .shapes import *  # noqa: F403
 
-__all__ = ["Deck"]
+__all__ = ["Deck", "RESERVED_HISTORIES"] + [
+    name for family in (control, materials, sections, parts, sets, boundaries, initial, loads, interaction, output,
+                        shapes)
+    for name in family.__all__
+]
 
 
 class Deck(DeckModel):

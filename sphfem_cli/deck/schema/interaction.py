@@ -13,6 +13,8 @@ from pydantic import Field
 
 from .base import DeckModel, NonNegativeFloat, PositiveFloat
 
+__all__ = ["NodesToSurface", "LagrangeInSolid", "Contact", "Coupling"]
+
 
 class NodesToSurface(DeckModel):
     """Penalty contact: slave points (particles or nodes) against master segments."""

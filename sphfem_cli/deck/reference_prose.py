@@ -1,0 +1,168 @@
+"""The hand-written parts of the deck reference (docs/deck-reference.md): its header, the example
+deck, the conventions every deck follows, and the tables of unit systems and file limits.
+
+Everything about a single key is generated from the schema instead (``deck.reference``).
+"""
+from __future__ import annotations
+
+from .loader import LIMITS
+from .schema import UNIT_SYSTEMS
+
+__all__ = ["EXAMPLE_DECK", "HEADER", "CONVENTIONS", "unit_table", "limit_table"]
+
+EXAMPLE_DECK = """\
+# The smallest complete deck: a steel plate (plane strain) pushed at its left end.
+title: Steel plate pushed at one end
+units: {length: mm, mass: t, time: s}     # so force N, pressure MPa, density t/mm^3
+dimension: 2                               # plane strain in the x-y plane
+
+control:
+  end_time: 1.0e-5                         # [time] = s
+
+materials:
+  steel: {type: elastic, density: 7.85e-9, youngs_modulus: 2.1e5, poisson_ratio: 0.3}
+
+sections:
+  solid: {type: solid}                     # default hourglass and bulk viscosity
+
+parts:
+  plate:
+    material: steel                        # a name from materials
+    section: solid                         # a name from sections
+    geometry: {box: {min: [0.0, 0.0], max: [50.0, 10.0], element_size: 2.5}}
+
+sets:
+  left_end: {type: node, part: plate, side: left}
+
+boundaries:
+  - {type: prescribed_velocity, set: left_end, velocity: [1000.0, null]}   # 1 m/s, y left free
+
+output:
+  interval: 1.0e-6
+  history_interval: 1.0e-7
+  histories:
+    - {name: tip, point: [50.0, 5.0], quantities: [displacement, velocity]}
+"""
+"""A complete, minimal deck; printed at the top of the reference and validated by the tests."""
+
+HEADER = """\
+# Deck reference
+
+<!-- Generated from sphfem_cli/deck/schema/ by `python -m sphfem_cli.deck.reference`.
+     Do not edit by hand: change the schema's descriptions and docstrings, then regenerate.
+     tests/unit/test_deck_reference.py fails when this file and the schema differ. -->
+
+A deck is one YAML file. Its top-level keys are keyword families, in the manner of LS-DYNA's
+keywords: `control` for the run, named `materials`, `equations_of_state`, `sections` and `parts`,
+named node and segment `sets`, lists of `boundaries`, `initial` conditions and `loads`, and the
+`output` requests. `sphfem check deck.yaml` validates a deck, builds the model and prints a
+summary with the stable time step; `sphfem run deck.yaml` runs it.
+"""
+
+CONVENTIONS = """\
+## Reading a deck
+
+### Units
+
+The deck declares one consistent unit system in `units:` and every number in the deck is in that
+system. Nothing is ever converted: the kernels compute with the numbers as written, so a deck in
+mm-t-s gives stresses in MPa. Descriptions state the dimension of each quantity in brackets:
+[length], [time], [mass/length^3], [pressure], [force], [length/time], [-] for dimensionless.
+The accepted systems (as LS-DYNA lists them) and the units they imply:
+
+{unit_table}
+
+### Numbers and other scalars
+
+Scalars follow the YAML 1.2 core schema, not YAML 1.1: `1e-3`, `.5`, `2.1E11` and `1.` are
+numbers; `yes`, `no`, `on`, `off`, `1_000` and `0b101` are strings. `true`/`false` are booleans
+and `null` (or `~`, or nothing) is null. Where a number is expected an integer is accepted
+(`7850` as well as `7850.0`); where an integer is expected a float is refused (`2.0` is not an
+integer). A quoted number (`"1.0"`) is a string and is refused where a number is expected;
+`.inf` and `.nan` are refused everywhere. Anchors, aliases and merge keys (`<<: *base`) work;
+duplicate keys are an error.
+
+### Errors
+
+A bad deck stops before anything runs, with one line on stderr and exit status 65:
+
+```
+deck.yaml:4:26: materials.steel.densty: unknown key 'densty' (did you mean 'density'?; allowed: density, youngs_modulus, poisson_ratio, type)
+```
+
+that is `file:line:col: path.in.deck: what is wrong (what was expected)`. Unknown keys, unknown
+`type` values and unknown names are reported with the closest match and the allowed choices.
+Paths are dotted, list items by index: `boundaries[0].set`.
+
+### Names and cross-references
+
+`curves`, `equations_of_state`, `materials`, `sections`, `parts` and `sets` are mappings from a
+name you choose to a definition. Other entries refer to those by name, and every reference is
+checked when the deck is read (an unknown name is an error that lists the known ones):
+
+| key | refers to |
+|---|---|
+| `materials.<name>.eos` | `equations_of_state` |
+| `parts.<name>.material`, `parts.<name>.section` | `materials`, `sections` |
+| `sets.<name>.part` | `parts` |
+| `part`, `set`, `curve` in `boundaries`, `initial`, `loads` items | `parts`, `sets`, `curves` |
+| `loads[i].parts` (gravity) | `parts` |
+| `part`, `set` in `output.histories` items | `parts`, `sets` |
+
+A `pressure` load needs a segment set and a `nodal_force` load a node set. A name is any string
+of Unicode (`steel`, `left_end`, `名前`, `🔥`; plain words need no quotes) that the output files
+can carry, since names become CSV columns, file names (`histories/<name>.csv`) and HDF5/XDMF
+names, all written as UTF-8. Refused: an empty or blank name, control characters and line or
+paragraph separators, the characters `,` `"` `/` `\\`, the names `.` and `..`, and names over
+{name_chars} characters or {name_bytes} bytes of UTF-8. Histories and probes cannot take the
+names of the tables the solver writes itself ({reserved}).
+
+### Limits on the file
+
+A deck is a regular file (not a FIFO, a device or a directory), read with these bounds, each an
+error naming the bound when crossed; an environment variable raises each one:
+
+{limits}
+
+Mesh files named by `geometry.file` must be regular files too; a file that meshio cannot read
+(a corrupt `.vtu`, an unknown format) is an error at the deck's `file:` key.
+
+### Vectors and `dimension`
+
+`dimension: 2` is plane strain in the x-y plane (forces, masses and energies per unit thickness);
+`dimension: 3` is full 3D. A *vector of `dimension` numbers* (a point, a velocity, an
+acceleration) has 2 components in 2D and 3 in 3D; its length is checked against `dimension`
+once the whole deck has been read. Directions are named `x`, `y`, `z`; `z` does not exist in 2D.
+
+### How to read the tables
+
+Each table lists the keys of one mapping: its **type** (number, integer, string, boolean, a list,
+a vector, one of a fixed set of words, or a nested mapping with its own table), its **default**
+(**required** if it has none; `null` means unset, and the description says what unset implies)
+and its **description**. Keys not listed are refused. Entries of `equations_of_state`,
+`materials`, `sections`, `sets`, `boundaries`, `initial` and `loads` are selected by their
+`type` key; each `type` has its own table.
+"""
+
+
+def unit_table() -> str:
+    """The accepted unit systems and the units they imply, as a Markdown table."""
+    rows = ["| length | mass | time | force | pressure | density |", "|---|---|---|---|---|---|"]
+    for (length, mass, time), (force, pressure, density) in UNIT_SYSTEMS.items():
+        rows.append(f"| {length} | {mass} | {time} | {force} | {pressure} | {density} |")
+    return "\n".join(rows)
+
+
+_LIMIT_TEXT = {
+    "SPHFEM_MAX_DECK_BYTES": "bytes in the deck file",
+    "SPHFEM_MAX_DECK_NODES": "values (scalars, lists and mappings) with every alias and merge key expanded: "
+                             "an alias bomb stops here",
+    "SPHFEM_MAX_DECK_DEPTH": "nesting depth of lists and mappings",
+}
+
+
+def limit_table() -> str:
+    """The bounds on a deck file, their environment variables and defaults, as a Markdown table."""
+    rows = ["| environment variable | default | bounds |", "|---|---|---|"]
+    rows += [f"| `{name}` | {value} | {_LIMIT_TEXT[name]} |" for name, value in LIMITS.items()]
+    return "\n".join(rows)

@@ -1,0 +1,181 @@
+"""Deck keyword family ``boundaries``: kinematic conditions on nodes and rigid parts, SPH walls
+(ghost and dummy particles) and the sides of ALE meshes.
+"""
+from __future__ import annotations
+
+from typing import Annotated, Literal, Union
+
+from pydantic import Field, model_validator
+
+from .base import DeckModel, OptionalComponents, PositiveFloat, Vector, check_extent, exactly_one
+from .shapes import BallGeometry, PolygonGeometry, VolumeBox
+
+__all__ = [
+    "Target",
+    "Direction",
+    "FixedBoundary",
+    "SymmetryBoundary",
+    "PrescribedVelocity",
+    "WallBoundary",
+    "DummyWallBoundary",
+    "WallRegion",
+    "AleBoundary",
+    "Boundary",
+]
+
+
+class Target(DeckModel):
+    """Exactly one of a part name or a set name."""
+
+    part: str | None = Field(None, description="All nodes of this part.")
+    set: str | None = Field(None, description="A node set (or the nodes of a segment set).")
+
+    @model_validator(mode="after")
+    def _one_target(self) -> "Target":
+        exactly_one(self, ("part", "set"), "target", at="part")
+        return self
+
+
+Direction = Literal["x", "y", "z"]
+
+
+class FixedBoundary(Target):
+    """Zero velocity in the listed directions (LS-DYNA *BOUNDARY_SPC).
+
+    On a rigid part it holds the body's translation in those directions; fixed in every direction,
+    the body is held entirely (no rotation either). With hold_rotation the body's rotation is held
+    as well, e.g. directions [x] leaves a 2D body one degree of freedom, translation in y.
+    """
+
+    type: Literal["fixed"] = Field(description="Boundary selector: fixed directions.")
+    directions: list[Direction] | None = Field(
+        None, description="Fixed directions. Default all directions of the deck's dimension."
+    )
+    hold_rotation: bool = Field(
+        False, description="Rigid parts only (given by part): hold the body's rotation too (no spin), whatever the "
+        "directions. Default false: a rigid body turns freely unless every direction is fixed."
+    )
+
+
+class SymmetryBoundary(Target):
+    """A symmetry plane: zero velocity normal to it."""
+
+    type: Literal["symmetry"] = Field(description="Boundary selector: symmetry plane.")
+    normal: Direction = Field(description="Axis normal to the symmetry plane.")
+
+
+class PrescribedVelocity(Target):
+    """Velocity imposed on nodes, or on a rigid part as a whole (LS-DYNA *BOUNDARY_PRESCRIBED_MOTION)."""
+
+    type: Literal["prescribed_velocity"] = Field(description="Boundary selector: prescribed velocity.")
+    velocity: OptionalComponents = Field(
+        description="Velocity [length/time] per direction; null leaves a direction free."
+    )
+    curve: str | None = Field(None, description="Curve scaling the velocity in time. Default constant.")
+
+
+class WallBoundary(DeckModel):
+    """Planar walls on sides of a box for SPH particles, modelled by ghost (mirror) particles.
+
+    Ghosts carry the mirrored particle's density and pressure (the paper's method); "slip" mirrors
+    the normal velocity, "no_slip" the whole velocity.
+    """
+
+    type: Literal["wall"] = Field(description="Boundary selector: SPH ghost-particle walls.")
+    min: Vector = Field(description="Lower corner of the box whose sides are walls [length].")
+    max: Vector = Field(description="Upper corner [length].")
+    sides: list[Literal["left", "right", "bottom", "top", "back", "front"]] = Field(
+        min_length=1, description="Which sides are walls: left/right (x), bottom/top (y), back/front (z)."
+    )
+    condition: Literal["slip", "no_slip"] = Field("slip", description="Tangential condition. Default slip.")
+
+    @model_validator(mode="after")
+    def _volume(self) -> "WallBoundary":
+        check_extent(self.min, self.max, "the walls' box")
+        return self
+
+
+class DummyWallBoundary(DeckModel):
+    """Fixed dummy wall particles for SPH (Adami, Hu & Adams 2012): walls of any shape.
+
+    Either layers of particles outside sides of a box (`min`, `max`, `sides`, as a ghost `wall`),
+    or a region filled with wall particles (`region`: a box, ball or polygon). The wall particles
+    take part in the fluid's sums; their pressure is extrapolated from the fluid around them
+    (with gravity), their velocity is zero (no-slip for viscous terms).
+    """
+
+    type: Literal["dummy_wall"] = Field(description="Boundary selector: SPH dummy wall particles.")
+    min: Vector | None = Field(None, description="Box sides mode: lower corner of the box [length].")
+    max: Vector | None = Field(None, description="Box sides mode: upper corner [length].")
+    sides: list[Literal["left", "right", "bottom", "top", "back", "front"]] | None = Field(
+        None, description="Box sides mode: which sides get wall layers outside the box."
+    )
+    region: "WallRegion | None" = Field(None, description="Region mode: {box | ball | polygon} filled with wall particles.")
+    layers: int = Field(3, ge=1, le=10, description="Box sides mode: particle layers (cover the kernel support 2h). Default 3.")
+    spacing: PositiveFloat | None = Field(None, description="Wall particle spacing [length]. Default the smallest SPH part spacing.")
+
+    @model_validator(mode="after")
+    def _one_mode(self) -> "DummyWallBoundary":
+        box_mode = [k for k in ("min", "max", "sides") if getattr(self, k) is not None]
+        if self.region is None and len(box_mode) != 3:
+            raise ValueError("@type: give 'min', 'max' and 'sides' (layers outside a box) or 'region'")
+        if self.region is not None and box_mode:
+            raise ValueError(f"@{box_mode[0]}: give either 'region' or 'min'/'max'/'sides', not both")
+        check_extent(self.min, self.max, "the walls' box")
+        return self
+
+
+class WallRegion(DeckModel):
+    """A region filled with dummy wall particles."""
+
+    box: VolumeBox | None = Field(None, description="{min, max} box.")
+    ball: BallGeometry | None = Field(None, description="A disc (2D) or ball (3D).")
+    polygon: PolygonGeometry | None = Field(None, description="A 2D polygon.")
+
+    @model_validator(mode="after")
+    def _one_region(self) -> "WallRegion":
+        exactly_one(self, ("box", "ball", "polygon"), "region")
+        return self
+
+
+DummyWallBoundary.model_rebuild()
+
+
+class AleBoundary(DeckModel):
+    """A condition on sides of an ALE part's mesh: slip wall, fixed (no-slip) wall, transmitting outflow,
+    or inflow of a material at a given state."""
+
+    type: Literal["ale_boundary"] = Field(description="Boundary selector: sides of an ALE mesh.")
+    part: str = Field(description="An ALE part.")
+    sides: list[Literal["left", "right", "bottom", "top", "front", "back"]] = Field(
+        min_length=1, description="Sides of the part's mesh (front and back: z-min and z-max, 3D)."
+    )
+    condition: Literal["slip", "fixed", "transmit", "inflow"] = Field(
+        "slip", description="slip, fixed, transmit (open, zero gradient) or inflow (a ghost element outside, reset to the inflow state every step, is the donor of the advection through the side; the side's nodes move at `velocity`). Default slip."
+    )
+    material: str | None = Field(None, description="inflow: the entering material (fluid or high explosive; added to the part's materials if no fill holds it).")
+    velocity: Vector | None = Field(None, description="inflow: velocity of the side's nodes [length/time] (on a slip wall only its tangential part).")
+    density: PositiveFloat | None = Field(None, description="inflow: density of the entering material [mass/length^3]. Default the material's.")
+    pressure: float | None = Field(None, description="inflow: pressure of the entering material [pressure]; the energy follows from the EOS. Default the EOS's e0.")
+    energy: float | None = Field(None, description="inflow: specific internal energy of the entering material [energy/mass]; or give pressure.")
+
+    @model_validator(mode="after")
+    def _inflow_state(self) -> "AleBoundary":
+        keys = ("material", "velocity", "density", "pressure", "energy")
+        if self.condition != "inflow":
+            for key in keys:
+                if getattr(self, key) is not None:
+                    raise ValueError(f"@{key}: only inflow boundaries take '{key}'")
+            return self
+        for key in ("material", "velocity"):
+            if getattr(self, key) is None:
+                raise ValueError(f"@{key}: an inflow boundary needs '{key}'")
+        if self.pressure is not None and self.energy is not None:
+            raise ValueError("@energy: give only one of 'pressure' or 'energy'")
+        return self
+
+
+Boundary = Annotated[
+    Union[FixedBoundary, SymmetryBoundary, PrescribedVelocity, WallBoundary, DummyWallBoundary, AleBoundary],
+    Field(discriminator="type"),
+]

@@ -1,0 +1,90 @@
+"""Deck keyword family ``output``: field output, time histories and fluid probes.
+"""
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from .base import DeckModel, PositiveFloat, Vector, exactly_one
+
+__all__ = [
+    "NODE_QUANTITIES",
+    "ELEMENT_QUANTITIES",
+    "FIELD_NAMES",
+    "HISTORY_ONLY",
+    "HistoryRequest",
+    "Probe",
+    "Output",
+]
+
+
+NODE_QUANTITIES = ("displacement", "velocity", "acceleration", "coordinates")
+ELEMENT_QUANTITIES = ("stress", "von_mises", "pressure", "plastic_strain")
+FIELD_NAMES = NODE_QUANTITIES + ELEMENT_QUANTITIES + ("density",)
+HISTORY_ONLY = ("contact_force",)  # summed over the nodes: the force contacts and couplings exert on them
+
+
+class HistoryRequest(DeckModel):
+    """A time history of nodal (mean over the nodes) or element (at the nearest element) quantities."""
+
+    name: str = Field(description="Name of the CSV table written (histories/<name>.csv).")
+    part: str | None = Field(None, description="Mean over the nodes of a part.")
+    set: str | None = Field(None, description="Mean over the nodes of a set.")
+    point: Vector | None = Field(
+        None, description="The node nearest this point (element quantities: the element nearest it)."
+    )
+    quantities: list[Literal[NODE_QUANTITIES + ELEMENT_QUANTITIES + HISTORY_ONLY]] = Field(
+        default_factory=lambda: ["displacement", "velocity"],
+        description="Quantities recorded (contact_force: the total force of contacts and couplings on the "
+        "nodes, at the start of the last step). Default [displacement, velocity].",
+    )
+
+    @model_validator(mode="after")
+    def _one_target(self) -> "HistoryRequest":
+        exactly_one(self, ("part", "set", "point"), "target", at="name")
+        return self
+
+
+class Probe(DeckModel):
+    """A fluid measurement written as a history (histories/<name>.csv): SPH particles, or pressure in an ALE part."""
+
+    name: str = Field(description="Name of the CSV table written.")
+    type: Literal["pressure", "surface_height", "front"] = Field(
+        description="pressure: kernel-interpolated at `point`; surface_height: free-surface height at the "
+        "gauge position `gauge` along `axis`; front: the furthest particle of `part` (all SPH parts by default) along `axis`, "
+        "or in an ALE part the furthest reach of `material` (each element's material volume packed against its "
+        "face on the -axis side: x_min + phi (x_max - x_min) over the elements holding more than 1e-3 of it)."
+    )
+    point: Vector | None = Field(None, description="pressure: where [length].")
+    gauge: float | None = Field(None, description="surface_height: gauge position along `axis` [length].")
+    axis: Literal["x", "y", "z"] = Field("x", description="surface_height and front: the horizontal axis. Default x.")
+    part: str | None = Field(None, description="front: an SPH part (default all SPH parts) or the ALE part; pressure: "
+                             "the ALE part to measure instead of the SPH particles (the mixture pressure of the element "
+                             "at `point`; the default in a deck whose only fluid is ALE).")
+    material: str | None = Field(None, description="front in an ALE part: the material whose front is measured "
+                                 "(required there).")
+
+    @model_validator(mode="after")
+    def _needs(self) -> "Probe":
+        if self.type == "pressure" and self.point is None:
+            raise ValueError("@point: a pressure probe needs 'point'")
+        if self.type == "surface_height" and self.gauge is None:
+            raise ValueError("@gauge: a surface_height probe needs 'gauge'")
+        return self
+
+
+class Output(DeckModel):
+    """What is written, and how often."""
+
+    interval: PositiveFloat | None = Field(
+        None, description="Simulated time between field outputs to XDMF/HDF5 [time]. Default end_time/50."
+    )
+    history_interval: PositiveFloat | None = Field(
+        None, description="Simulated time between history rows [time]. Default end_time/1000."
+    )
+    fields: list[Literal[FIELD_NAMES]] = Field(
+        default_factory=lambda: list(FIELD_NAMES), description="Fields written to XDMF. Default all."
+    )
+    histories: list[HistoryRequest] = Field(default_factory=list, description="Requested time histories.")
+    probes: list[Probe] = Field(default_factory=list, description="SPH probes, written as histories.")

@@ -1,0 +1,132 @@
+"""Deck keyword family ``sections``: how a part is discretised (Lagrangian solid elements, SPH
+particles or multi-material ALE) and the numerical controls of each.
+"""
+from __future__ import annotations
+
+from typing import Annotated, Literal, Union
+
+from pydantic import Field
+
+from .base import DeckModel, NonNegativeFloat, PositiveFloat
+from .shapes import VolumeBox
+
+__all__ = [
+    "Hourglass",
+    "BulkViscosity",
+    "SolidSection",
+    "ArtificialViscosity",
+    "SphSection",
+    "AleSection",
+    "Section",
+]
+
+
+class Hourglass(DeckModel):
+    """Flanagan–Belytschko hourglass control of one-point elements."""
+
+    type: Literal["viscous", "stiffness"] = Field(
+        "viscous", description="viscous (Flanagan-Belytschko viscous form with the LS-DYNA IHQ=1 coefficient; like IHQ=2) or stiffness (Flanagan-Belytschko stiffness form, like IHQ=4). Default viscous."
+    )
+    coefficient: Annotated[float, Field(ge=0, le=0.12)] = Field(
+        0.1, description="Hourglass coefficient QM [-], at most 0.12. Default 0.1 (0.05–0.1 typical for stiffness). The hourglass terms are not part of the stable time step: in 3D, viscous QM above about 0.14 (LS-DYNA warns above 0.15) and stiffness QM above about 0.2 make a run unstable, hence the bound."
+    )
+
+
+class BulkViscosity(DeckModel):
+    """Von Neumann–Richtmyer shock viscosity, active in compression."""
+
+    q1: NonNegativeFloat = Field(1.5, description="Quadratic coefficient Q1. Default 1.5.")
+    q2: NonNegativeFloat = Field(0.06, description="Linear coefficient Q2. Default 0.06.")
+
+
+class SolidSection(DeckModel):
+    """Lagrangian solid elements: quad4 plane strain (2D) or hex8 (3D), one-point integration."""
+
+    type: Literal["solid"] = Field(description="Section selector: Lagrangian solid elements.")
+    hourglass: Hourglass = Field(default_factory=Hourglass, description="Hourglass control.")
+    bulk_viscosity: BulkViscosity = Field(default_factory=BulkViscosity, description="Shock viscosity.")
+
+
+class ArtificialViscosity(DeckModel):
+    """Monaghan artificial viscosity Pi_ij = (-alpha c mu_ij + beta mu_ij^2)/rho for approaching pairs."""
+
+    alpha: NonNegativeFloat = Field(0.1, description="Linear coefficient alpha. Default 0.1.")
+    beta: NonNegativeFloat = Field(0.0, description="Quadratic coefficient beta. Default 0.")
+    epsilon: PositiveFloat = Field(0.01, description="Singularity guard eps in mu_ij = h v.r/(r^2 + eps h^2). Default 0.01.")
+
+
+class SphSection(DeckModel):
+    """Smoothed particle hydrodynamics: the part is filled with particles at `spacing` (see parts)."""
+
+    type: Literal["sph"] = Field(description="Section selector: SPH particles.")
+    kernel: Literal["cubic_spline", "wendland_c2"] = Field("cubic_spline", description="Smoothing kernel. Default cubic_spline.")
+    smoothing_ratio: Annotated[float, Field(gt=0.5, le=3.0)] = Field(
+        1.2, description="Smoothing length over particle spacing, h/dx. Default 1.2."
+    )
+    artificial_viscosity: ArtificialViscosity = Field(
+        default_factory=ArtificialViscosity, description="Monaghan artificial viscosity."
+    )
+    density_diffusion: float = Field(
+        0.1, ge=0, le=1, description="delta-SPH density diffusion coefficient (Molteni & Colagrossi 2009), 0 to 1 (they use 0.1); 0 turns it off. Default 0.1."
+    )
+    diffusion_hydrostatic: bool = Field(
+        True, description="Subtract the hydrostatic density difference in the density diffusion (Fourtakas-type), so that it does not smear a liquid at rest under gravity. Default true."
+    )
+    ghost_hydrostatic: bool = Field(
+        True, description="Ghost particles carry the mirrored particle's pressure plus the hydrostatic increment rho g.(x_ghost - x); false is the paper's plain mirror, which leaves the rows next to a floor about 5 % low under gravity. Default true."
+    )
+    xsph: float = Field(0.0, ge=0, le=1, description="XSPH velocity smoothing coefficient epsilon, 0 to 1 (Monaghan 1989 uses 0.5); 0 turns it off. Default 0.")
+    pressure_cutoff: float | None = Field(
+        None, description="Lowest pressure a particle may carry (cavitation) [pressure]. Default none."
+    )
+    domain: VolumeBox | None = Field(
+        None, description="{min, max}: particles leaving this box are deactivated and counted. Default none."
+    )
+
+
+class AleSection(DeckModel):
+    """Multi-material ALE (quad4 in 2D, hex8 in 3D): a Lagrangian phase on the mesh, then a remap back
+    (Eulerian) or to a smoothed mesh, moving each material's volume, mass and energy across element
+    faces. In 3D a smoothed mesh takes smoothing average with fixed boundary nodes."""
+
+    type: Literal["ale_multi_material"] = Field(description="Section selector: multi-material ALE.")
+    advection: Literal["donor_cell", "van_leer"] = Field(
+        "van_leer", description="donor_cell (first order) or van_leer (second-order MUSCL). Default van_leer."
+    )
+    mesh_motion: Literal["eulerian", "lagrangian", "smoothed"] = Field(
+        "eulerian", description="eulerian: the mesh returns to its start after each Lagrangian phase; lagrangian: no remap, the mesh moves with the material (no advection; no transmit or inflow sides); smoothed: the Lagrangian mesh relaxed by `smoothing` (LS-DYNA *CONTROL_ALE METH with AFAC/DFAC). Default eulerian."
+    )
+    smoothing: Literal["average", "equipotential", "straight_lines"] = Field(
+        "average", description="smoothed meshes: average (each interior node towards the mean of its edge neighbours, LS-DYNA AFAC), equipotential (Winslow's equipotential point on the four-element stencil, LS-DYNA DFAC; other nodes averaged; 2D only) or straight_lines (the paper's variant: every node moves only along the straight mesh line through it along `line_axis`, the lines' end nodes with the material, the nodes inside a line kept at their initial parameter between its ends, like LS-DYNA *ALE_SMOOTHING; a structured mesh; smoothing_weight, smoothing_iterations and smoothing_boundary do not apply). Default average."
+    )
+    line_axis: Literal["x", "y", "z"] = Field(
+        "y", description="straight_lines smoothing: the axis the mesh lines run along (the lines' ends follow the material along it, e.g. a free surface). Default y."
+    )
+    smoothing_weight: Annotated[float, Field(ge=0, le=1)] = Field(
+        0.5, description="Fraction of the way to the smoothing target each pass moves a node. Default 0.5."
+    )
+    smoothing_iterations: Annotated[int, Field(ge=1)] = Field(1, description="Smoothing passes per remap. Default 1.")
+    eulerian_pull: Annotated[float, Field(ge=0, le=1)] = Field(
+        0.2, description="After smoothing, fraction of the way back to its start each moving node goes (bounds the drift of a mesh in a steady stream; 0 for pure smoothing). Default 0.2."
+    )
+    smoothing_boundary: Literal["fixed", "sliding"] = Field(
+        "fixed", description="Boundary nodes of a smoothed mesh: fixed (Eulerian) or sliding along straight sides (corners fixed). Default fixed."
+    )
+    advect_every: Annotated[int, Field(ge=1)] = Field(1, description="Remap every N steps. Default 1.")
+    interface: Literal["slic", "donor"] = Field(
+        "slic", description="Material-volume fluxes: slic (sharp interfaces, directional SLIC) or donor. Default slic."
+    )
+    closure: Literal["relax", "equal_strain"] = Field(
+        "relax", description="Mixed elements: relax (pressure relaxation between materials) or equal_strain. Default relax."
+    )
+    hourglass: Annotated[float, Field(ge=0, le=0.12)] = Field(0.1, description="Viscous hourglass coefficient. Default 0.1.")
+    courant: Annotated[float, Field(gt=0, le=1.0)] = Field(
+        0.5, description="Fraction of the ALE element step l/(c + |v|) used (the remap needs it below 1). Default 0.5, as verified on the shock tubes."
+    )
+    bulk_viscosity: BulkViscosity = Field(default_factory=BulkViscosity, description="Shock viscosity.")
+    pressure_cutoff: float | None = Field(
+        None, description="Lowest pressure any ALE material may carry (cavitation; LS-DYNA *MAT_NULL PC) [pressure]. Default none (a fluid EOS may go into tension)."
+    )
+
+
+Section = Annotated[Union[SolidSection, SphSection, AleSection], Field(discriminator="type")]
