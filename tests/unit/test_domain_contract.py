@@ -9,7 +9,7 @@ import csv
 import numpy as np
 import pytest
 
-from sphfem_cli.cli import load_model
+from sphfem_cli.driver import load_model
 from sphfem_cli.output.results import RunOutput
 from sphfem_cli.output.snapshot import capture, restore
 from sphfem_cli.solver.domain import Domain, Energies, register_domain, unregister_domain
