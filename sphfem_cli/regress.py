@@ -127,6 +127,9 @@ def run_short(deck: Path, end_time: float | None, fraction: float, workdir: Path
         d.output.history_interval = full_end / 1000.0
     t_end = float(end_time) if end_time is not None else fraction * full_end
     d.control.end_time = t_end
+    from .model.options import resolve_options
+
+    loaded.model.options = resolve_options(d, loaded.model)  # the run reads the settings of the changed deck
     workdir.mkdir(parents=True, exist_ok=True)
     import numba
 

@@ -18,10 +18,11 @@ def master_segments(model: Model, name: str) -> tuple[np.ndarray, np.ndarray]:
     ``faces`` int64 (S, 2|4) global node ids, ``owner`` int64 (S,) global element ids.
     """
     faces_all, owner_all = [], []
+    is_part = any(p.name == name for p in model.parts)
     for p in model.parts:
         if p.kind != "solid" or p.elements.stop == p.elements.start:
             continue
-        if name in model.deck.parts and p.name != name:
+        if is_part and p.name != name:
             continue
         faces, owner = selection.boundary_faces(model.connectivity[p.elements], model.dim)
         faces_all.append(faces)

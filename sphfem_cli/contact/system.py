@@ -24,15 +24,15 @@ class NodesToSurfaceContact:
         self.faces, owner = master_segments(model, spec.surface)
         self.master_nodes = np.unique(self.faces)
         x0 = model.coordinates
-        self.particle_slaves = spec.nodes in model.deck.parts and model.parts[model.part_index(spec.nodes)].kind == "sph"
+        by_part = any(p.name == spec.nodes for p in model.parts)  # else a node set
+        self.particle_slaves = by_part and model.parts[model.part_index(spec.nodes)].kind == "sph"
         if self.particle_slaves:
             self.part_index = model.part_index(spec.nodes)
             ps = model.particles
             slave_mass = ps.mass[ps.part == self.part_index]
             self.slave_thickness = 0.5 * ps.spacing if spec.thickness is None else np.full(ps.n, spec.thickness)
         else:
-            self.slave_nodes = model.target_nodes(spec.nodes if spec.nodes in model.deck.parts else None,
-                                                  None if spec.nodes in model.deck.parts else spec.nodes)
+            self.slave_nodes = model.target_nodes(spec.nodes if by_part else None, None if by_part else spec.nodes)
             slave_mass = model.mass[self.slave_nodes]
             edge = min(float(np.min(np.linalg.norm(x0[self.faces[:, (j + 1) % self.faces.shape[1]]] - x0[self.faces[:, j]], axis=1)))
                        for j in range(self.faces.shape[1]))

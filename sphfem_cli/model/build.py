@@ -20,6 +20,7 @@ from ..materials.tables import pack_material
 from . import checks
 from . import mesh as meshgen
 from . import sets as selection
+from .options import RunOptions, resolve_options
 from .sizes import (BYTES_PER_ELEMENT, BYTES_PER_NODE, BYTES_PER_PARTICLE,  # noqa: F401 - re-exported
                     available_memory, check_memory, estimate_counts)
 
@@ -127,6 +128,7 @@ class Model:
     particles: ParticleSet | None = None
     ale: "AleMesh | None" = None
     element_dt_factor: np.ndarray | None = None  # (E,) see free_dilatation_factor; None: all 1
+    options: "RunOptions | None" = None  # the settings below model/ reads (model.options.resolve_options)
 
     @property
     def n_nodes(self) -> int:
@@ -252,6 +254,7 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
         model.particles = _particles(model, deck)
     if any(p.kind == "ale" for p in parts):
         model.ale = _ale_mesh(model, deck, deck_path)
+    model.options = resolve_options(deck, model)
     return model
 
 

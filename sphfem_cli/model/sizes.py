@@ -56,7 +56,7 @@ def estimate_counts(deck: Deck, name: str) -> tuple[int, int, int]:
 
 @np.errstate(over="ignore", invalid="ignore", divide="ignore")
 def estimate_wall_particles(deck: Deck) -> int:
-    """Dummy wall particles the deck's `dummy_wall` boundaries will lay (solver/particles.py), from the deck alone."""
+    """Dummy wall particles the deck's `dummy_wall` boundaries will lay (model/options.py), from the deck alone."""
     from ..deck.schema import DummyWallBoundary
 
     walls = [bc for bc in deck.boundaries if isinstance(bc, DummyWallBoundary)]

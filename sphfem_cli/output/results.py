@@ -3,8 +3,10 @@
 histories/glstat.csv   global energies (LS-DYNA glstat)
 histories/matsum.csv   kinetic, internal, hourglass energy per part (LS-DYNA matsum)
 histories/<name>.csv   each requested history (LS-DYNA nodout/elout)
-histories/ale_materials.csv   mass, internal and kinetic energy per material of the ALE part
-The same tables are mirrored in results.h5 under /histories.
+histories/<table>.csv  the tables each domain adds (solver.domain `history_tables`), e.g. ale_materials:
+                       mass, internal and kinetic energy per material of the ALE part
+The same tables are mirrored in results.h5 under /histories. The grids, fields, extra tables and
+probes come from the simulation's domains (solver.domain); the settings from `model.options.output`.
 """
 from __future__ import annotations
 
@@ -12,29 +14,20 @@ from pathlib import Path
 
 import numpy as np
 
-from ..deck.schema import FIELD_NAMES
-from ..materials.slots import H_EPS, P_RHO0
+from ..materials.slots import H_EPS
 from ..solver.explicit import EnergyRow, Simulation
+from ..solver.solid_domain import von_mises
 from .history import HistoryWriter
 from .xdmf import GridStep, XdmfWriter
 
-TOPOLOGY = {4: "Quadrilateral", 8: "Hexahedron"}
 XML_BUDGET = 0.05  # the XDMF index is rewritten at a field step whenever that costs under 5 % of the wall time
 _PROBE_COLUMN = {"pressure": "pressure", "surface_height": "height", "front": "front"}
 
 
-def von_mises(stress: np.ndarray) -> np.ndarray:
-    """sqrt(3/2 s:s) of the deviator, stress (E, 6) in order xx, yy, zz, xy, yz, zx."""
-    p = stress[:, :3].mean(axis=1)
-    s = stress[:, :3] - p[:, None]
-    shear = stress[:, 3:]
-    return np.sqrt(1.5 * (np.sum(s * s, axis=1) + 2.0 * np.sum(shear * shear, axis=1)))
-
-
 def history_tables(model) -> list[str]:
     """The history tables a run of `model` writes (histories/<name>.csv), in RunOutput's order."""
-    out = model.deck.output
-    ale = ["ale_materials"] if model.ale is not None else []
+    out = model.options.output
+    ale = ["ale_materials"] if model.ale is not None else []  # AleDomain.history_tables, without building it
     return ["glstat", "matsum", *ale, *(h.name for h in out.histories), *(p.name for p in out.probes)]
 
 
@@ -46,37 +39,29 @@ class RunOutput:
         after the rows and steps it lists (what was written after it is dropped)."""
         self.sim = sim
         model = sim.model
-        out = model.deck.output
-        end = model.deck.control.end_time
-        self.field_interval = out.interval or end / 50.0
-        self.history_interval = out.history_interval or end / 1000.0
+        out = model.options.output
+        self.field_interval = out.interval
+        self.history_interval = out.history_interval
         self.fields = set(out.fields)
+        self._selectable = out.selectable
         self.directory = Path(directory)
         (self.directory / "histories").mkdir(parents=True, exist_ok=True)
         self.xdmf = XdmfWriter(self.directory, "results", resume=None if resume is None else resume["xdmf"],
                                xml_budget=XML_BUDGET)
         rows = {} if resume is None else resume["rows"]
-        for p in model.parts if resume is None else ():
-            if p.kind == "sph":
-                self.xdmf.add_grid(p.name, "Polyvertex", None, p.particles.stop - p.particles.start)
-                continue
-            if p.kind == "ale":
-                self.xdmf.add_grid(p.name, TOPOLOGY[model.ale.elements.shape[1]], model.ale.elements,
-                                   len(model.ale.nodes))
-                continue
-            conn = model.connectivity[p.elements] - p.nodes.start
-            self.xdmf.add_grid(p.name, TOPOLOGY[model.nodes_per_element], conn, p.nodes.stop - p.nodes.start)
+        self._owner = {i: d for d in sim.domains for i in d.parts}
+        for i, p in enumerate(model.parts) if resume is None else ():
+            self.xdmf.add_grid(p.name, *self._owner[i].grid(i))
         group = self.xdmf.h5.require_group("histories")
         hist_dir = self.directory / "histories"
         self.glstat = HistoryWriter(hist_dir, "glstat", EnergyRow.COLUMNS, h5=group, resume_rows=rows.get("glstat"))
         part_cols = ["time"] + [f"{p.name}_{k}" for p in model.parts for k in ("kinetic", "internal", "hourglass")]
         self.matsum = HistoryWriter(hist_dir, "matsum", part_cols, h5=group, resume_rows=rows.get("matsum"))
-        self.ale_materials = None
-        if sim.ale is not None:
-            self.ale_materials = HistoryWriter(hist_dir, "ale_materials", ["time", *sim.ale.material_columns()],
-                                               h5=group, resume_rows=rows.get("ale_materials"))
+        self.domain_tables = [(d, [HistoryWriter(hist_dir, name, ["time", *columns], h5=group,
+                                                 resume_rows=rows.get(name)) for name, columns in d.history_tables()])
+                              for d in sim.domains]
         self.requests = [_HistoryProbe(sim, h, hist_dir, group, rows.get(h.name)) for h in out.histories]
-        self.probes = [(probe, HistoryWriter(hist_dir, probe.name, ["time", _PROBE_COLUMN[probe.type]], h5=group,
+        self.probes = [(probe, next(d for d in sim.domains if d.owns_probe(probe)), HistoryWriter(hist_dir, probe.name, ["time", _PROBE_COLUMN[probe.type]], h5=group,
                                              resume_rows=rows.get(probe.name)))
                        for probe in out.probes]
         self._next_field = 0.0 if resume is None else resume["next_field"]
@@ -85,8 +70,8 @@ class RunOutput:
         self.last_energy: EnergyRow | None = None if last is None else EnergyRow(*(float(v) for v in last))
 
     def _writers(self) -> list[HistoryWriter]:
-        ale = [self.ale_materials] if self.ale_materials is not None else []
-        return [self.glstat, self.matsum, *ale, *(p.writer for p in self.requests), *(w for _, w in self.probes)]
+        tables = [w for _, writers in self.domain_tables for w in writers]
+        return [self.glstat, self.matsum, *tables, *(p.writer for p in self.requests), *(w for _, _, w in self.probes)]
 
     def flush(self) -> None:
         """Every history row appended so far onto disk (CSV and HDF5)."""
@@ -122,52 +107,30 @@ class RunOutput:
         self.last_energy = row
         self.glstat.append(row.values())
         self.matsum.append([row.time, *self.sim.part_energies().ravel()])
-        if self.ale_materials is not None:
-            self.ale_materials.append([row.time, *self.sim.ale.material_row()])
+        for domain, writers in self.domain_tables:
+            if writers:
+                for writer, values in zip(writers, domain.history_rows()):
+                    writer.append([row.time, *values])
         for probe in self.requests:
             probe.append()
-        for probe, writer in self.probes:
-            ale = self.sim.ale is not None and (probe.part == self.sim.ale.name or self.sim.particles is None)
-            writer.append([row.time, self.sim.ale.probe(probe) if ale else self.sim.particles.probe(probe)])
+        for probe, domain, writer in self.probes:
+            writer.append([row.time, domain.probe(probe)])
 
     def write_fields(self) -> None:
-        sim, model, st = self.sim, self.sim.model, self.sim.state
-        accel = (st.f_int + st.f_ext) * sim.inv_mass[:, None]
-        vm = von_mises(st.stress)
-        pressure = -st.stress[:, :3].mean(axis=1)
-        density = model.material_param[model.element_material, P_RHO0] * model.volume0 / st.volume
+        sim, model = self.sim, self.sim.model
+
+        def wanted(name: str) -> bool:
+            return name in self.fields or name not in self._selectable
+
+        steps = {}
+        for d in sim.domains:
+            steps.update(d.field_data(wanted))
         data = {}
-        order = sim.particles.original_order() if sim.particles is not None else None
         for i, p in enumerate(model.parts):
-            if p.kind == "ale":
-                coords, point, cell = sim.ale.fields()
-                data[p.name] = GridStep(coordinates=coords, point_data=point, cell_data=cell)
-                continue
-            if p.kind == "sph":
-                coords, point = sim.particles.part_fields(i, order)
-                data[p.name] = GridStep(coordinates=coords, point_data={
-                    k: val for k, val in point.items() if k in self.fields or k not in FIELD_NAMES})
-                continue
-            n, e = p.nodes, p.elements
-            point = {
-                "displacement": st.x[n] - model.coordinates[n],
-                "velocity": st.v[n],
-                "acceleration": accel[n],
-            }
-            cell = {
-                "stress": st.stress[e],
-                "von_mises": vm[e],
-                "pressure": pressure[e],
-                "plastic_strain": st.hist[e, H_EPS],
-                "density": density[e],
-            }
-            data[p.name] = GridStep(
-                coordinates=st.x[n],
-                point_data={k: val for k, val in point.items() if k in self.fields},
-                cell_data={k: val for k, val in cell.items() if k in self.fields},
-            )
+            coords, point, cell = steps[i]
+            data[p.name] = GridStep(coordinates=coords, point_data=point, cell_data=cell)
         self.flush()  # histories up to this field step are on disk with it
-        self.xdmf.write_step(st.time, data)
+        self.xdmf.write_step(sim.state.time, data)
 
     def close(self) -> None:
         for writer in self._writers():

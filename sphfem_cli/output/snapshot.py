@@ -9,8 +9,8 @@ describes every value as a JSON tree whose leaves are
     numpy arrays                       {"t": "array", "a": index into the array list, "mem": buffer group}
     numpy scalars                      {"t": "np", "dtype": ..., "v": ...}
     slices, sets                       {"t": "slice" | "set" | "frozenset", ...}
-    configuration                      {"t": "skip", "type": ...}: deck objects (pydantic models), numba
-                                       dispatchers and paths; they come from the deck and the code, never
+    configuration                      {"t": "skip", "type": ...}: deck objects (pydantic models), the
+                                       settings resolved from them (model.options), numba dispatchers and paths; they come from the deck and the code, never
                                        from a checkpoint, and are only checked to be of the same type
 
 and whose inner nodes are objects with a ``__dict__`` ({"t": "obj", "cls": module.qualname, "attrs": ...}), lists,
@@ -55,7 +55,9 @@ def _skipped_types() -> tuple[type, ...]:
     import pydantic
     from numba.core.dispatcher import Dispatcher
 
-    return (pydantic.BaseModel, Dispatcher, PurePath)
+    from ..model.options import Options
+
+    return (pydantic.BaseModel, Options, Dispatcher, PurePath)
 
 
 def _cls(value: Any) -> str:

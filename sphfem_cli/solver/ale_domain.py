@@ -1,4 +1,4 @@
-"""The ALE part of a model inside the explicit loop: built from the deck, stepped with the loop's dt.
+"""The ALE part of a model as a domain of the explicit loop (solver.domain), stepped with the loop's dt.
 
 Imported only when a deck has an ALE part, so other runs compile no ALE kernel.
 """
@@ -7,51 +7,48 @@ from __future__ import annotations
 import numpy as np
 
 from ..ale.system import AleSystem
-from ..deck.schema import AleBoundary, Gravity
-from ..materials.slots import P_RHO0
 from ..model import sets as selection
 from ..model.build import VOID, Model
+from ..model.options import AleOptions
+from .domain import Domain, Energies, stable_or_nan
+from .solid_domain import TOPOLOGY
 
 _AXES = {"left": 0, "right": 0, "bottom": 1, "top": 1, "front": 2, "back": 2}  # each side's normal axis
 
 
-class AleDomain:
+class AleDomain(Domain):
     """One `AleSystem` holding the deck's ALE part, plus what the loop and the output ask of it."""
 
-    def __init__(self, model: Model):
+    kind = "ale"
+    label = "ALE"
+    non_finite_remedy = "lower the section's courant, check the equations of state and units"
+
+    def __init__(self, model: Model, options: AleOptions):
         mesh = model.ale
-        deck = model.deck
-        part = model.parts[mesh.part]
-        section = deck.sections[deck.parts[part.name].section]
-        _add_inflow_materials(model, deck, part.name)
         self.model = model
-        self.name = part.name
+        self.name = options.part
+        self.parts = (mesh.part,)
         self.names = [model.material_names[m] for m in mesh.materials]
         rows = [None if model.material_type[m] == VOID else (int(model.material_type[m]), model.material_param[m])
                 for m in mesh.materials]
-        self.section = section
+        self.courant = options.courant
+        o = options
         self.system = AleSystem(
             mesh.nodes, mesh.elements, rows, mesh.fractions, mesh.density, pressure=mesh.pressure,
-            velocity=mesh.velocity, q1=section.bulk_viscosity.q1, q2=section.bulk_viscosity.q2,
-            hourglass=section.hourglass, order=1 if section.advection == "donor_cell" else 2,
-            interface=section.interface, closure=section.closure, advect_every=section.advect_every,
-            mesh_motion={"smoothed": "smooth"}.get(section.mesh_motion, section.mesh_motion),
-            smoothing=section.smoothing, smooth_weight=section.smoothing_weight,
-            smooth_iterations=section.smoothing_iterations, eulerian_pull=section.eulerian_pull,
-            smooth_boundary=section.smoothing_boundary, pressure_cutoff=section.pressure_cutoff,
-            line_axis="xyz".index(section.line_axis),
+            velocity=mesh.velocity, q1=o.q1, q2=o.q2,
+            hourglass=o.hourglass, order=1 if o.advection == "donor_cell" else 2,
+            interface=o.interface, closure=o.closure, advect_every=o.advect_every,
+            mesh_motion={"smoothed": "smooth"}.get(o.mesh_motion, o.mesh_motion),
+            smoothing=o.smoothing, smooth_weight=o.smoothing_weight,
+            smooth_iterations=o.smoothing_iterations, eulerian_pull=o.eulerian_pull,
+            smooth_boundary=o.smoothing_boundary, pressure_cutoff=o.pressure_cutoff,
+            line_axis="xyz".index(o.line_axis),
         )
-        burn = [(j, deck.materials[n].detonation_velocity) for j, n in enumerate(self.names)
-                if deck.materials[n].type == "high_explosive"]
-        if burn:
-            self.system.set_burn([j for j, _ in burn], [d for _, d in burn],
-                                 [(det.point, det.time) for det in deck.detonations])
-        for load in deck.loads:
-            if isinstance(load, Gravity) and (load.parts is None or part.name in load.parts):
-                self.system.gravity += np.array(load.acceleration[:model.dim], dtype=float)
-        for bc in deck.boundaries:
-            if not isinstance(bc, AleBoundary):
-                continue
+        if o.burn:
+            self.system.set_burn([j for j, _ in o.burn], [d for _, d in o.burn], list(o.detonations))
+        for g in o.gravity:
+            self.system.gravity += g
+        for bc in o.sides:
             for side in bc.sides:
                 nodes = selection.nodes_on_side(mesh.nodes, side)
                 if bc.condition == "slip":
@@ -59,22 +56,28 @@ class AleDomain:
                 elif bc.condition == "fixed":
                     self.system.set_fixed(nodes)
                 elif bc.condition == "inflow":
-                    self.system.set_inflow(nodes, self.names.index(bc.material), bc.velocity[:model.dim], density=bc.density,
+                    self.system.set_inflow(nodes, bc.material, bc.velocity[:model.dim], density=bc.density,
                                            energy=bc.energy, pressure=bc.pressure)
                 else:
                     self.system.set_transmit(nodes)
 
-    def stable_dt(self) -> float:
-        return self.system.stable_dt(self.section.courant)
+    # ------------------------------------------------------------------------------ loop
 
-    def step(self, dt: float, dt_avg: float | None = None) -> None:
+    def stable_dt(self, scale: float | None = None) -> float:
+        """The mesh's stable step at the section's courant number (`scale`, timestep_scale, is not used)."""
+        ale = self.system
+        return stable_or_nan(lambda: ale.stable_dt(self.courant), ale.x, ale.velocity)
+
+    def clear_coupling(self) -> None:
+        self.system.f_couple[:] = 0.0
+
+    def advance(self, t: float, dt: float, dt_avg: float) -> None:
         """One step of the loop's dt; coupling forces (f_couple) get the impulse weight dt_avg."""
         self.system.step(dt, dt_avg)
 
-    def external_work(self) -> float:
-        """Work done on the fluid by gravity and coupling forces so far (the loop's energy table takes
-        the couplings' work back out and books it as contact energy)."""
-        return self.system.gravity_work + self.system.coupling_work
+    def limiter_description(self) -> str:
+        e = int(np.argmin(self.system.dt_elem))
+        return f"element {e} of ALE part '{self.name}'"
 
     def state_arrays(self) -> dict[str, np.ndarray]:
         """The evolving node and element arrays the output reads, by name."""
@@ -82,10 +85,33 @@ class AleDomain:
         return {"ALE node coordinates": ale.x, "ALE node velocity": ale.velocity, "ALE material volume": ale.vol_m,
                 "ALE material mass": ale.mass_m, "ALE material energy": ale.ener_m, "ALE material pressure": ale.pres_m}
 
-    def energies(self) -> tuple[float, float]:
-        """(kinetic, internal) of the ALE fluid."""
+    def energies(self) -> Energies:
+        """Kinetic and internal energy of the fluid; the work done on it by gravity and coupling forces
+        so far (the loop's energy table takes the couplings' work back out and books it as contact energy)."""
+        totals = self.system.totals()
+        return Energies(totals["kinetic"], totals["internal"], 0.0,
+                        self.system.gravity_work + self.system.coupling_work)
+
+    def part_energies(self, part: int) -> tuple[float, float]:
         totals = self.system.totals()
         return totals["kinetic"], totals["internal"]
+
+    # ---------------------------------------------------------------------------- output
+
+    def grid(self, part: int) -> tuple[str, np.ndarray, int]:
+        mesh = self.model.ale
+        return TOPOLOGY[mesh.elements.shape[1]], mesh.elements, len(mesh.nodes)
+
+    def history_tables(self) -> list[tuple[str, list[str]]]:
+        """histories/ale_materials.csv: mass, internal and kinetic energy per material."""
+        return [("ale_materials", self.material_columns())]
+
+    def history_rows(self) -> list[list[float]]:
+        return [self.material_row()]
+
+    def owns_probe(self, probe) -> bool:
+        """Probes on the ALE part, and those naming no part (when no SPH domain takes them first)."""
+        return probe.part is None or probe.part == self.name
 
     def material_columns(self) -> list[str]:
         """Columns of histories/ale_materials.csv after time: mass, internal and kinetic energy per material."""
@@ -96,8 +122,9 @@ class AleDomain:
         mass, internal, kinetic = self.system.material_totals()
         return [*mass, *internal, *kinetic]
 
-    def fields(self) -> tuple[np.ndarray, dict, dict]:
-        """Node coordinates, point fields and cell fields (mixture and per-material) for the output."""
+    def field_data(self, wanted) -> dict[int, tuple[np.ndarray, dict, dict]]:
+        """Node coordinates, point fields and cell fields (mixture and per-material); written whatever
+        the deck's output.fields selects."""
         ale = self.system
         fractions, density, pressure = ale.fractions(), ale.density(), ale.pressure()
         cell = {"density": ale.mixture_density(), "pressure": ale.pressure(mixture=True)}
@@ -106,7 +133,7 @@ class AleDomain:
             if self.model.material_type[self.model.ale.materials[j]] != VOID:
                 cell[f"density_{name}"] = density[:, j]
                 cell[f"pressure_{name}"] = pressure[:, j]
-        return ale.x, {"velocity": ale.velocity}, cell
+        return {self.parts[0]: (ale.x, {"velocity": ale.velocity}, cell)}
 
     def probe(self, probe) -> float:
         """A deck probe in the ALE part.
@@ -129,19 +156,3 @@ class AleDomain:
         k = int(np.argmin(np.sum((ale.centroids() - np.array(probe.point)) ** 2, axis=1)))
         return float(ale.pressure(mixture=True)[k])
 
-
-def _add_inflow_materials(model: Model, deck, part: str) -> None:
-    """Materials entering through inflow sides that no fill holds join the ALE part with zero fraction."""
-    mesh = model.ale
-    for bc in deck.boundaries:
-        if not (isinstance(bc, AleBoundary) and bc.part == part and bc.condition == "inflow"):
-            continue
-        m = model.material_names.index(bc.material)
-        if m in mesh.materials:
-            continue
-        n_elem = len(mesh.elements)
-        rho0 = float(model.material_param[m, P_RHO0])
-        mesh.materials.append(m)
-        mesh.fractions = np.hstack([mesh.fractions, np.zeros((n_elem, 1))])
-        mesh.density = np.hstack([mesh.density, np.full((n_elem, 1), rho0)])
-        mesh.pressure = np.hstack([mesh.pressure, np.zeros((n_elem, 1))])

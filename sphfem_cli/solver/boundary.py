@@ -5,13 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..deck.schema import (
-    AleBoundary, DummyWallBoundary, FixedBoundary, Gravity, NodalForce, PrescribedVelocity, PressureLoad, SymmetryBoundary,
-    WallBoundary,
-)
 from ..model.build import Model, RigidBody
-
-AXES = {"x": 0, "y": 1, "z": 2}
 
 
 class Curves:
@@ -20,7 +14,7 @@ class Curves:
     def __init__(self, model: Model):
         self._tables = {
             name: (np.array([p[0] for p in c.points]), c.scale * np.array([p[1] for p in c.points]))
-            for name, c in model.deck.curves.items()
+            for name, c in model.options.curves.items()
         }
 
     def __call__(self, name: str | None, t: float) -> float:
@@ -48,22 +42,12 @@ class Constraints:
         self.rigid_prescribed: dict[int, list[tuple[int, float, str | None]]] = {}
         self.rigid_held: set[int] = set()  # rigid parts fixed in every direction or hold_rotation: no spin
         rigid_parts = {b.part: b for b in model.rigid_bodies}
-        for bc in model.deck.boundaries:
-            if isinstance(bc, (WallBoundary, DummyWallBoundary, AleBoundary)):
-                continue  # fluid walls: SPH ghosts, ALE mesh conditions
-            rigid = bc.part is not None and model.part_index(bc.part) in rigid_parts
-            if isinstance(bc, FixedBoundary):
-                comps = [(AXES[d], 0.0) for d in (bc.directions or "xyz"[:model.dim])]
-                curve = None
-            elif isinstance(bc, SymmetryBoundary):
-                comps, curve = [(AXES[bc.normal], 0.0)], None
-            else:
-                comps = [(k, val) for k, val in enumerate(bc.velocity) if val is not None]
-                curve = bc.curve
-            if rigid:
+        for bc in model.options.solids.conditions:
+            comps, curve = list(bc.components), bc.curve
+            if bc.part is not None and model.part_index(bc.part) in rigid_parts:
                 entry = self.rigid_prescribed.setdefault(model.part_index(bc.part), [])
                 entry.extend((k, val, curve) for k, val in comps)
-                if isinstance(bc, FixedBoundary) and (len(comps) == model.dim or bc.hold_rotation):
+                if bc.holds_body:
                     self.rigid_held.add(model.part_index(bc.part))
                 continue
             nodes = model.target_nodes(bc.part, bc.set)
@@ -87,17 +71,15 @@ class Loads:
         self.model = model
         self.curves = curves
         self.gravity = []
-        for load in model.deck.loads:
-            if isinstance(load, Gravity):
-                mask = np.zeros(model.n_nodes, dtype=bool)
-                for name in load.parts or [p.name for p in model.parts]:
-                    mask[model.part_nodes(name)] = True
-                weight = np.where(mask, model.mass, 0.0)[:, None] * np.array(load.acceleration)[None, :]
-                self.gravity.append((weight, load.curve))
-        self.pressures = [(model.segment_sets[l.set], l.value, l.curve)
-                          for l in model.deck.loads if isinstance(l, PressureLoad)]
-        self.nodal = [(model.node_sets[l.set], np.array(l.force), l.curve)
-                      for l in model.deck.loads if isinstance(l, NodalForce)]
+        solids = model.options.solids
+        for load in solids.gravity:
+            mask = np.zeros(model.n_nodes, dtype=bool)
+            for name in load.parts or [p.name for p in model.parts]:
+                mask[model.part_nodes(name)] = True
+            weight = np.where(mask, model.mass, 0.0)[:, None] * np.array(load.acceleration)[None, :]
+            self.gravity.append((weight, load.curve))
+        self.pressures = [(model.segment_sets[l.set], l.value, l.curve) for l in solids.pressures]
+        self.nodal = [(model.node_sets[l.set], np.array(l.force), l.curve) for l in solids.nodal_forces]
         self.active = bool(self.gravity or self.pressures or self.nodal)
 
     def compute(self, t: float, x: np.ndarray, out: np.ndarray) -> None:

@@ -1,17 +1,19 @@
-"""The explicit central-difference time loop (paper eq. 2.7) and its per-step state.
+"""The explicit central-difference time loop (paper eq. 2.7) over a list of domains.
 
-Step n -> n+1, with forces F^n known:
-  1. rigid bodies and prescribed velocities fix v^{n+1/2} on constrained components;
-  2. v^{n+1/2} = v^{n-1/2} + dt_avg F^n/m, x^{n+1} = x^n + dt v^{n+1/2} (fem.kernels);
-  3. element kernels: stress^{n+1}, internal forces F_int^{n+1}, stable steps;
-  4. loads F_ext^{n+1}; energy accounting; next dt = timestep_scale * min element dt.
-SPH particles (solver.particles) and the ALE mesh (solver.ale_domain), when the deck has them,
-advance with the same dt, the smallest stable step of all.
+The loop holds the domains of the model (solver.domain: the contract and its registration; the
+solids, solver.solid_domain, always first; then SPH particles, solver.sph_domain, and the ALE mesh,
+solver.ale_domain, when the deck has them) and advances them all with the same dt, the smallest
+stable step of all. One step n -> n+1:
+
+  1. dt = min over domains and interactions of their stable steps (bounded by control.dt_max);
+  2. interactions add their forces of state n (after every domain cleared its coupling arrays);
+  3. every domain advances n -> n+1 (the solids: paper eq. 2.7, see solver.solid_domain);
+  4. interactions book their work; every domain finishes the step (after_step); the guards.
 
 Contacts and couplings (`interactions`, from the deck's `contacts` and `couplings`) act at the
 start of each step, on the state n of every domain: each adds its forces to `State.f_contact`
 (solid nodes) and to the fluid's external-force array (`ParticleSystem.f_ext`, the ALE coupling
-forces), which the loop clears first. Each interaction object provides
+forces), which the domains clear first. Each interaction object provides
 
     forces(st)                                   add the forces of state n
     stable_dt() -> float                         the largest step its stiffness allows (inf if none)
@@ -39,53 +41,14 @@ from typing import Callable
 
 import numpy as np
 
-from ..fem import kernels as fem
-from ..materials.slots import EOS_OFFSET, H_EPS, NHIST, P_EOS_TYPE, Q_E0
 from ..model.build import Model
-from .boundary import Constraints, Curves, Loads, RigidBodies
+from .domain import Domain, build_domains
 from .guards import ENERGY_GUARD_EVERY, RunStopped, energy_band_at, energy_out_of_band, first_non_finite
+from .solid_domain import State
 
+__all__ = ["DT_COLLAPSE", "EnergyRow", "RunStopped", "Simulation", "State"]
 
 DT_COLLAPSE = 1e-3  # a step below this fraction of the first one means the model is collapsing
-
-
-def _stable_or_nan(stable_dt: Callable[[], float], *state: np.ndarray) -> float:
-    """`stable_dt()`, or NaN when it fails on a non-finite state (a compiled kernel dividing by a
-    NaN-derived zero raises ZeroDivisionError); a failure on a finite state is a bug and propagates."""
-    try:
-        return stable_dt()
-    except (ZeroDivisionError, FloatingPointError, OverflowError, ValueError):  # ValueError: a cell grid sized by NaN
-        if all(np.isfinite(a).all() for a in state):
-            raise
-        return float("nan")
-
-
-@dataclass
-class State:
-    """Everything of the solids that evolves. Arrays are (N, dim) for nodes, (E, ...) for elements.
-
-    `dt` is the solids' stable step for the next step; `dt_prev` the step last taken.
-    """
-
-    time: float
-    step: int
-    dt: float
-    x: np.ndarray
-    v: np.ndarray
-    f_int: np.ndarray
-    f_ext: np.ndarray
-    stress: np.ndarray
-    hist: np.ndarray
-    energy: np.ndarray
-    hg_energy: np.ndarray
-    hg_force: np.ndarray
-    volume: np.ndarray
-    q_visc: np.ndarray
-    node_power: np.ndarray
-    f_contact: np.ndarray
-    dt_prev: float = 0.0
-    external_work: float = 0.0
-    initial_energy: float = 0.0
 
 
 @dataclass
@@ -111,141 +74,68 @@ class EnergyRow:
 
 
 class Simulation:
-    """A model, its state and the machinery of one run."""
+    """A model, its domains, its interactions and the loop of one run."""
 
     def __init__(self, model: Model):
         self.model = model
-        deck = model.deck
-        self.control = deck.control
-        self.curves = Curves(model)
-        self.constraints = Constraints(model, self.curves)
-        self.loads = Loads(model, self.curves)
-        self.rigid = RigidBodies(model, self.constraints, self.curves)
-        self.inv_mass = 1.0 / model.mass
-        self._f_elem = np.zeros((model.n_elements, model.nodes_per_element, model.dim))
-        self._dt_elem = np.zeros(model.n_elements)
-        self.has_solids = model.n_nodes > 0
-        self.particles = None
-        if model.particles is not None:
-            from .particles import Particles
-
-            self.particles = Particles(model)
-        self.ale = None
-        if model.ale is not None:
-            from .ale_domain import AleDomain
-
-            self.ale = AleDomain(model)
-        self.interactions = []
-        if deck.contacts:
+        self.control = model.options.control
+        self.interactions = []  # built after the domains: contacts and couplings look them up
+        self.domains: list[Domain] = build_domains(self)
+        self.solids = self.domains[0]
+        self.particles = self.domain("sph")
+        self.ale = self.domain("ale")
+        options = model.options
+        if options.contacts:
             from ..contact.system import NodesToSurfaceContact
 
-            self.interactions += [NodesToSurfaceContact(self, spec) for spec in deck.contacts]
-        if deck.couplings:
+            self.interactions += [NodesToSurfaceContact(self, spec) for spec in options.contacts]
+        if options.couplings:
             from ..contact.coupling import LagrangeInSolidCoupling
 
-            self.interactions += [LagrangeInSolidCoupling(self, spec) for spec in deck.couplings]
+            self.interactions += [LagrangeInSolidCoupling(self, spec) for spec in options.couplings]
         self._dt_first: float | None = None
-        self.limiter = "solid"  # what set the last step: solid, sph, ale, contact, dt_max or none
+        self.limiter = "solid"  # the kind of domain that set the last step, or contact, dt_max, none
         self._energy_scale = 0.0  # the energy in play, largest so far (guards.energy_out_of_band)
-        self._erode_inverted, self._erode_strain = self._erosion_tables()
-        self._has_strain_erosion = bool(np.isfinite(self._erode_strain).any())
-        self.eroded: list[tuple[float, int, str, str]] = []  # (time, element, part, reason)
-        self.state = self._initial_state()
+        self.state = self.solids.initial_state()
+        initial = 0.0
+        for d in self.domains:
+            e = d.energies()
+            initial += e.kinetic + e.internal
+        self.state.initial_energy = initial
 
-    # ------------------------------------------------------------------------------- set-up
+    def domain(self, kind: str) -> Domain | None:
+        """The domain of that kind (solid, sph, ale, ...), None when the model has none."""
+        return next((d for d in self.domains if d.kind == kind), None)
 
-    def _initial_state(self) -> State:
-        m = self.model
-        n, e, dim = m.n_nodes, m.n_elements, m.dim
-        v = np.zeros((n, dim))
-        for ic in m.deck.initial:
-            v[m.target_nodes(ic.part, ic.set)] = np.array(ic.velocity)
-        self.rigid.set_initial_velocity(v)
-        n_modes = 1 if dim == 2 else 4
-        has_eos = m.material_param[m.element_material, P_EOS_TYPE] >= 0
-        e0 = np.where(has_eos, m.material_param[m.element_material, EOS_OFFSET + Q_E0], 0.0) * m.volume0
-        st = State(
-            time=0.0, step=0, dt=0.0, x=m.coordinates.copy(), v=v,
-            f_int=np.zeros((n, dim)), f_ext=np.zeros((n, dim)),
-            stress=np.zeros((e, 6)), hist=np.zeros((e, NHIST)), energy=e0,
-            hg_energy=np.zeros(e), hg_force=np.zeros((e, n_modes, dim)),
-            volume=m.volume0.copy(), q_visc=np.zeros(e), node_power=np.zeros(n),
-            f_contact=np.zeros((n, dim)),
-        )
-        # Stable step and forces of the initial configuration (zero-length step).
-        if self.has_solids:
-            self._element_pass(st, 0.0)
-            self.loads.compute(0.0, st.x, st.f_ext)
-        st.dt = self._solid_dt(st)
-        st.initial_energy = self.kinetic_energy(st) + float(np.sum(st.energy))
-        if self.particles is not None:
-            ke, ie, _, _ = self.particles.energies()
-            st.initial_energy += ke + ie
-        if self.ale is not None:
-            st.initial_energy += sum(self.ale.energies())
-        return st
+    # The solids' machinery, by the names the rest of the code and the tests use.
+    has_solids = property(lambda self: self.solids.has_solids)
+    constraints = property(lambda self: self.solids.constraints)
+    loads = property(lambda self: self.solids.loads)
+    rigid = property(lambda self: self.solids.rigid)
+    curves = property(lambda self: self.solids.curves)
+    inv_mass = property(lambda self: self.solids.inv_mass)
+    eroded = property(lambda self: self.solids.eroded)
 
-    def _erosion_tables(self) -> tuple[np.ndarray, np.ndarray]:
-        """Per element: erode when inverted (bool), plastic-strain limit (inf: none), from the parts' `erosion`."""
-        m = self.model
-        inverted = np.zeros(m.n_elements, dtype=bool)
-        strain = np.full(m.n_elements, np.inf)
-        for p in m.parts:
-            spec = getattr(m.deck.parts.get(p.name), "erosion", None)
-            if p.kind != "solid" or spec is None:
-                continue
-            inverted[p.elements] = spec.on_negative_volume
-            if spec.max_plastic_strain is not None:
-                strain[p.elements] = spec.max_plastic_strain
-        return inverted, strain
+    def erosion_summary(self) -> str:
+        """'n element(s) eroded (part: count, ...)', or '' when none was."""
+        return self.solids.erosion_summary()
 
     # ---------------------------------------------------------------------------------- loop
 
-    def _element_pass(self, st: State, dt: float) -> None:
-        m = self.model
-        fem.solid_element_forces(
-            st.x, st.v, m.connectivity, m.element_active, m.element_material, m.element_section,
-            m.material_type, m.material_param, m.section_param, m.volume0, dt,
-            st.stress, st.hist, st.energy, st.hg_energy, st.hg_force,
-            self._f_elem, self._dt_elem, st.volume, st.q_visc,
-        )
-        fem.gather_nodal_forces(self._f_elem, m.node_elem_ptr, m.node_elem_idx, st.f_int)
-        self._check_elements(st)
-        if m.element_dt_factor is not None:  # elements free to dilate (thin parts): model.build.free_dilatation_factor
-            self._dt_elem *= m.element_dt_factor
-
-    def _solid_dt(self, st: State) -> float:
-        """timestep_scale times the smallest element step; +inf without deformable elements."""
-        if not np.any(self.model.element_active):
-            return np.inf
-        dt = self.control.timestep_scale * float(self._dt_elem.min())
-        if np.isnan(dt):
-            raise RunStopped(self._where_not_finite(st), "non_finite", {"domain": "solid"})
-        return dt
-
     def _step_size(self, st: State) -> float:
-        """The step this step takes: the smallest over solids and particles, bounded by dt_max."""
-        dt, limiter = st.dt, "solid"
-        if self.particles is not None:
-            dt_sph = _stable_or_nan(lambda: self.particles.stable_dt(self.control.timestep_scale),
-                                    self.particles.system.x, self.particles.system.v)
-            if not dt_sph == dt_sph:  # NaN
-                raise RunStopped(f"non-finite SPH state at t = {st.time:.6e}, step {st.step} "
-                                 "(remedies: lower timestep_scale, check the equation of state and units)",
-                                 "non_finite", {"domain": "sph"})
-            if dt_sph < dt:
-                dt, limiter = dt_sph, "sph"
-            self._check_lost(st)
-        if self.ale is not None:
-            dt_ale = _stable_or_nan(self.ale.stable_dt, self.ale.system.x, self.ale.system.velocity)
-            if not dt_ale == dt_ale:
-                raise RunStopped(f"non-finite ALE state at t = {st.time:.6e}, step {st.step} "
-                                 "(remedies: lower the section's courant, check the equations of state and units)",
-                                 "non_finite", {"domain": "ale"})
-            if dt_ale < dt:
-                dt, limiter = dt_ale, "ale"
+        """The step this step takes: the smallest over domains and interactions, bounded by dt_max."""
+        scale = self.control.timestep_scale
+        dt, limiter = np.inf, self.domains[0].kind
+        for d in self.domains:
+            dt_d = d.stable_dt(scale)
+            if not dt_d == dt_d:  # NaN
+                raise RunStopped(f"non-finite {d.label} state at t = {st.time:.6e}, step {st.step} "
+                                 f"(remedies: {d.non_finite_remedy})", "non_finite", {"domain": d.kind})
+            if dt_d < dt:
+                dt, limiter = dt_d, d.kind
+            d.check_step(st)
         for it in self.interactions:
-            dt_it = self.control.timestep_scale * it.stable_dt()
+            dt_it = scale * it.stable_dt()
             if dt_it < dt:
                 dt, limiter = dt_it, "contact"
         if self.control.dt_max is not None and self.control.dt_max < dt:
@@ -280,19 +170,9 @@ class Simulation:
 
     def limiter_description(self) -> str:
         """What set the last step `_step_size` chose: the element, particle or setting, and its part."""
-        m = self.model
-        if self.limiter == "solid":
-            e = int(np.argmin(self._dt_elem))
-            return f"element {e} of part '{self._part_of(e)}'"
-        if self.limiter == "sph":
-            ps = self.particles.system
-            with np.errstate(divide="ignore", invalid="ignore"):
-                cfl = np.where(ps.active, ps.h / (ps.c + np.linalg.norm(ps.v, axis=1)), np.inf)
-            i = int(ps.ids[int(np.argmin(cfl))])
-            return f"SPH particle {i} of part '{m.parts[int(m.particles.part[i])].name}'"
-        if self.limiter == "ale":
-            e = int(np.argmin(self.ale.system.dt_elem))
-            return f"element {e} of ALE part '{self.ale.name}'"
+        d = self.domain(self.limiter)
+        if d is not None:
+            return d.limiter_description()
         if self.limiter == "contact":
             return "a contact's stiffness"
         return {"dt_max": "control.dt_max",
@@ -308,50 +188,22 @@ class Simulation:
             dt = min(dt, stop - st.time)
         dt_avg = 0.5 * dt if st.step == 0 else 0.5 * (st.dt_prev + dt)
         if self.interactions:
-            self._interaction_forces(st)
+            for d in self.domains:
+                d.clear_coupling()
+            for it in self.interactions:
+                it.forces(st)
             v_old = st.v.copy()
-        if self.has_solids:
-            self._solid_step(st, dt, dt_avg)
+        t = st.time
         st.time += dt
         st.step += 1
         st.dt_prev = dt
-        if self.has_solids:
-            self._element_pass(st, dt)
-            if self.loads.active:
-                self.loads.compute(st.time, st.x, st.f_ext)
-        if self.particles is not None:
-            self.particles.step(dt)
-        if self.ale is not None:
-            self.ale.step(dt, dt_avg)
+        for d in self.domains:
+            d.advance(t, dt, dt_avg)
         for it in self.interactions:
             it.record_work(dt, dt_avg, v_old, st)
-        st.dt = self._solid_dt(st)
+        for d in self.domains:
+            d.after_step()
         self.check_guards()
-
-    def _interaction_forces(self, st: State) -> None:
-        """Contact and coupling forces of state n, into cleared arrays."""
-        st.f_contact[:] = 0.0
-        if self.particles is not None:
-            self.particles.system.f_ext[:] = 0.0
-        if self.ale is not None:
-            self.ale.system.f_couple[:] = 0.0
-        for it in self.interactions:
-            it.forces(st)
-
-    def _solid_step(self, st: State, dt: float, dt_avg: float) -> None:
-        """Nodes and rigid bodies from n to n+1 with the forces of step n."""
-        t_mid = st.time + 0.5 * dt
-        self.constraints.update(t_mid)
-        f_applied = st.f_ext + st.f_contact if self.interactions else st.f_ext
-        if self.rigid.bodies:
-            self.rigid.kick(st.f_int + f_applied, t_mid, dt_avg, st.x)
-        fem.central_difference_update(
-            st.x, st.v, st.f_int, f_applied, self.inv_mass, self.constraints.free,
-            self.constraints.v_prescribed, dt_avg, dt, st.node_power,
-        )
-        st.external_work += float(np.sum(st.node_power))
-        if self.rigid.bodies:
-            self.rigid.drift(dt, st.x)
 
     def run(self, on_step: Callable[[State], None] | None = None, until: float | None = None,
             next_stop: Callable[[], float] | None = None) -> None:
@@ -370,8 +222,8 @@ class Simulation:
     # ---------------------------------------------------------------------------- energies
 
     def kinetic_energy(self, st: State | None = None) -> float:
-        st = st or self.state
-        return 0.5 * float(np.sum(self.model.mass[:, None] * st.v * st.v))
+        """Kinetic energy of the solids' nodes."""
+        return self.solids.kinetic_energy(st or self.state)
 
     def energy_row(self) -> EnergyRow:
         with np.errstate(over="ignore", invalid="ignore"):  # an overflow shows as a non-finite energy
@@ -379,18 +231,10 @@ class Simulation:
 
     def _energy_row(self) -> EnergyRow:
         st = self.state
-        ke = self.kinetic_energy()
-        ie = float(np.sum(st.energy))
-        hg = float(np.sum(st.hg_energy))
-        work = st.external_work
-        lost = 0.0
-        if self.particles is not None:
-            ke_p, ie_p, work_p, lost = self.particles.energies()
-            ke, ie, work = ke + ke_p, ie + ie_p, work + work_p
-        if self.ale is not None:
-            ke_a, ie_a = self.ale.energies()
-            ke, ie = ke + ke_a, ie + ie_a
-            work += self.ale.external_work()
+        ke = ie = hg = work = lost = 0.0
+        for d in self.domains:  # in domain order: the sums' order is part of the result
+            e = d.energies()
+            ke, ie, hg, work, lost = ke + e.kinetic, ie + e.internal, hg + e.hourglass, work + e.work, lost + e.lost
         contact_work = sum(it.work for it in self.interactions)
         work -= contact_work  # the solids' and fluids' work sums include the contact forces
         total = ke + ie + hg - contact_work
@@ -403,82 +247,14 @@ class Simulation:
 
     def part_energies(self) -> np.ndarray:
         """(parts, 3): kinetic, internal, hourglass per part (LS-DYNA matsum)."""
-        m, st = self.model, self.state
-        node_ke = 0.5 * m.mass * np.sum(st.v * st.v, axis=1)
-        out = np.zeros((len(m.parts), 3))
-        for i, p in enumerate(m.parts):
-            if p.kind == "sph":
-                out[i, :2] = self.particles.part_sums(i)
-                continue
-            if p.kind == "ale":
-                out[i, :2] = self.ale.energies()
-                continue
-            out[i, 0] = node_ke[p.nodes].sum()
-            out[i, 1] = st.energy[p.elements].sum()
-            out[i, 2] = st.hg_energy[p.elements].sum()
+        out = np.zeros((len(self.model.parts), 3))
+        for d in self.domains:
+            for i in d.parts:
+                values = d.part_energies(i)
+                out[i, :len(values)] = values
         return out
 
     # ------------------------------------------------------------------------------ guards
-
-    def _part_of(self, e: int) -> str:
-        return self.model.parts[int(self.model.element_part[e])].name
-
-    def _check_elements(self, st: State) -> None:
-        """Erode what the parts' `erosion` allows; stop on any other inverted element."""
-        m = self.model
-        bad = np.flatnonzero(self._dt_elem == fem.INVERTED)
-        if len(bad) and not np.isfinite(st.volume[bad]).all():
-            self._check_finite()  # an element "inverted" by a non-finite state: that state is the fault
-        if len(bad) and self._erode_inverted[bad].any():
-            self._erode(st, bad[self._erode_inverted[bad]], "negative volume")
-            bad = bad[~self._erode_inverted[bad]]
-        if self._has_strain_erosion:
-            over = np.flatnonzero(m.element_active & (st.hist[:, H_EPS] > self._erode_strain))
-            if len(over):
-                self._erode(st, over, "plastic strain")
-        if len(bad):
-            e = int(bad[0])
-            raise RunStopped(
-                f"negative volume in element {e} of part '{self._part_of(e)}' at t = {st.time:.6e} "
-                f"(step {st.step}, volume {st.volume[e]:.3e}, {len(bad)} element(s) inverted) "
-                "(remedies: lower timestep_scale, refine the mesh, raise hourglass stiffness, "
-                "or give the part erosion: {on_negative_volume: true})",
-                "negative_volume", {"element": e, "part": self._part_of(e), "volume": float(st.volume[e]),
-                                    "inverted elements": len(bad)},
-            )
-
-    def _erode(self, st: State, elements: np.ndarray, reason: str) -> None:
-        """Deactivate `elements`: no more forces or stable step from them; their energies stay in the sums."""
-        m = self.model
-        m.element_active[elements] = False
-        self._f_elem[elements] = 0.0
-        self._dt_elem[elements] = np.inf
-        fem.gather_nodal_forces(self._f_elem, m.node_elem_ptr, m.node_elem_idx, st.f_int)
-        for e in elements:
-            self.eroded.append((st.time, int(e), self._part_of(int(e)), reason))
-
-    def erosion_summary(self) -> str:
-        """'n element(s) eroded (part: count, ...)', or '' when none was."""
-        if not self.eroded:
-            return ""
-        counts: dict[str, int] = {}
-        for _, _, part, _ in self.eroded:
-            counts[part] = counts.get(part, 0) + 1
-        parts = ", ".join(f"{k}: {v}" for k, v in counts.items())
-        return f"{len(self.eroded)} element(s) eroded ({parts})"
-
-    def _check_lost(self, st: State) -> None:
-        """Stop when more than control.max_lost_fraction of the SPH particles have left the domain."""
-        limit = self.control.max_lost_fraction
-        ps = self.particles.system
-        if limit is None or ps.lost <= limit * ps.n:
-            return
-        raise RunStopped(
-            f"{ps.lost} of {ps.n} SPH particles ({ps.lost / ps.n:.1%}) have left the domain by t = {st.time:.6e}, "
-            f"step {st.step}, more than max_lost_fraction {limit:g} (remedies: enlarge the section's domain or add "
-            "walls, lower timestep_scale if particles were ejected by a blow-up, raise max_lost_fraction)",
-            "lost_particles", {"lost": ps.lost, "particles": ps.n, "fraction": ps.lost / ps.n, "limit": limit},
-        )
 
     def check_guards(self) -> None:
         """The guards judged after every step: a finite state, control.max_steps, contact penetration,
@@ -492,7 +268,7 @@ class Simulation:
         small decks, as much as a step of the smallest ones (benchmarks/guard_overhead.py).
         """
         st = self.state
-        self._check_finite()
+        self.check_finite()
         if st.step >= self.control.max_steps and st.time < self.control.end_time * (1.0 - 1e-12):
             raise RunStopped(
                 f"{st.step} steps taken by t = {st.time:.6e}, control.max_steps {self.control.max_steps:g}, before "
@@ -552,7 +328,8 @@ class Simulation:
                     "penetration", {"depth": depth, "limit": limit, "where": where},
                 )
 
-    def _check_finite(self) -> None:
+    def check_finite(self) -> None:
+        """Stop on the first non-finite value of any domain's state arrays."""
         st = self.state
         bad = first_non_finite(self.state_arrays())
         if bad is not None:
@@ -564,16 +341,9 @@ class Simulation:
 
     def state_arrays(self) -> dict[str, np.ndarray]:
         """Every evolving array that feeds the output, by a name for messages (the finite-state guard)."""
-        st = self.state
         arrays = {}
-        if self.has_solids:
-            arrays.update({"node coordinates": st.x, "node velocity": st.v, "internal force": st.f_int,
-                           "stress": st.stress, "material history": st.hist, "internal energy": st.energy,
-                           "hourglass energy": st.hg_energy})
-        if self.particles is not None:
-            arrays.update(self.particles.state_arrays())
-        if self.ale is not None:
-            arrays.update(self.ale.state_arrays())
+        for d in self.domains:
+            arrays.update(d.state_arrays())
         return arrays
 
     def _check_step_count(self, st: State, dt: float, limiter: str) -> None:
@@ -587,10 +357,3 @@ class Simulation:
                 f"{self.control.end_time:g}, more than control.max_steps {self.control.max_steps:g} (remedies: check "
                 "timestep_scale, dt_max, the material constants and the units; raise control.max_steps)",
                 "time_step", {"dt": dt, "steps": steps, "max_steps": self.control.max_steps, "domain": limiter})
-
-    def _where_not_finite(self, st: State) -> str:
-        bad = np.flatnonzero(~np.isfinite(self._dt_elem))
-        e = int(bad[0]) if len(bad) else -1
-        where = f" in element {e} of part '{self._part_of(e)}'" if e >= 0 else ""
-        return (f"non-finite state{where} at t = {st.time:.6e}, step {st.step} "
-                "(remedies: lower timestep_scale, check material constants and units)")

@@ -107,11 +107,7 @@ def _peak_mib(reset: bool) -> float:
 def _first_steps(sim) -> dict:
     """The first stable step of each domain (each already scaled by timestep_scale)."""
     scale = sim.control.timestep_scale
-    dt = {"solid": float(sim.state.dt)}
-    if sim.particles is not None:
-        dt["sph"] = float(sim.particles.stable_dt(scale))
-    if sim.ale is not None:
-        dt["ale"] = float(sim.ale.stable_dt())
+    dt = {d.kind: float(d.stable_dt(scale)) for d in sim.domains}
     if sim.interactions:
         dt["contact"] = float(min(scale * it.stable_dt() for it in sim.interactions))
     return {k: (v if v == v and v != float("inf") else None) for k, v in dt.items()}
@@ -121,12 +117,14 @@ def _warm_up(deck: Path) -> dict:
     """Run the deck for WARM_STEPS steps into a scratch folder (compiles or loads every kernel it calls);
     returns the first stable step of each domain."""
     from ..driver import execute, load_model
+    from ..model.options import resolve_options
     from ..solver.explicit import Simulation
 
     sim = Simulation(load_model(str(deck)).model)
     first = _first_steps(sim)
     loaded = load_model(str(deck))
     loaded.deck.control.end_time = min(loaded.deck.control.end_time, WARM_STEPS * sim.stable_dt())
+    loaded.model.options = resolve_options(loaded.deck, loaded.model)  # the run reads the changed deck's settings
     scratch = Path(tempfile.mkdtemp(prefix="sphfem-warm-"))
     try:
         execute(loaded, scratch, quiet=True)
