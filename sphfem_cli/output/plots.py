@@ -154,6 +154,12 @@ def _run_name(run: Path) -> str:
     return f"{run.parent.name}/{run.name}" if run.name == "run" else run.name
 
 
+def _within(ref: ReferenceCurve, t_end: float) -> tuple[np.ndarray, np.ndarray]:
+    """The reference's points up to the run's end (and 5 % beyond), so the run fills the axis."""
+    keep = ref.time <= 1.05 * t_end if t_end > 0 else np.ones(len(ref.time), bool)
+    return ref.time[keep], ref.value[keep]
+
+
 def _save(fig, path: Path, plt) -> Path:
     for ax in fig.axes:
         if ax.get_yscale() == "linear":
@@ -213,7 +219,7 @@ def table_plot(table: Path, path: Path, units: dict, dimension: int, references:
         for ref in references:
             tab, _, col = ref.quantity.partition(".")
             if tab == table.stem and (col == family or col in (columns[i] for i in idx)):
-                ax.plot(ref.time, ref.value, "ko", ms=4, mfc="none", label=ref.label)
+                ax.plot(*_within(ref, data[-1, 0] if len(data) else 0.0), "ko", ms=4, mfc="none", label=ref.label)
         ax.set_ylabel(label(columns[idx[0]] if len(idx) == 1 else family, units, dimension))
         ax.set_title(family, fontsize=9)
         ax.grid(True, alpha=0.3)
@@ -232,7 +238,7 @@ def quantity_plot(histories: Path, quantity: str, path: Path, units: dict, dimen
     ax.plot(t, v, "-", lw=1.4, label=f"{_run_name(histories.parent)}")
     drawn = [r for r in references if r.quantity == quantity]
     for ref in drawn:
-        ax.plot(ref.time, ref.value, "ko", ms=4, mfc="none", label=ref.label)
+        ax.plot(*_within(ref, t[-1] if len(t) else 0.0), "ko", ms=4, mfc="none", label=ref.label)
     ax.set_xlabel(label("time", units, dimension))
     ax.set_ylabel(label(quantity, units, dimension))
     ax.set_title(f"{quantity} of {_run_name(histories.parent)}" + (" against the reference" if drawn else ""))

@@ -36,9 +36,18 @@ def _deck(mesh: Path) -> dict:
             "parts": {"brick": {"material": "steel", "section": "solid", "geometry": {"file": {"file": str(mesh)}}}}}
 
 
-def test_a_deck_runs_on_a_keyword_mesh(tmp_path):
-    result = api.run(_deck(DATA / "hex_2x1x1.k"), tmp_path / "run")
+def test_a_deck_runs_on_a_keyword_mesh_and_uses_its_sets(tmp_path):
+    deck = _deck(DATA / "hex_2x1x1.k")
+    deck["boundaries"] = [{"type": "fixed", "set": "brick.set_7"}]  # a set of the file: <part>.<set>
+    deck["initial"] = [{"type": "velocity", "set": "brick.right_half", "velocity": [0.0, 0.0, 1.0]}]
+    loaded = api.load(deck, base_dir=tmp_path)
+    assert np.array_equal(np.sort(loaded.model.node_sets["brick.set_7"]), [0, 3, 6, 9])
+    result = api.run(loaded, tmp_path / "run")
     assert result.completed, result.message
+    deck["boundaries"] = [{"type": "fixed", "set": "brick.clamp"}]
+    with pytest.raises(api.DeckProblem, match=r"boundaries.0.set: the mesh file of part 'brick' has no set "
+                                              r"'clamp' \(its sets: part_1, right_half, set_7\)"):
+        api.load(deck, base_dir=tmp_path)
 
 
 @pytest.mark.parametrize("text, why", [

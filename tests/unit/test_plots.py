@@ -100,3 +100,19 @@ def test_deck_references_resolve_beside_the_deck_and_are_drawn(tmp_path, monkeyp
     assert figures[0][0][2].endswith("against the reference")
     result = CliRunner().invoke(main, ["plot", str(run), "--reference", str(deck_dir / "exp.csv")])
     assert result.exit_code == 2 and "--reference needs --quantity" in result.output
+
+
+def test_a_deck_reference_names_a_history_table(tmp_path):
+    from pathlib import Path
+
+    from sphfem_cli import api
+
+    deck = Path(__file__).resolve().parents[2] / "decks" / "dam_break_2d.yaml"
+    loaded = api.load(deck)
+    (ref,) = loaded.deck.output.references
+    assert ref.quantity == "front.front" and ref.series == "MM_a2.25in"
+    bad = [{"file": "x.csv", "quantity": "nowhere.front"}]
+    with pytest.raises(api.DeckProblem, match=r"output.references\[0\].quantity: no history table 'nowhere'"):
+        api.load(deck, {"output.references": bad})
+    with pytest.raises(api.DeckProblem, match="TABLE.COLUMN"):
+        api.load(deck, {"output.references": [{"file": "x.csv", "quantity": "front"}]})

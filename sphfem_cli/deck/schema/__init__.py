@@ -89,6 +89,20 @@ def _check_names(deck: Deck) -> None:
                 why = f"'{request.name}' is a table the solver writes (reserved: {', '.join(RESERVED_HISTORIES)})"
             if why is not None:
                 raise ValueError(f"@output.{family}.{i}.name: {why}")
+    tables = {*RESERVED_HISTORIES, *(r.name for r in deck.output.histories), *(p.name for p in deck.output.probes)}
+    for i, ref in enumerate(deck.output.references):
+        table = ref.quantity.partition(".")[0]
+        if table not in tables:
+            raise ValueError(f"@output.references.{i}.quantity: no history table '{table}' (tables: "
+                             f"{', '.join(sorted(tables))})")
+
+
+def _file_set(deck: Deck, name: str | None) -> bool:
+    """True for ``<part>.<set>`` naming a set of a part meshed from a file (not a deck set)."""
+    if name is None or name in deck.sets or "." not in name:
+        return False
+    part = deck.parts.get(name.partition(".")[0])
+    return part is not None and part.geometry is not None and getattr(part.geometry, "file", None) is not None
 
 
 def _ref(name: str | None, known: dict, path: str, what: str) -> None:
@@ -156,7 +170,9 @@ def _check_references(deck: Deck) -> None:
 
     def check_target(item, path: str) -> None:
         _ref(getattr(item, "part", None), deck.parts, f"{path}.part", "part")
-        _ref(getattr(item, "set", None), deck.sets, f"{path}.set", "set")
+        name = getattr(item, "set", None)
+        if not _file_set(deck, name):  # `<part>.<set>` of a part meshed from a file: model.build checks it
+            _ref(name, deck.sets, f"{path}.set", "set")
         _ref(getattr(item, "curve", None), deck.curves, f"{path}.curve", "curve")
 
     for i, bc in enumerate(deck.boundaries):
@@ -220,6 +236,10 @@ def _check_references(deck: Deck) -> None:
                 raise ValueError(f"@loads.{i}.curve: gravity on SPH parts is constant (no curve)")
             if load.curve is not None and ale_parts & set(load.parts or deck.parts):
                 raise ValueError(f"@loads.{i}.curve: gravity on ALE parts is constant (no curve)")
+        if isinstance(load, PressureLoad) and _file_set(deck, getattr(load, "set", None)):
+            raise ValueError(f"@loads.{i}.set: pressure needs a segment set; the sets of a mesh file are node sets")
+        if _file_set(deck, getattr(load, "set", None)):
+            continue
         if isinstance(load, PressureLoad) and not isinstance(deck.sets[load.set], SegmentSet):
             raise ValueError(f"@loads.{i}.set: pressure needs a segment set, '{load.set}' is a node set")
         if isinstance(load, NodalForce) and isinstance(deck.sets[load.set], SegmentSet):

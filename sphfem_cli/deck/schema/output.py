@@ -15,6 +15,7 @@ __all__ = [
     "HISTORY_ONLY",
     "HistoryRequest",
     "Probe",
+    "ReferenceCurve",
     "Output",
 ]
 
@@ -74,6 +75,31 @@ class Probe(DeckModel):
         return self
 
 
+class ReferenceCurve(DeckModel):
+    """A reference history (measurement, exact or published result) that `sphfem plot` draws beside a
+    computed quantity. The CSV's ``#`` lines are comments, a first column that is not a number names the
+    series; time = time_scale x column ``columns[0]``, value = value_scale x column ``columns[1]``
+    (numeric columns counted from 0), which turns a dimensionless curve into the deck's units."""
+
+    file: str = Field(description="CSV file, relative to the deck's folder.")
+    quantity: str = Field(description="The history it compares with, TABLE.COLUMN (e.g. front.front, tip.displacement_y).")
+    series: str | None = Field(None, description="Only the rows of this series (the first column's text). Default all.")
+    columns: list[int] = Field([0, 1], min_length=2, max_length=2,
+                               description="The numeric columns of time and value. Default [0, 1].")
+    time_scale: PositiveFloat = Field(1.0, description="Multiplies the time column [time]. Default 1.")
+    value_scale: float = Field(1.0, description="Multiplies the value column [the quantity's unit]. Default 1.")
+    label: str | None = Field(None, description="Legend text. Default the file name and series.")
+
+    @model_validator(mode="after")
+    def _quantity(self):
+        table, _, column = self.quantity.partition(".")
+        if not table or not column:
+            raise ValueError("@quantity: name it TABLE.COLUMN, e.g. front.front")
+        if min(self.columns) < 0:
+            raise ValueError("@columns: column numbers count from 0")
+        return self
+
+
 class Output(DeckModel):
     """What is written, and how often."""
 
@@ -88,3 +114,6 @@ class Output(DeckModel):
     )
     histories: list[HistoryRequest] = Field(default_factory=list, description="Requested time histories.")
     probes: list[Probe] = Field(default_factory=list, description="SPH probes, written as histories.")
+    references: list[ReferenceCurve] = Field(
+        default_factory=list, description="Reference curves `sphfem plot` draws beside the histories they name."
+    )

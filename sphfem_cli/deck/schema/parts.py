@@ -66,11 +66,18 @@ class CylinderGeometry(RingGeometry):
 
 
 class FileGeometry(DeckModel):
-    """A mesh read with meshio (Gmsh .msh, Abaqus .inp, VTU, STL, ...).
+    """A mesh read with meshio (Gmsh .msh, Abaqus .inp, VTU, STL, ...) or, for .k / .key / .dyn, as an
+    LS-DYNA keyword file (*NODE, *ELEMENT_SOLID hexahedra, *ELEMENT_SHELL quadrilaterals for 2D, *PART,
+    *SET_NODE_LIST; other keywords are ignored).
 
     Solid and ALE parts: its quad cells (2D) or hexahedra (3D) are the part's elements. SPH parts:
     its closed boundary, triangles and quads (3D, e.g. an STL surface) or line segments (2D), is
     filled with lattice particles (winding-number inside test).
+
+    The file's named sets become node sets ``<part>.<set>`` that boundaries, initial conditions,
+    nodal loads and histories can name: Abaqus NSET and ELSET, Gmsh physical groups (by their
+    $PhysicalNames, else ``physical_<tag>``), and from LS-DYNA each *PART (its heading, else
+    ``part_<pid>``) and each *SET_NODE_LIST (``set_<sid>``).
     """
 
     file: str = Field(description="Path, relative to the deck's folder.")
