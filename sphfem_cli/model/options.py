@@ -124,7 +124,7 @@ class SphWall(Options):
 
 
 @dataclass(frozen=True)
-class SphOptions(Options):
+class SphDomainOptions(Options):
     """The SPH section and what acts on the SPH parts (deck names; see sph.system.SPHOptions).
 
     `gravity` is the sum of the gravity loads on any SPH part; `wall_points` the `dummy_wall`
@@ -164,7 +164,7 @@ class AleSide(Options):
 
 
 @dataclass(frozen=True)
-class AleOptions(Options):
+class AleDomainOptions(Options):
     """The ALE part's section, burn, gravity and sides (deck names; see ale.system.AleSystem).
 
     `burn` holds (material index in the part, detonation velocity) of its high explosives;
@@ -214,8 +214,8 @@ class RunOptions(Options):
     curves: dict[str, Curve]
     solids: SolidOptions
     output: OutputOptions
-    sph: SphOptions | None = None
-    ale: AleOptions | None = None
+    sph: SphDomainOptions | None = None
+    ale: AleDomainOptions | None = None
     contacts: tuple = ()
     couplings: tuple = ()
     detonations: tuple[tuple[tuple[float, ...], float], ...] = field(default=())
@@ -310,7 +310,7 @@ def _dummy_wall_points(deck, default_spacing: float) -> tuple[np.ndarray | None,
     return np.vstack(points), dx
 
 
-def _sph_options(deck, model, detonations) -> SphOptions:
+def _sph_options(deck, model, detonations) -> SphDomainOptions:
     from ..deck.schema import Gravity, InitialVelocity as DeckVelocity, WallBoundary
 
     section = deck.sections[model.particles.section]
@@ -321,7 +321,7 @@ def _sph_options(deck, model, detonations) -> SphOptions:
             gravity += np.array(load.acceleration)
     points, dx = _dummy_wall_points(deck, float(model.particles.spacing.min()))
     visc = section.artificial_viscosity
-    return SphOptions(
+    return SphDomainOptions(
         kernel=section.kernel, smoothing_ratio=section.smoothing_ratio, alpha=visc.alpha, beta=visc.beta,
         epsilon=visc.epsilon, density_diffusion=section.density_diffusion, xsph=section.xsph,
         diffusion_hydrostatic=section.diffusion_hydrostatic, ghost_hydrostatic=section.ghost_hydrostatic,
@@ -336,7 +336,7 @@ def _sph_options(deck, model, detonations) -> SphOptions:
     )
 
 
-def _ale_options(deck, model, detonations) -> AleOptions:
+def _ale_options(deck, model, detonations) -> AleDomainOptions:
     from ..deck.schema import AleBoundary, Gravity
 
     name = model.parts[model.ale.part].name
@@ -347,7 +347,7 @@ def _ale_options(deck, model, detonations) -> AleOptions:
         AleSide(tuple(bc.sides), bc.condition, None if bc.material is None else names.index(bc.material),
                 _vec(bc.velocity), bc.density, bc.energy, bc.pressure)
         for bc in deck.boundaries if isinstance(bc, AleBoundary))
-    return AleOptions(
+    return AleDomainOptions(
         part=name, q1=section.bulk_viscosity.q1, q2=section.bulk_viscosity.q2, hourglass=section.hourglass,
         advection=section.advection, interface=section.interface, closure=section.closure,
         advect_every=section.advect_every, mesh_motion=section.mesh_motion, smoothing=section.smoothing,

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..materials.slots import H_EPS
+from ..solver.domain import domain_tables
 from ..solver.explicit import EnergyRow, Simulation
 from ..solver.solid_domain import von_mises
 from .history import HistoryWriter
@@ -27,8 +28,7 @@ _PROBE_COLUMN = {"pressure": "pressure", "surface_height": "height", "front": "f
 def history_tables(model) -> list[str]:
     """The history tables a run of `model` writes (histories/<name>.csv), in RunOutput's order."""
     out = model.options.output
-    ale = ["ale_materials"] if model.ale is not None else []  # AleDomain.history_tables, without building it
-    return ["glstat", "matsum", *ale, *(h.name for h in out.histories), *(p.name for p in out.probes)]
+    return ["glstat", "matsum", *domain_tables(model), *(h.name for h in out.histories), *(p.name for p in out.probes)]
 
 
 class RunOutput:
@@ -61,8 +61,9 @@ class RunOutput:
                                                  resume_rows=rows.get(name)) for name, columns in d.history_tables()])
                               for d in sim.domains]
         self.requests = [_HistoryProbe(sim, h, hist_dir, group, rows.get(h.name)) for h in out.histories]
-        self.probes = [(probe, next(d for d in sim.domains if d.owns_probe(probe)), HistoryWriter(hist_dir, probe.name, ["time", _PROBE_COLUMN[probe.type]], h5=group,
-                                             resume_rows=rows.get(probe.name)))
+        self.probes = [(probe, next(d for d in sim.domains if d.owns_probe(probe)),
+                        HistoryWriter(hist_dir, probe.name, ["time", _PROBE_COLUMN[probe.type]], h5=group,
+                                      resume_rows=rows.get(probe.name)))
                        for probe in out.probes]
         self._next_field = 0.0 if resume is None else resume["next_field"]
         self._next_history = 0.0 if resume is None else resume["next_history"]

@@ -9,7 +9,7 @@ import numpy as np
 from ..ale.system import AleSystem
 from ..model import sets as selection
 from ..model.build import VOID, Model
-from ..model.options import AleOptions
+from ..model.options import AleDomainOptions
 from .domain import Domain, Energies, stable_or_nan
 from .solid_domain import TOPOLOGY
 
@@ -23,7 +23,7 @@ class AleDomain(Domain):
     label = "ALE"
     non_finite_remedy = "lower the section's courant, check the equations of state and units"
 
-    def __init__(self, model: Model, options: AleOptions):
+    def __init__(self, model: Model, options: AleDomainOptions):
         mesh = model.ale
         self.model = model
         self.name = options.part

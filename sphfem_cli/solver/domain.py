@@ -40,10 +40,12 @@ State and output:
     history_rows() -> [row, ...]  one row per table of history_tables(), after time.
     owns_probe(probe) -> bool, probe(probe) -> float   the output.probes it measures.
 
-Registration: `register_domain(kind, factory)`; `factory(sim)` returns the domain for the model
-of `sim` or None when the model has none of it (and imports that physics only then, so a deck
-without it compiles none of its kernels). A domain's objects keep plain attributes (the checkpoint
-restores them by name, output.snapshot). Settings come from `model.options` (model/options.py).
+Registration: `register_domain(kind, factory, tables)`; `factory(sim)` returns the domain for the
+model of `sim` or None when the model has none of it (and imports that physics only then, so a deck
+without it compiles none of its kernels); `tables(model)` names the history tables its domain will
+add, known before the domain is built (the output folder's manifest is written first). A domain's
+objects keep plain attributes (the checkpoint restores them by name, output.snapshot). Settings come
+from `model.options` (model/options.py).
 """
 from __future__ import annotations
 
@@ -129,14 +131,15 @@ def stable_or_nan(stable_dt: Callable[[], float], *state: np.ndarray) -> float:
         return float("nan")
 
 
-_FACTORIES: dict[str, Callable] = {}
+_FACTORIES: dict[str, tuple[Callable, Callable | None]] = {}
 
 
-def register_domain(kind: str, factory: Callable) -> None:
-    """Add a domain kind: `factory(sim)` -> Domain | None, built after those registered before it."""
+def register_domain(kind: str, factory: Callable, tables: Callable | None = None) -> None:
+    """Add a domain kind: `factory(sim)` -> Domain | None, built after those registered before it;
+    `tables(model)` -> the names of the history tables it adds (None: none)."""
     if kind in _FACTORIES:
         raise ValueError(f"domain kind {kind!r} is already registered")
-    _FACTORIES[kind] = factory
+    _FACTORIES[kind] = (factory, tables)
 
 
 def unregister_domain(kind: str) -> None:
@@ -147,11 +150,16 @@ def unregister_domain(kind: str) -> None:
 def build_domains(sim) -> list[Domain]:
     """The domains of `sim`'s model, in registration order."""
     domains = []
-    for factory in list(_FACTORIES.values()):
+    for factory, _ in list(_FACTORIES.values()):
         d = factory(sim)
         if d is not None:
             domains.append(d)
     return domains
+
+
+def domain_tables(model) -> list[str]:
+    """The history tables the domains of `model` will add, in domain order (without building them)."""
+    return [name for _, tables in _FACTORIES.values() if tables is not None for name in tables(model)]
 
 
 def _solids(sim):
@@ -178,4 +186,4 @@ def _ale(sim):
 
 register_domain("solid", _solids)
 register_domain("sph", _sph)
-register_domain("ale", _ale)
+register_domain("ale", _ale, lambda model: ["ale_materials"] if model.ale is not None else [])

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.build import Model
-from ..model.options import ControlOptions, SphOptions
+from ..model.options import ControlOptions, SphDomainOptions
 from ..sph.system import ParticleSystem, SPHOptions, WallParticles, box_walls
 from .domain import Domain, Energies, stable_or_nan
 from .guards import RunStopped
@@ -22,7 +22,7 @@ class SphDomain(Domain):
     label = "SPH"
     non_finite_remedy = "lower timestep_scale, check the equation of state and units"
 
-    def __init__(self, model: Model, options: SphOptions, control: ControlOptions):
+    def __init__(self, model: Model, options: SphDomainOptions, control: ControlOptions):
         self.model = model
         self.max_lost_fraction = control.max_lost_fraction
         self.parts = tuple(i for i, p in enumerate(model.parts) if p.kind == "sph")

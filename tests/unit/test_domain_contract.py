@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from sphfem_cli.driver import load_model
-from sphfem_cli.output.results import RunOutput
+from sphfem_cli.output.results import RunOutput, history_tables
 from sphfem_cli.output.snapshot import capture, restore
 from sphfem_cli.solver.domain import Domain, Energies, register_domain, unregister_domain
 from sphfem_cli.solver.explicit import Simulation
@@ -81,7 +81,8 @@ class FallingPoints(Domain):
 
 @pytest.fixture
 def points():
-    register_domain("points", lambda sim: FallingPoints(X0, V0, MASS, G, 0.02))  # the one registration
+    # the one registration: how to build it, and the history table it adds
+    register_domain("points", lambda sim: FallingPoints(X0, V0, MASS, G, 0.02), lambda model: ["points"])
     yield
     unregister_domain("points")
 
@@ -96,6 +97,7 @@ def deck(tmp_path):
 def test_point_masses_fall_on_the_exact_parabola_and_balance_their_energy(points, deck, tmp_path):
     sim = Simulation(load_model(str(deck)).model)
     assert [d.kind for d in sim.domains] == ["solid", "points"]
+    assert history_tables(sim.model) == ["glstat", "matsum", "points"]  # the folder's manifest lists it
     out = RunOutput(sim, tmp_path / "out")
     out()
     steps = []
