@@ -27,18 +27,21 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
              f"  units: {units.length}-{units.mass}-{units.time} (force {force}, pressure {pressure}, "
              f"density {density}); dimension {deck.dimension}",
              f"  {n_nodes} nodes, {n_elements} elements, {n_particles} particles, {len(model.parts)} part(s)"]
-    for p in model.parts:
+    masses = part_masses(model)
+    mass_unit = f"{units.mass}{'/' + units.length if deck.dimension == 2 else ''}"
+    for p, mass in zip(model.parts, masses):
         kind = "rigid" if p.rigid else deck.parts[p.name].section
         material = model.material_names[p.material]
         if p.kind == "sph":
-            lines.append(f"    {p.name}: {p.particles.stop - p.particles.start} particles, material {material}, {kind}")
+            lines.append(f"    {p.name}: {p.particles.stop - p.particles.start} particles, material {material}, {kind}, "
+                         f"mass {mass:.4g} {mass_unit}")
         elif p.kind == "ale":
             names = ", ".join(model.material_names[m] for m in model.ale.materials)
             lines.append(f"    {p.name}: {len(model.ale.nodes)} nodes, {len(model.ale.elements)} ALE elements, "
-                         f"materials {names}, {kind}")
+                         f"materials {names}, {kind}, mass {mass:.4g} {mass_unit}")
         else:
             lines.append(f"    {p.name}: {p.nodes.stop - p.nodes.start} nodes, {p.elements.stop - p.elements.start} "
-                         f"elements, material {material}, {kind}")
+                         f"elements, material {material}, {kind}, mass {mass:.4g} {mass_unit}")
     warnings = []
     for i, (name, m) in enumerate(deck.materials.items()):
         if model.material_type[i] == VOID:
@@ -56,4 +59,55 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
     lines.append(f"  stable time step {dt:.4e} {units.time} (timestep_scale {deck.control.timestep_scale}), set by "
                  f"{sim.limiter_description()}; about {end / dt:.3g} steps to end_time {end:g} {units.time}")
     lines.append(f"  memory estimate {model.memory_bytes() / 2**20:.1f} MiB")
+    lines += _counts(deck)
+    lines.append(_output_size(sim, model, dt))
     return lines, warnings
+
+
+def part_masses(model) -> list[float]:
+    """The mass of each part at t = 0 in the deck's mass unit (per unit thickness in 2D): solids the
+    sum of their nodal masses, SPH parts of their particles' masses, the ALE part Σ φ ρ V of its fills."""
+    out = []
+    for i, p in enumerate(model.parts):
+        if p.kind == "sph":
+            out.append(float(model.particles.mass[model.particles.part == i].sum()))
+        elif p.kind == "ale":
+            from .model.mesh import element_jacobian_sign_check
+
+            volume = np.abs(element_jacobian_sign_check(model.ale.nodes, model.ale.elements))
+            out.append(float((model.ale.fractions * model.ale.density * volume[:, None]).sum()))
+        else:
+            out.append(float(model.mass[p.nodes].sum()))
+    return out
+
+
+def _counts(deck) -> list[str]:
+    """Contacts, couplings, boundaries, loads and output requests, counted by kind."""
+    def by_kind(items) -> str:
+        kinds: dict[str, int] = {}
+        for item in items:
+            kinds[item.type] = kinds.get(item.type, 0) + 1
+        return ", ".join(f"{n} {k}" for k, n in kinds.items()) or "none"
+
+    return [f"  contacts: {by_kind(deck.contacts)}; couplings: {by_kind(deck.couplings)}",
+            f"  boundaries: {by_kind(deck.boundaries)}; loads: {by_kind(deck.loads)}; initial: {by_kind(deck.initial)}",
+            f"  output: {len(deck.output.histories)} histories, {len(deck.output.probes)} probes"]
+
+
+def _output_size(sim, model, dt: float) -> str:
+    """The expected size of results.h5: the fields of one output step (asked of the domains at t = 0)
+    times the output steps, plus the history tables."""
+    out = model.options.output
+    end = model.options.control.end_time
+    fields = {}
+    for d in sim.domains:
+        fields.update(d.field_data(lambda name: name in out.fields or name not in out.selectable))
+    per_step = sum(coords.nbytes + sum(np.asarray(a).nbytes for a in (*point.values(), *cell.values()))
+                   for coords, point, cell in fields.values())
+    steps = int(np.floor(end / out.interval + 1e-9)) + 1
+    rows = int(np.floor(end / out.history_interval + 1e-9)) + 1
+    tables = 8 * rows * (10 + 3 * len(model.parts) + 12 * (len(out.histories) + len(out.probes)))
+    total = steps * per_step + tables
+    return (f"  output size: {steps} field steps of {per_step / 2**20:.2f} MiB and about {rows} history rows: "
+            f"results.h5 about {total / 2**20:.1f} MiB")
+
