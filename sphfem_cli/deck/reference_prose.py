@@ -57,6 +57,17 @@ keywords: `control` for the run, named `materials`, `equations_of_state`, `secti
 named node and segment `sets`, lists of `boundaries`, `initial` conditions and `loads`, and the
 `output` requests. `sphfem check deck.yaml` validates a deck, builds the model and prints a
 summary with the stable time step; `sphfem run deck.yaml` runs it.
+
+**Completion and checks while typing.** `sphfem schema -o deck.schema.json` writes the deck's JSON
+Schema (generated from the same models as this page; the repository keeps a copy in
+`schema/deck.schema.json`). An editor with the YAML language server (VS Code's *YAML* extension,
+neovim's yamlls, JetBrains IDEs) reads a first line
+`# yaml-language-server: $schema=<path or URL of deck.schema.json>` and then completes keys, shows
+these descriptions, and marks unknown keys, wrong types and out-of-range numbers as you type; every
+shipped deck starts with such a line (`$schema=../schema/deck.schema.json`). Or map the schema to
+your deck files once in the editor's settings (VS Code: `"yaml.schemas": {"schema/deck.schema.json":
+"decks/*.yaml"}`). The schema checks each key alone; `sphfem check` also checks the cross-references
+(a part's material exists, a set exists, ...).
 """
 
 CONVENTIONS = """\
