@@ -7,6 +7,7 @@ error while writing (the files written so far are kept), 1 internal error, 130 i
 """
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -15,6 +16,8 @@ import click
 from . import __version__
 from .driver import (EXIT_INTERNAL, EXIT_INTERRUPTED, DeckProblem, default_threads, execute, load_model,
                      prepare_folder)
+
+EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a writer whose reader closed the pipe
 
 
 class _Commands(click.Group):
@@ -31,6 +34,12 @@ class _Commands(click.Group):
         except KeyboardInterrupt:
             click.echo("interrupted", err=True)
             sys.exit(EXIT_INTERRUPTED)
+        except BrokenPipeError:  # the reader went away (`sphfem check deck | head -1`): stop as `cat` would
+            try:  # nothing more reaches it, and the exit's flush must not fail again
+                os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+            except (OSError, ValueError, AttributeError):
+                pass
+            sys.exit(EXIT_BROKEN_PIPE)
         except Exception as err:  # noqa: BLE001 - the CLI's last line of defence
             click.echo(f"internal error: {type(err).__name__}: {err} (please report it)", err=True)
             sys.exit(EXIT_INTERNAL)
