@@ -52,7 +52,7 @@ class RunOutput:
         self._owner = {i: d for d in sim.domains for i in d.parts}
         for i, p in enumerate(model.parts) if resume is None else ():
             self.xdmf.add_grid(p.name, *self._owner[i].grid(i))
-        group = self.xdmf.h5.require_group("histories")
+        group = self.xdmf.h5  # HistoryWriter mirrors each table in /histories/<name>
         hist_dir = self.directory / "histories"
         self.glstat = HistoryWriter(hist_dir, "glstat", EnergyRow.COLUMNS, h5=group, resume_rows=rows.get("glstat"))
         part_cols = ["time"] + [f"{p.name}_{k}" for p in model.parts for k in ("kinetic", "internal", "hourglass")]

@@ -21,7 +21,7 @@ def _histories(deck, out, threads: int) -> dict[str, np.ndarray]:
     assert result.exit_code == 0, result.output
     assert f"threads: {threads}" in (out / "run.log").read_text()
     with h5py.File(out / "results.h5", "r") as f:
-        group = f["histories/histories"]
+        group = f["histories"]
         tables = {name: group[name][()] for name in group}
         steps = sorted(k for k in f[next(n for n in f if n not in ("times", "histories"))] if k.startswith("step_"))
         last = f[next(n for n in f if n not in ("times", "histories"))][steps[-1]]
@@ -62,7 +62,7 @@ def test_a_run_that_compiles_its_kernels_equals_one_that_loads_them(tmp_path):
                                "run", "-q", str(deck), "-o", str(out), "--threads", "1"], env=env, timeout=900).returncode
         assert code == 0, (out / "run.log").read_text()
         with h5py.File(out / "results.h5", "r") as f:
-            group = f["histories/histories"]
+            group = f["histories"]
             runs.append({name: group[name][()] for name in group})
     assert any((tmp_path / "numba_cache").rglob("*.nbi")), "the first run wrote no cache"
     for name, table in runs[0].items():

@@ -149,7 +149,7 @@ def _assert_readable(out: Path) -> int:
         for i in range(len(times)):
             step = f["bar"][f"step_{i:06d}"]
             assert step["coordinates"].shape == (105, 3) and np.all(np.isfinite(step["coordinates"][()]))
-        mirrored = {name: f["histories/histories"][name][()] for name in f["histories/histories"]}
+        mirrored = {name: f["histories"][name][()] for name in f["histories"]}
     listed = [float(t.get("Value")) for t in ET.parse(out / "results.xdmf").getroot().iter("Time")] \
         if (out / "results.xdmf").exists() else []
     assert np.array_equal(listed, times[: len(listed)])

@@ -49,7 +49,7 @@ def test_sigkill_mid_run_leaves_every_flushed_step_readable(tmp_path):
             for name in step["cell"]:
                 values = step["cell"][name][()]
                 assert values.shape[0] == n_cells and np.all(np.isfinite(values))
-        glstat = f["histories/histories/glstat"][()]
+        glstat = f["histories/glstat"][()]
         assert glstat.shape[0] >= 1 and glstat.shape[1] == 9 and np.all(np.isfinite(glstat))
         assert glstat[-1, 0] >= times[-1] - 1e-12  # history rows up to the last field step were flushed with it
         assert np.all(np.diff(glstat[:, 0]) > 0)

@@ -37,7 +37,7 @@ def _interrupt_at(monkeypatch, step: int, signum=signal.SIGINT) -> None:
 
 def _histories(out: Path) -> dict[str, np.ndarray]:
     with h5py.File(out / "results.h5", "r") as f:
-        group = f["histories/histories"] if "histories/histories" in f else f["histories"]
+        group = f["histories"]
         return {name: group[name][()] for name in group}
 
 
