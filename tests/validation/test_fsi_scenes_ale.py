@@ -2,19 +2,21 @@
 
 The ALE twins of tests/validation/test_fsi_scenes_sph.py (same geometry, same history names, same
 checks): each test runs a shipped deck (decks/<name>.yaml) unchanged through the CLI path and
-reads histories/cylinder.csv back. Water is a linear-polynomial EOS with c0 = 30 m/s in an
+reads histories/cylinder.csv back. Water is a linear-polynomial EOS (c0 = 60 m/s constant speed,
+30 m/s free fall) in an
 Eulerian mesh of 5 mm squares, void above it; the cylinder is coupled by lagrange_in_solid.
 
-1. decks/cylinder_entry_constant_speed_ale.yaml: rigid cylinder D = 0.11 m at constant 2.955 m/s.
+1. decks/cylinder_entry_constant_speed_ale.yaml: rigid cylinder D = 0.11 m at constant 2.955 m/s
+   (water c0 = 60 m/s, tank 1.2 x 0.6 m: the echoes return at s/D ~ 0.5, after the compared window).
    Slamming coefficient Cs = F / (1/2 rho D V^2) against s/D, s = V (t - t_contact); bounds
    von Karman's pi and Wagner's 2 pi at first contact (2D, per unit length), from
    ../shared/reference/README.md ("Rigid cylinder entering still water at constant speed"), and
-   the issue's acceptance: peak Cs in [pi, 1.2 x 2 pi], Cs falling as the penetration grows,
-   tested as in the SPH twin: the mean over s/D in [0.4, 0.6] (which holds the floor's acoustic
-   echo) below half the peak, the mean over [0.8, 1.1] below the mean over [0, 0.2]. The coupling
-   engages a point once the water element is within half an element (2.5 mm, s/D = 0.023) in
-   front of it, so no force is allowed before s/D = -0.023 (the SPH twin: -0.01, its contact
-   thickness).
+   the issue's acceptance: the peak of Cs (its 1 ms running mean, as in the SPH twin, whose raw
+   samples alternate) in [pi, 1.2 x 2 pi], Cs falling as the penetration grows, tested as in the
+   SPH twin: the mean over s/D in [0.4, 0.6] (which holds the floor's acoustic echo) below half
+   the peak, the mean over [0.8, 1.1] below the mean over [0, 0.2]. The coupling engages a point
+   once the water element is within half an element (2.5 mm, s/D = 0.023) in front of it, so no
+   force is allowed before s/D = -0.023 (the SPH twin: -0.01, its contact thickness).
 2. decks/cylinder_free_fall_ale.yaml (density 500) and
    decks/cylinder_free_fall_rho1000_ale.yaml (density 1000), both to T = 0.74 (0.08 s, the SPH
    twins' end; van Leer advection, since the ALE nodal mass floor): Greenhow & Lin (1983) setup (README above), no measured curve in the reference
@@ -45,17 +47,19 @@ def test_cylinder_constant_speed_slamming_ale(tmp_path):
     cs = h["contact_force_y"] / (0.5 * RHO * D * V * V)
     assert np.allclose(h["velocity_y"][1:], -V)  # the prescribed speed held
     assert np.all(cs[s_over_d < -REACH / D - 1e-9] == 0.0)  # no force before the water is in reach
-    peak = int(np.argmax(cs))
+    n = int(round(1.0e-3 / float(h["time"][2] - h["time"][1])))  # samples in 1 ms
+    smooth = np.convolve(cs, np.ones(n) / n, mode="same")  # centred 1 ms running mean
+    peak = int(np.argmax(smooth))
 
     def mean(lo, hi):
         return float(cs[(s_over_d >= lo) & (s_over_d <= hi)].mean())
 
     early, middle, late = mean(0.0, 0.2), mean(0.4, 0.6), mean(0.8, 1.1)
-    print(f"\nALE slamming: peak Cs {cs[peak]:.2f} at s/D {s_over_d[peak]:.3f}; mean Cs {early:.2f} (s/D 0-0.2), "
-          f"{middle:.2f} (0.4-0.6), {late:.2f} (0.8-1.1)")
-    assert np.pi <= cs[peak] <= 1.2 * 2.0 * np.pi  # measured 4.60 at s/D 0.053
-    assert middle < 0.5 * cs[peak]  # measured 1.54
-    assert late < early  # measured 1.14 < 2.38
+    print(f"\nALE slamming: peak Cs (1 ms mean) {smooth[peak]:.2f} at s/D {s_over_d[peak]:.3f} (raw {cs.max():.2f}); "
+          f"mean Cs {early:.2f} (s/D 0-0.2), {middle:.2f} (0.4-0.6), {late:.2f} (0.8-1.1)")
+    assert np.pi <= smooth[peak] <= 1.2 * 2.0 * np.pi  # measured 4.43 at s/D 0.041 (raw 4.89)
+    assert middle < 0.5 * smooth[peak]  # measured 1.21
+    assert late < early  # measured 0.97 < 2.32
 
 
 def free_fall(name: str, tmp_path: Path):
