@@ -134,6 +134,15 @@ def test_ale_variant_and_bad_decks():
     assert d.data["parts"]["tank"]["geometry"]["box"]["divisions"] == [20, 12]
     with pytest.raises(StudyError, match="square"):
         derive.ale_variant(data, 0.07)
+    # the coupling points follow the fluid mesh (2 per segment at h -> 4 at h/2, 5 at most)
+    coupled = _scene([], couplings=[{"type": "lagrange_in_solid", "structure": "plate", "fluid": "tank"}], solid=True)
+    h = derive.ale_info(derive.validated(coupled)).element_size
+    half, quarter = derive.ale_variant(coupled, h / 2), derive.ale_variant(coupled, h / 4)
+    assert half.data["couplings"][0]["nquad"] == 4 and quarter.data["couplings"][0]["nquad"] == 5
+    assert any("capped at 5" in n for n in quarter.notes)
+    assert "nquad" not in coupled["couplings"][0]  # the input is not changed
+    assert "nquad" not in derive.ale_variant(coupled, h).data["couplings"][0]
+    Deck.model_validate(quarter.data)
     two = copy.deepcopy(data)
     two["parts"]["tank"]["geometry"]["box"]["divisions"] = [10, 3]
     with pytest.raises(StudyError, match="square elements"):
