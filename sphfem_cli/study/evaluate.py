@@ -175,6 +175,13 @@ def _pct(v) -> str:
     return "?" if v is None or not math.isfinite(v) else f"{100 * v:.3g} %"
 
 
+def _brief(message, width: int = 240) -> str:
+    """A failure message on one line, at most `width` characters: the recommendation's text is one
+    line (report.md prints it in bold); the full message stays in ``failures`` and the Failures section."""
+    line = " ".join(str(message).split())
+    return line if len(line) <= width else line[: width - 3] + "..."
+
+
 def recommend(config: StudyConfig, plan: Plan, rows: list[dict], error_model, costs: dict, ref_label: str,
               failures: list[dict]) -> dict:
     tol = config.tolerance
@@ -183,7 +190,7 @@ def recommend(config: StudyConfig, plan: Plan, rows: list[dict], error_model, co
     rec = {"tolerance": tol, "ratio": None, "verdict": None, "predicted": None, "verified": None, "text": "",
            "failures": failures, "notes": []}
     if failures:
-        rec["notes"].append("failed: " + "; ".join(f"{f['case']}: {f['message']}" for f in failures))
+        rec["notes"].append("failed: " + "; ".join(f"{f['case']}: {_brief(f['message'])}" for f in failures))
     if not any(r["reference"] for r in rows) and ref_label.startswith("no finished"):
         rec["verdict"] = f"failed: {ref_label}, so no errors"
         rec["text"] = rec["verdict"] + "".join(f"; {n}" for n in rec["notes"])

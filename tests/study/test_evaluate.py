@@ -40,14 +40,14 @@ def _ale_peak(h: float) -> float:
     return 1.0 + 0.4 * ((h / 0.05) ** 2 - 1.0 / 16.0)
 
 
-def _plan(tmp_path: Path, sph_errors: dict[int, float], finest_fails: bool) -> Plan:
+def _plan(tmp_path: Path, sph_errors: dict[int, float], finest_fails: bool, message: str = "ALE blew up") -> Plan:
     """ALE at 0.05, 0.025, 0.0125 (order 2, the finest exactly 1) and SPH ratios whose amplitude error
     against that finest level is the given one."""
     cases = []
     for h in (0.05, 0.025, 0.0125):
         amp = None if (finest_fails and h == 0.0125) else _ale_peak(h)
         cases.append(_case(tmp_path, f"ale_h{h:g}", "ale", h, amp, int(32 * (0.05 / h) ** 2), 0.1 * (0.05 / h) ** 3,
-                           int(5 * 0.05 / h), message="ALE blew up"))
+                           int(5 * 0.05 / h), message=message))
     for r, e in sph_errors.items():
         cases.append(_case(tmp_path, f"sph_r{r}", "sph", 0.05 / r, 1.0 + e, 30 * r * r, 0.05 + 1e-4 * 30 * r**3 * 8,
                            8 * r))
@@ -72,6 +72,19 @@ def test_failed_finest_reference_falls_back_and_says_so(tmp_path):
     report.write_all(tmp_path, result)
     assert "The finer reference ale_h0.0125 failed" in (tmp_path / "report.md").read_text()
     assert "ALE blew up" in (tmp_path / "report.csv").read_text()
+
+
+def test_a_long_failure_message_is_one_line_in_the_recommendation(tmp_path):
+    message = "guard: time_step\nmessage: time step 7.9e-11 fell below 1/1000 of the first step\n  dt: 7.9e-11\n" + "x" * 400
+    plan = _plan(tmp_path, {1: 0.3, 2: 0.15, 3: 0.1}, finest_fails=True, message=message)
+    rec = evaluate.evaluate(_config(tmp_path, 0.2), plan)["recommendation"]
+    assert "\n" not in rec["text"] and "guard: time_step message: time step 7.9e-11 fell" in rec["text"]
+    assert len(rec["text"]) < len(message)  # capped, with "..."
+    assert rec["failures"][0]["message"] == message  # the full message is kept
+    report.write_all(tmp_path, evaluate.evaluate(_config(tmp_path, 0.2), plan))
+    lines = (tmp_path / "report.md").read_text().splitlines()
+    bold = lines[lines.index("## Recommendation") + 2]
+    assert bold.startswith("**") and bold.endswith("**")  # the bold recommendation is one line
 
 
 def test_reference_gci_band_and_errors_below_it(tmp_path):
