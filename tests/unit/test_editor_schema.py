@@ -57,3 +57,10 @@ def test_cli_writes_the_schema(tmp_path):
     assert json.loads(out.read_text())["$schema"].endswith("2020-12/schema")
     result = CliRunner().invoke(main, ["schema"])
     assert result.exit_code == 0 and json.loads(result.output)["title"].startswith("sphfem deck")
+
+
+@pytest.mark.parametrize("deck", DECKS, ids=lambda p: p.stem)
+def test_every_shipped_deck_points_editors_at_the_schema(deck):
+    first = deck.read_text().splitlines()[0]
+    assert first == "# yaml-language-server: $schema=../schema/deck.schema.json"
+    assert (deck.parent / "../schema/deck.schema.json").resolve().is_file()
