@@ -248,7 +248,7 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
         element_dt_factor=dt_factor,
     )
     model.node_sets.update(file_sets)
-    _check_file_sets(deck, file_sets)
+    checks.file_sets(deck, file_sets)
     _resolve_sets(model, deck)
     model.rigid_bodies = [_rigid_body(model, i) for i, p in enumerate(parts) if p.rigid]
     if any(p.kind == "sph" for p in parts):
@@ -257,22 +257,6 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
         model.ale = _ale_mesh(model, deck, deck_path)
     model.options = resolve_options(deck, model)
     return model
-
-
-def _check_file_sets(deck: Deck, file_sets: dict) -> None:
-    """Every ``<part>.<set>`` the deck names (not a deck set) is a set of that part's mesh file."""
-    users = [(f"boundaries.{i}", b) for i, b in enumerate(deck.boundaries)] + \
-            [(f"initial.{i}", c) for i, c in enumerate(deck.initial)] + \
-            [(f"loads.{i}", ld) for i, ld in enumerate(deck.loads)] + \
-            [(f"output.histories.{i}", h) for i, h in enumerate(deck.output.histories)]
-    for path, item in users:
-        name = getattr(item, "set", None)
-        if name is None or name in deck.sets or name in file_sets:
-            continue
-        part = name.partition(".")[0]
-        held = sorted(k.partition(".")[2] for k in file_sets if k.startswith(part + "."))
-        raise ModelError(f"{path}.set", f"the mesh file of part '{part}' has no set '{name.partition('.')[2]}' "
-                         f"(its sets: {', '.join(held) or 'none'})")
 
 
 K_MARGIN = 0.3  # see free_dilatation_factor

@@ -103,3 +103,21 @@ def elements(name: str, part, mesh: meshgen.MeshData) -> None:
         raise build.ModelError(where, f"element {e} of part '{name}' is inverted, collapsed or re-entrant at "
                                       f"t = 0 ({shape} at its corner node {c}, {int(bad.any(axis=1).sum())} such "
                                       "element(s); check the sizes, the units and the mesh)")
+
+
+def file_sets(deck, file_sets: dict) -> None:
+    """Every ``<part>.<set>`` the deck names (not a deck set) is a set of that part's mesh file."""
+    from . import build
+
+    users = [(f"boundaries.{i}", b) for i, b in enumerate(deck.boundaries)] + \
+            [(f"initial.{i}", c) for i, c in enumerate(deck.initial)] + \
+            [(f"loads.{i}", ld) for i, ld in enumerate(deck.loads)] + \
+            [(f"output.histories.{i}", h) for i, h in enumerate(deck.output.histories)]
+    for path, item in users:
+        name = getattr(item, "set", None)
+        if name is None or name in deck.sets or name in file_sets:
+            continue
+        part = name.partition(".")[0]
+        held = sorted(k.partition(".")[2] for k in file_sets if k.startswith(part + "."))
+        raise build.ModelError(f"{path}.set", f"the mesh file of part '{part}' has no set '{name.partition('.')[2]}' "
+                         f"(its sets: {', '.join(held) or 'none'})")
