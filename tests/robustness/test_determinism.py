@@ -47,7 +47,7 @@ def test_identical_run_after_run_and_on_1_or_2_threads(tmp_path, kind):
 def test_a_run_that_compiles_its_kernels_equals_one_that_loads_them(tmp_path):
     """The first run after a kernel change compiles the kernels and writes numba's cache, later runs
     load it: both must give the same bits (FMA contraction, then reassociation outside the neighbour
-    sums differed between the two: see sphfem_cli/sph/kernels.py, _FM). Two fresh interpreters on one empty cache folder; the SPH
+    sums differed between the two: see sphfem_cli/sph/rates.py, _FM). Two fresh interpreters on one empty cache folder; the SPH
     kernels are the ones with fast-math flags."""
     import os
     import subprocess
