@@ -2,7 +2,10 @@
 and the density at a given pressure (wall points, hydrostatic initial states).
 
 The equations of state are the materials module's (``materials.kernels``); docs/theory/sph.md
-("Equation of state") states how the SPH fluid uses them.
+("Equation of state") states how the SPH fluid uses them. ``density_from_pressure`` and
+``sound_speed`` state ``fastmath=False``: the fast-math kernel ``walls.wall_pressure`` calls them,
+and without it numba would compile them, and the EOS functions below them, with that caller's
+flags whenever it is the first to need them, and cache that version (see ``rates._FM``).
 """
 from __future__ import annotations
 
@@ -49,7 +52,7 @@ def update_particle_state(rho, e, m, mat, active, params, eta, dim, pressure_cut
     return hmax
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def density_from_pressure(eos, q, rho0, p_target, ee, rho_guess):
     """Density at which p_eos(rho/rho0, ee) = p_target, by Newton's method with slope c^2."""
     rho = rho_guess
@@ -68,6 +71,13 @@ def density_from_pressure(eos, q, rho0, p_target, ee, rho_guess):
             return nxt
         rho = nxt
     return rho
+
+
+@njit(cache=True, fastmath=False)
+def sound_speed(eos, q, r, ee):
+    """``materials.kernels.eos_sound_speed`` at compression r = rho/rho0 and energy ee, compiled without
+    fast-math whoever calls it first."""
+    return eos_sound_speed(eos, q, r, ee)
 
 
 @njit(cache=True)

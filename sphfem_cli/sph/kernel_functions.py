@@ -3,6 +3,10 @@
 W = sigma_d / h^d theta(r/h) with support 2h: the cubic spline (Monaghan & Lattanzio 1985) and
 the Wendland C2 kernel (Wendland 1995; Dehnen & Aly 2012). Equations in docs/theory/sph.md
 ("Kernels"). The pair loop (``rates._pair_terms``) computes theta inline.
+
+Every function here states ``fastmath=False``: they are called from kernels with and without
+fast-math flags, and numba compiles a callee that states none with the flags of the caller that
+first needs it, then caches that version under its signature alone (see ``rates._FM``).
 """
 from __future__ import annotations
 
@@ -14,7 +18,7 @@ CUBIC_SPLINE = 0
 WENDLAND_C2 = 1
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def kernel_sigma(kernel, dim):
     """Normalisation constant sigma_d of W = sigma_d / h^d theta(r/h) (support 2h)."""
     if kernel == WENDLAND_C2:
@@ -30,7 +34,7 @@ def kernel_sigma(kernel, dim):
     return 1.0 / math.pi
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def kernel_shape(kernel, dim, q):
     """Kernel shape theta(q) and (1/q) dtheta/dq for 0 <= q < 2 (both 0 beyond)."""
     if q >= 2.0:
@@ -48,7 +52,7 @@ def kernel_shape(kernel, dim, q):
     return th, dth
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def inv_pow(inv, dim):
     """inv^dim for dim 1, 2, 3 (1/h^d of the normalisation)."""
     if dim == 1:
@@ -58,14 +62,14 @@ def inv_pow(inv, dim):
     return inv * inv * inv
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def kernel_w(kernel, dim, r, h):
     """Kernel value W(r, h)."""
     inv = 1.0 / h
     return kernel_sigma(kernel, dim) * inv_pow(inv, dim) * kernel_shape(kernel, dim, r * inv)[0]
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)
 def kernel_f(kernel, dim, r, h):
     """F(r, h) = (1/r) dW/dr, so that grad_i W_ij = F r_ij with r_ij = x_i - x_j (finite at r = 0)."""
     inv = 1.0 / h

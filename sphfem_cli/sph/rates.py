@@ -33,6 +33,12 @@ from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF
 # round-off (4 % in an elastic gate's tip velocity after 0.02 s, where the contact amplifies it).
 # Without them re-optimising changes no result (the copies differ only in commuted operands), and
 # the two are bit-identical (tests/robustness/test_determinism.py).
+# numba compiles a callee that states no fastmath with the flags of the caller that first needs it
+# (numba.core.cpu.CPUTargetOptions: fastmath is inherited) and caches it under its signature alone,
+# so every function the fast-math kernels here and in walls.py call states fastmath=False
+# (kernel_functions, search.cell_range, eos.density_from_pressure, eos.sound_speed); otherwise its
+# code depended on which kernel compiled it first: density_from_pressure compiled first from
+# wall_pressure gave hydrostatic densities 1 ulp apart from one compiled on its own.
 _FM = {"nsz", "arcp"}
 
 

@@ -221,7 +221,7 @@ def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
     return perm, cell_start, sx, sd
 
 
-@njit(cache=True)
+@njit(cache=True, fastmath=False)  # called from fast-math kernels too (see rates._FM)
 def cell_range(v, reach, o, inv_cell, n):
     """Cells ``lo..hi`` (clipped to ``0..n-1``) along one axis that hold points within ``reach`` of ``v``."""
     lo = int(math.floor((v - reach - o) * inv_cell))

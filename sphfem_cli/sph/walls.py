@@ -14,9 +14,9 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0, eos_sound_speed
+from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0
 from ..materials.slots import Q_E0
-from .eos import density_from_pressure
+from .eos import density_from_pressure, sound_speed
 from .kernel_functions import inv_pow, kernel_shape, kernel_f, kernel_sigma
 from .rates import _FM
 from .search import cell_range
@@ -225,7 +225,7 @@ def wall_pressure(sx, sd, cell_start, settings_f, settings_i, grid_f, grid_i, pa
         sd[k, D_VOL] *= sd[k, D_RHO] / rw  # same mass at the new density
         sd[k, D_RHO] = rw
         sd[k, D_PR] = pw / (rw * rw)
-        sd[k, D_C] = eos_sound_speed(eos, q, rw / rho0, q[Q_E0])
+        sd[k, D_C] = sound_speed(eos, q, rw / rho0, q[Q_E0])
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
