@@ -14,6 +14,8 @@ layout of an evaluation is described in ``sph/search.py``.
 """
 from __future__ import annotations
 
+__numba_folded__ = True  # numba folds these ints into kernels: part of the compiled-cache key
+
 # point kinds
 KIND_FLUID = 0
 KIND_GHOST = 1
