@@ -12,7 +12,7 @@ viscosity, the whole step: EOS, ghosts, cell sort, rates, time step, leapfrog):
 Each case is advanced a few steps first (compilation, cell order), then timed; the figure is
 particles x steps / wall time (the process CPU time is printed beside it: on a shared machine
 the wall time includes time the process spent waiting for a core). Bytes per particle: the
-system's per-particle arrays and one evaluation's point set (``ParticleSystem.memory_bytes``),
+system's per-particle arrays and one evaluation's point set (``SphSystem.memory_bytes``),
 and the growth of the peak resident memory while the case was built and first stepped
 (temporaries included; meaningful for the large cases, where it is not hidden by the
 interpreter and the compiler).

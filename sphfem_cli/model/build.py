@@ -52,7 +52,7 @@ class PartInfo:
 
 
 @dataclass
-class ParticleSet:
+class SphParticles:
     """The SPH particles of every SPH part, as one particle system.
 
     `material` indexes the fluid sub-table (`material_type`, `material_param`) and `fluid_names`.
@@ -125,7 +125,7 @@ class Model:
     node_sets: dict[str, np.ndarray] = field(default_factory=dict)
     segment_sets: dict[str, np.ndarray] = field(default_factory=dict)
     rigid_bodies: list[RigidBody] = field(default_factory=list)
-    particles: ParticleSet | None = None
+    particles: SphParticles | None = None
     ale: "AleMesh | None" = None
     element_dt_factor: np.ndarray | None = None  # (E,) see free_dilatation_factor; None: all 1
     options: "RunOptions | None" = None  # the settings below model/ reads (model.options.resolve_options)
@@ -430,7 +430,7 @@ def _region(fill):
     return lambda *c: sum((ck - a) * n for ck, a, n in zip(c, point, normal)) <= 0.0
 
 
-def _particles(model: Model, deck: Deck) -> ParticleSet:
+def _particles(model: Model, deck: Deck) -> SphParticles:
     """Fill every SPH part with lattice particles; one fluid sub-table for the particle system."""
     from ..deck.schema import Gravity
     from ..sph import lattice
@@ -490,7 +490,7 @@ def _particles(model: Model, deck: Deck) -> ParticleSet:
                          f"particle mass {mass[k]:g} and density {density[k]:g} must be finite positive normal "
                          "numbers (check the material density, the spacing and the units)")
     checks.particle_density(model, deck, np.array(used), np.concatenate(mat), density, owners)
-    return ParticleSet(
+    return SphParticles(
         x=x, mass=mass, density=density,
         material=np.concatenate(mat), part=owners, spacing=spacing,
         material_type=model.material_type[used], material_param=model.material_param[used],

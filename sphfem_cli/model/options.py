@@ -125,7 +125,7 @@ class SphWall(Options):
 
 @dataclass(frozen=True)
 class SphDomainOptions(Options):
-    """The SPH section and what acts on the SPH parts (deck names; see sph.system.SPHOptions).
+    """The SPH section and what acts on the SPH parts (deck names; see sph.system.SphOptions).
 
     `gravity` is the sum of the gravity loads on any SPH part; `wall_points` the `dummy_wall`
     particles (None without), at `wall_spacing`; `initial_velocity` (part name, velocity) in deck order.

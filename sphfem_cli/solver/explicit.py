@@ -12,7 +12,7 @@ stable step of all. One step n -> n+1:
 
 Contacts and couplings (`interactions`, from the deck's `contacts` and `couplings`) act at the
 start of each step, on the state n of every domain: each adds its forces to `State.f_contact`
-(solid nodes) and to the fluid's external-force array (`ParticleSystem.f_ext`, the ALE coupling
+(solid nodes) and to the fluid's external-force array (`SphSystem.f_ext`, the ALE coupling
 forces), which the domains clear first. Each interaction object provides
 
     forces(st)                                   add the forces of state n

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..model.build import Model
 from ..model.options import ControlOptions, SphDomainOptions
-from ..sph.system import ParticleSystem, SPHOptions, WallParticles, box_walls
+from ..sph.system import SphOptions, SphSystem, WallParticles, box_walls
 from .domain import Domain, Energies, stable_or_nan
 from .guards import RunStopped
 
@@ -16,7 +16,7 @@ AXES = {"x": 0, "y": 1, "z": 2}
 
 
 class SphDomain(Domain):
-    """One `ParticleSystem` holding every SPH part, plus what the loop and the output ask of it."""
+    """One `SphSystem` holding every SPH part, plus what the loop and the output ask of it."""
 
     kind = "sph"
     label = "SPH"
@@ -30,19 +30,19 @@ class SphDomain(Domain):
         walls = []
         for w in options.walls:
             walls += box_walls(w.min, w.max, w.sides, w.condition)
-        sph_options = SPHOptions(
+        sph_options = SphOptions(
             kernel=options.kernel, smoothing_ratio=options.smoothing_ratio,
             alpha=options.alpha, beta=options.beta, eps=options.epsilon, delta=options.density_diffusion,
             xsph=options.xsph, delta_hydrostatic=options.diffusion_hydrostatic,
             ghost_hydrostatic=options.ghost_hydrostatic,
-            pressure_min=-np.inf if options.pressure_cutoff is None else options.pressure_cutoff,
+            pressure_cutoff=-np.inf if options.pressure_cutoff is None else options.pressure_cutoff,
             walls=tuple(walls), gravity=options.gravity.copy(), domain=options.domain,
         )
         velocity = np.zeros_like(ps_model.x)
         for part, v in options.initial_velocity:
             velocity[model.parts[model.part_index(part)].particles] = v
         walls = None if options.wall_points is None else WallParticles(options.wall_points, options.wall_spacing)
-        self.system = ParticleSystem(
+        self.system = SphSystem(
             ps_model.x, velocity, ps_model.mass, ps_model.density, ps_model.material,
             (ps_model.material_type, ps_model.material_param), sph_options, wall_particles=walls,
         )

@@ -1,9 +1,13 @@
 """SPH fluid: smoothed particle hydrodynamics on particles (paper section 3).
 
-``kernels`` numba kernels (smoothing kernels, cell search, ghosts, rates, integration);
-``system`` the ``ParticleSystem`` that drives them; ``lattice`` particles from geometry;
-``reference`` short NumPy versions of the hot kernels for the tests. Theory: docs/theory/sph.md.
+numba kernels: ``kernel_functions`` (W, F, sigma), ``search`` (cell-linked list, point set,
+neighbour lists), ``walls`` (ghosts, dummy-wall pressure, ghost friction), ``rates`` (viscous
+stress, pair sums, interpolation), ``integration`` (leapfrog, bounds, stable step), ``eos``
+(particle state from the EOS); ``slots`` names every slot of their settings, grid and point
+arrays. ``system`` the ``SphSystem`` that drives them; ``lattice`` particles from geometry;
+``scenes`` ready-made cases; ``reference`` short NumPy versions of the hot kernels for the tests.
+Theory: docs/theory/sph.md.
 """
-from .system import ParticleSystem, SPHOptions, Wall, WallParticles, box_walls, material_table
+from .system import SphOptions, SphSystem, Wall, WallParticles, box_walls, material_table
 
-__all__ = ["ParticleSystem", "SPHOptions", "Wall", "WallParticles", "box_walls", "material_table"]
+__all__ = ["SphOptions", "SphSystem", "Wall", "WallParticles", "box_walls", "material_table"]

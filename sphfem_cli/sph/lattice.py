@@ -14,7 +14,7 @@ from typing import Sequence
 import numpy as np
 
 from ..materials.slots import P_RHO0
-from . import kernels as k
+from .eos import densities_from_pressures
 
 
 def _grid(lo, hi, dx) -> np.ndarray:
@@ -196,7 +196,7 @@ def hydrostatic_density(points: np.ndarray, params: np.ndarray, material: np.nda
     with np.errstate(over="ignore", invalid="ignore"):  # an overflowing column is model.checks' deck error
         pressure = np.maximum(rho0 * ((pts - s) @ g), 0.0)
     out = np.empty(len(pts))
-    k.densities_from_pressures(pressure, mat, np.ascontiguousarray(params, dtype=np.float64), out)
+    densities_from_pressures(pressure, mat, np.ascontiguousarray(params, dtype=np.float64), out)
     return out
 
 

@@ -1,6 +1,6 @@
 """Short NumPy versions of the SPH hot kernels, for the tests (dense all-pairs, small inputs only).
 
-``rates_reference`` recomputes, from the particle state alone, what ``ParticleSystem.compute_rates``
+``rates_reference`` recomputes, from the particle state alone, what ``SphSystem.compute_rates``
 computes with the numba kernels: EOS state, ghost particles, dummy-wall pressures, viscous stress,
 and the continuity / momentum / energy / delta-SPH / XSPH rates. It follows the equations of
 docs/theory/sph.md directly, with O(N^2) memory.
@@ -13,30 +13,31 @@ import numpy as np
 
 from ..materials import kernels as mk
 from ..materials import slots as ms
-from . import kernels as k
+from .eos import density_from_pressure
+from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_sigma
 
 
 def kernel_w(kernel: int, dim: int, r, h):
     """W(r, h), vectorised."""
     q = np.asarray(r, dtype=float) / h
-    if kernel == k.WENDLAND_C2:
+    if kernel == WENDLAND_C2:
         t = np.maximum(1.0 - 0.5 * q, 0.0)
         th = t**3 * (1.5 * q + 1.0) if dim == 1 else t**4 * (2.0 * q + 1.0)
     else:
         th = np.where(q < 1.0, 1.0 - 1.5 * q**2 + 0.75 * q**3, 0.25 * np.maximum(2.0 - q, 0.0) ** 3)
-    return k.kernel_sigma(kernel, dim) / h**dim * th
+    return kernel_sigma(kernel, dim) / h**dim * th
 
 
 def kernel_f(kernel: int, dim: int, r, h):
     """(1/r) dW/dr, vectorised (finite at r = 0)."""
     q = np.asarray(r, dtype=float) / h
-    if kernel == k.WENDLAND_C2:
+    if kernel == WENDLAND_C2:
         t = np.maximum(1.0 - 0.5 * q, 0.0)
         d = -3.0 * t**2 if dim == 1 else -5.0 * t**3
     else:
         with np.errstate(divide="ignore", invalid="ignore"):
             d = np.where(q < 1.0, -3.0 + 2.25 * q, -0.75 * np.maximum(2.0 - q, 0.0) ** 2 / q)
-    return k.kernel_sigma(kernel, dim) / h ** (dim + 2) * d
+    return kernel_sigma(kernel, dim) / h ** (dim + 2) * d
 
 
 def neighbour_pairs(x: np.ndarray, h: np.ndarray) -> set[tuple[int, int]]:
@@ -86,13 +87,13 @@ def ghosts(x, v, rho, p, c, walls, reach, gravity=None, hydrostatic=False):
 
 
 def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
-    """Rates of the particle state (all particles active) with the options ``opt`` (SPHOptions)
+    """Rates of the particle state (all particles active) with the options ``opt`` (SphOptions)
     and optional dummy walls ``wall`` = (positions, spacing, material).
 
     Returns dict with acc (N, dim), drho, de, xsph (N, dim), p, c, h.
     """
     n, dim = x.shape
-    kern = {"cubic_spline": k.CUBIC_SPLINE, "wendland_c2": k.WENDLAND_C2}[opt.kernel]
+    kern = {"cubic_spline": CUBIC_SPLINE, "wendland_c2": WENDLAND_C2}[opt.kernel]
     g = np.zeros(3)
     if opt.gravity is not None:
         g[:dim] = opt.gravity
@@ -100,8 +101,9 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
     c = np.empty(n)
     for i in range(n):
         row = params[mat[i]]
-        eos, q, r, ee = int(row[mk.P_EOS_TYPE]), row[mk.EOS_OFFSET:], rho[i] / row[ms.P_RHO0], row[ms.P_RHO0] * e[i]
-        p[i] = max(mk.eos_pressure(eos, q, r, ee), opt.pressure_min)
+        rho0 = row[ms.P_RHO0]
+        eos, q, r, ee = int(row[mk.P_EOS_TYPE]), row[mk.EOS_OFFSET:], rho[i] / rho0, rho0 * e[i]
+        p[i] = max(mk.eos_pressure(eos, q, r, ee), opt.pressure_cutoff)
         c[i] = mk.eos_sound_speed(eos, q, r, ee)
     h = opt.smoothing_ratio * (m / rho) ** (1.0 / dim)
     hmax = h.max()
@@ -135,10 +137,9 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
         W = kernel_w(kern, dim, np.sqrt((rwf**2).sum(-1)), 0.5 * (hw[:, None] + h[None, :]))
         sw = W.sum(1)
         pw = np.where(sw > 0, (W @ p + (rho[None, :, None] * rwf * W[:, :, None]).sum(1) @ g) / np.where(sw > 0, sw, 1), 0.0)
-        pw = np.maximum(pw, opt.pressure_min)
-        eos, q = int(row[mk.P_EOS_TYPE]), row[mk.EOS_OFFSET:]
-        rho0 = row[ms.P_RHO0]
-        rw = np.array([k.density_from_pressure(eos, q, rho0, pp, q[ms.Q_E0], rho0) for pp in pw])
+        pw = np.maximum(pw, opt.pressure_cutoff)
+        eos, q, rho0 = int(row[mk.P_EOS_TYPE]), row[mk.EOS_OFFSET:], row[ms.P_RHO0]
+        rw = np.array([density_from_pressure(eos, q, rho0, pp, q[ms.Q_E0], rho0) for pp in pw])
         cw = np.array([mk.eos_sound_speed(eos, q, r / rho0, q[ms.Q_E0]) for r in rw])
         X.append(wx3)
         V.append(np.zeros((nw, 3)))

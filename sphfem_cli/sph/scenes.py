@@ -1,6 +1,6 @@
-"""Ready-made SPH scenes: the verification and benchmark cases as ``ParticleSystem`` builders.
+"""Ready-made SPH scenes: the verification and benchmark cases as ``SphSystem`` builders.
 
-Each builder takes the geometry and resolution and any ``SPHOptions`` field as a keyword to
+Each builder takes the geometry and resolution and any ``SphOptions`` field as a keyword to
 override its defaults. Materials are packed from the deck schema models (``materials.tables``).
 """
 from __future__ import annotations
@@ -12,7 +12,7 @@ from pydantic import TypeAdapter
 
 from ..deck.schema.materials import EquationOfState, Material
 from . import lattice
-from .system import ParticleSystem, SPHOptions, box_walls, material_table
+from .system import SphOptions, SphSystem, box_walls, material_table
 
 _MAT = TypeAdapter(Material)
 _EOS = TypeAdapter(EquationOfState)
@@ -32,12 +32,12 @@ def ideal_gas(gamma: float = 1.4, rho0: float = 1.0):
     return material_table([(mat, eos)])
 
 
-def _options(defaults: dict, overrides: dict) -> SPHOptions:
-    return SPHOptions(**{**defaults, **overrides})
+def _options(defaults: dict, overrides: dict) -> SphOptions:
+    return SphOptions(**{**defaults, **overrides})
 
 
 def still_water(depth: float = 1.0, width: float = 1.0, dx: float = 0.025, g: float = 9.81,
-                c0: float | None = None, **options) -> ParticleSystem:
+                c0: float | None = None, **options) -> SphSystem:
     """2D tank [0, width] x [0, depth] full of water at rest, hydrostatic density, ghost walls on
     the left, right and bottom (slip); c0 = 10 sqrt(g depth) unless given."""
     c0 = 10.0 * math.sqrt(g * depth) if c0 is None else c0
@@ -48,12 +48,12 @@ def still_water(depth: float = 1.0, width: float = 1.0, dx: float = 0.025, g: fl
     mass, rho = lattice.lattice_particles(x, dx, rho)
     walls = box_walls([0.0, 0.0], [width, depth], ["left", "right", "bottom"])
     opt = _options({"alpha": 0.02, "delta": 0.1, "gravity": [0.0, -g], "walls": walls}, options)
-    return ParticleSystem(x, np.zeros_like(x), mass, rho, mat, mats, opt)
+    return SphSystem(x, np.zeros_like(x), mass, rho, mat, mats, opt)
 
 
 def dam_break(a: float = 1.0, dx: float = 0.025, tank_length: float | None = None, dim: int = 2,
               depth: float | None = None, g: float = 9.81, c0: float | None = None, condition: str = "slip",
-              viscosity: float = 0.0, **options) -> ParticleSystem:
+              viscosity: float = 0.0, **options) -> SphSystem:
     """Water column a wide and 2a high at the left end of a dry tank (Martin & Moyce 1952).
 
     Tank [0, tank_length] (default 5a) with ghost walls (``condition`` slip or no_slip) left,
@@ -81,14 +81,14 @@ def dam_break(a: float = 1.0, dx: float = 0.025, tank_length: float | None = Non
     walls = box_walls([0.0] * dim, tank_hi, sides, condition)
     domain = ([-a] * dim, [tank_length + a, 8.0 * a] + [tank_hi[-1] + a] * (dim - 2))
     opt = _options({"alpha": 0.1, "delta": 0.1, "gravity": gvec, "walls": walls, "domain": domain}, options)
-    return ParticleSystem(x, np.zeros_like(x), mass, rho, mat, mats, opt)
+    return SphSystem(x, np.zeros_like(x), mass, rho, mat, mats, opt)
 
 
 SOD_LEFT = (1.0, 1.0)  # (rho, p)
 SOD_RIGHT = (0.125, 0.1)
 
 
-def sod_tube(n_left: int = 400, gamma: float = 1.4, **options) -> ParticleSystem:
+def sod_tube(n_left: int = 400, gamma: float = 1.4, **options) -> SphSystem:
     """1D Sod shock tube on [0, 1], diaphragm at 0.5, equal-mass particles (the right state is 8
     times coarser), reflecting ghost walls at both ends; Monaghan viscosity alpha = 1, beta = 2."""
     (rl, pl), (rr, pr) = SOD_LEFT, SOD_RIGHT
@@ -104,7 +104,7 @@ def sod_tube(n_left: int = 400, gamma: float = 1.4, **options) -> ParticleSystem
     mats = ideal_gas(gamma)
     walls = box_walls([0.0], [1.0], ["left", "right"])
     opt = _options({"alpha": 1.0, "beta": 2.0, "walls": walls}, options)
-    return ParticleSystem(x, np.zeros_like(x), np.full(len(x), m), rho, np.zeros(len(x), dtype=np.int64),
+    return SphSystem(x, np.zeros_like(x), np.full(len(x), m), rho, np.zeros(len(x), dtype=np.int64),
                           mats, opt, energy=e)
 
 

@@ -1,4 +1,4 @@
-"""``ParticleSystem``: the SPH fluid as plain arrays plus the calls into ``sph.kernels``.
+"""``SphSystem``: the SPH fluid as plain arrays plus the calls into the kernel modules of ``sph/``.
 
 One step, as the explicit loop drives it (see ``step`` for the integrator)::
 
@@ -26,9 +26,11 @@ import numpy as np
 
 from ..materials import kernels as mk
 from ..materials import slots as ms
-from . import kernels as k
+from . import eos, integration, rates, search, walls
+from . import slots as sl
+from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2
 
-KERNELS = {"cubic_spline": k.CUBIC_SPLINE, "wendland_c2": k.WENDLAND_C2}
+KERNELS = {"cubic_spline": CUBIC_SPLINE, "wendland_c2": WENDLAND_C2}
 
 
 @dataclass(frozen=True)
@@ -65,14 +67,14 @@ def box_walls(lo: Sequence[float], hi: Sequence[float], sides: Sequence[str], co
 
 
 @dataclass
-class SPHOptions:
+class SphOptions:
     """Numerical options of an SPH fluid (defaults in brackets).
 
     kernel: "cubic_spline" or "wendland_c2" ["cubic_spline"]; smoothing_ratio: h/dx [1.2];
     alpha, beta, eps: Monaghan viscosity [0.1, 0.0, 0.01]; delta: delta-SPH density diffusion
     coefficient, 0 = off [0.0]; delta_hydrostatic: subtract the hydrostatic density difference
     in the diffusion (Fourtakas-type, linearised) [False]; xsph: XSPH coefficient, 0 = off [0.0];
-    pressure_min: pressure cut-off (cavitation) [-inf]; dilatational_viscosity mu' [0.0];
+    pressure_cutoff: lowest pressure a particle carries (cavitation) [-inf]; dilatational_viscosity mu' [0.0];
     walls: ghost-particle walls [()]; ghost_hydrostatic: add the hydrostatic increments
     dp = rho g.(x_ghost - x) and drho = dp/c^2 to the ghost's pressure and density [False, the
     paper's plain mirror]; domain: (lo, hi) box outside which particles are
@@ -89,7 +91,7 @@ class SPHOptions:
     delta: float = 0.0
     delta_hydrostatic: bool = False
     xsph: float = 0.0
-    pressure_min: float = -np.inf
+    pressure_cutoff: float = -np.inf
     dilatational_viscosity: float = 0.0
     walls: Sequence[Wall] = ()
     ghost_hydrostatic: bool = False
@@ -129,7 +131,7 @@ def material_table(entries) -> tuple[np.ndarray, np.ndarray]:
     return np.asarray(ids, dtype=np.int64), np.asarray(rows, dtype=np.float64)
 
 
-class ParticleSystem:
+class SphSystem:
     """An SPH fluid: particles, optional dummy wall particles, ghost walls, and their time stepping.
 
     Parameters
@@ -139,14 +141,14 @@ class ParticleSystem:
     material : (N,) int index into ``materials``.
     materials : ``(type ids (M,), rows (M, NPARAM))`` as ``materials.tables.pack_material``
         gives them (see ``material_table``); every type must be ``fluid``.
-    options : ``SPHOptions``.
+    options : ``SphOptions``.
     energy : (N,) specific internal energy; default e0/rho0 of each particle's EOS.
     wall_particles : optional ``WallParticles``.
     """
 
-    def __init__(self, x, v, mass, density, material, materials, options: SPHOptions | None = None,
+    def __init__(self, x, v, mass, density, material, materials, options: SphOptions | None = None,
                  energy=None, wall_particles: WallParticles | None = None):
-        self.options = opt = options or SPHOptions()
+        self.options = opt = options or SphOptions()
         self.x = np.array(x, dtype=np.float64, order="C")
         if self.x.ndim != 2 or self.x.shape[1] not in (1, 2, 3):
             raise ValueError(f"positions must be (N, dim) with dim 1, 2 or 3, got shape {self.x.shape}")
@@ -231,17 +233,21 @@ class ParticleSystem:
         self._no_flips = np.ones((1, 3))
         self._no_stress = np.zeros((1, 6))
         self.viscous = bool(np.any(self.params[:, ms.P_VISCOSITY] > 0.0) or opt.dilatational_viscosity > 0.0)
-        self.fprm = np.zeros(k.NF)
-        self.fprm[[k.F_ALPHA, k.F_BETA, k.F_EPS, k.F_DELTA, k.F_XSPH]] = [
+        # the kernels' settings (fixed) and cell grid (rewritten by every search); slots in sph/slots.py
+        self.settings_f = np.zeros(sl.N_SF)
+        self.settings_f[[sl.SF_ALPHA, sl.SF_BETA, sl.SF_EPS, sl.SF_DELTA, sl.SF_XSPH]] = [
             opt.alpha, opt.beta, opt.eps, opt.delta, opt.xsph]
-        self.fprm[k.F_GX:k.F_GZ + 1] = self.gravity
-        self.fprm[k.F_MU_DIL] = opt.dilatational_viscosity
-        self.fprm[k.F_PMIN] = opt.pressure_min
-        self.iprm = np.zeros(k.NI, dtype=np.int64)
-        self.iprm[k.I_DIM] = dim
-        self.iprm[k.I_KERNEL] = KERNELS[opt.kernel]
-        self.iprm[k.I_VISCOUS] = int(self.viscous)
-        self.iprm[k.I_DELTA_HYDRO] = int(opt.delta_hydrostatic)
+        self.settings_f[[sl.SF_GX, sl.SF_GY, sl.SF_GZ]] = self.gravity
+        self.settings_f[sl.SF_DILATATIONAL_VISCOSITY] = opt.dilatational_viscosity
+        self.settings_f[sl.SF_PRESSURE_CUTOFF] = opt.pressure_cutoff
+        self.settings_i = np.zeros(sl.N_SI, dtype=np.int64)
+        self.settings_i[sl.SI_DIM] = dim
+        self.settings_i[sl.SI_KERNEL] = KERNELS[opt.kernel]
+        self.settings_i[sl.SI_VISCOUS] = int(self.viscous)
+        self.settings_i[sl.SI_DELTA_HYDROSTATIC] = int(opt.delta_hydrostatic)
+        self.settings_i[sl.SI_NWALL] = len(self.wall_x)
+        self.grid_f = np.zeros(sl.N_GF)
+        self.grid_i = np.zeros(sl.N_GI, dtype=np.int64)
 
         self.time = 0.0
         self.nsteps = 0
@@ -253,7 +259,7 @@ class ParticleSystem:
         self._dt_prev = 0.0
         self._evaluations = 0
         self._rates_valid = False
-        self._sorted = None  # last evaluation's point set (see kernels module docstring)
+        self._sorted = None  # last evaluation's point set (layout in the sph/search.py docstring)
         self._update_state()
 
     # ------------------------------------------------------------------ evaluation
@@ -282,9 +288,9 @@ class ParticleSystem:
 
     def _update_state(self) -> float:
         """p, c, h of the active particles; returns the largest h."""
-        hmax = k.update_particle_state(self.rho, self.e, self.m, self.mat, self.active, self.params,
-                                       float(self.options.smoothing_ratio), self.dim, float(self.options.pressure_min),
-                                       self.p, self.c, self.h)
+        hmax = eos.update_particle_state(self.rho, self.e, self.m, self.mat, self.active, self.params,
+                                         float(self.options.smoothing_ratio), self.dim,
+                                         float(self.options.pressure_cutoff), self.p, self.c, self.h)
         if getattr(self, "burn_light", None) is not None:
             from ..materials.burn import burn_fraction
 
@@ -314,15 +320,15 @@ class ParticleSystem:
         if len(self.wall_h):
             hmax = max(hmax, self._wall_hmax)
         if len(self.walls):
-            gpos, gvel, gflip, gsrc, gdp, gdr = k.make_ghosts(
+            gpos, gvel, gflip, gsrc, gdp, gdr = walls.make_ghosts(
                 self.x, self.v, self.rho, self.c, self.active, self.walls, self._valid, 2.0 * hmax, self.gravity,
                 bool(opt.ghost_hydrostatic))
         else:
             gpos, gvel, gflip, gsrc, gdp, gdr = self._no_ghosts
-        perm, cell_start, sx, sd = k.sort_points(
+        perm, cell_start, sx, sd = search.sort_points(
             self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat, self.active, gpos, gvel, gsrc,
             gdp, gdr, self.wall_x, self.wall_v, self.wall_rho, self.wall_m, self.wall_h, self.wall_mat,
-            int(opt.max_cells_per_point), self.fprm, self.iprm)
+            int(opt.max_cells_per_point), self.grid_f, self.grid_i)
         # no-slip ghosts: per-slot velocity factors (fill_ghosts) and the fluid slots next to them
         svf, friction_slots = self._no_flips, np.zeros(0, dtype=np.int64)
         stuck = np.flatnonzero((gflip != 1.0).any(axis=1))
@@ -334,7 +340,7 @@ class ParticleSystem:
             svf[slot_of[n + stuck]] = gflip[stuck]
             friction_slots = np.sort(slot_of[np.unique(gsrc[stuck])])
         return {"perm": perm, "cell_start": cell_start, "sx": sx, "sd": sd, "n_ghost": len(gsrc),
-                "ghost_source": gsrc, "fprm": self.fprm.copy(), "iprm": self.iprm.copy(),
+                "ghost_source": gsrc, "grid_f": self.grid_f.copy(), "grid_i": self.grid_i.copy(),
                 "svf": svf, "friction_slots": friction_slots}
 
     def compute_rates(self) -> None:
@@ -350,20 +356,21 @@ class ParticleSystem:
             self._reorder()
         pts = self._build_points(self._update_state())
         sx, sd, perm, cs = pts["sx"], pts["sd"], pts["perm"], pts["cell_start"]
+        sf, si, gf, gi = self.settings_f, self.settings_i, self.grid_f, self.grid_i
         if len(self.wall_x):
-            k.wall_pressure(sx, sd, cs, self.fprm, self.iprm, self.params)
+            walls.wall_pressure(sx, sd, cs, sf, si, gf, gi, self.params)
         if self.viscous:
             stau = np.zeros((len(sx), 6))
-            k.viscous_stress(sx, sd, pts["svf"], cs, self.fprm, self.iprm, self.params, stau)
+            rates.viscous_stress(sx, sd, pts["svf"], cs, sf, si, gf, gi, self.params, stau)
         else:
             stau = self._no_stress
         pts["stau"] = stau
         self.wall_power[:] = 0.0
-        k.fluid_rates(sx, sd, stau, perm, cs, self.fprm, self.iprm, self.acc, self.drho, self.de, self.xsph,
-                      self.wall_power)
+        rates.fluid_rates(sx, sd, stau, perm, cs, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph,
+                          self.wall_power)
         if pts["friction_slots"].size and (self.options.alpha or self.options.beta):
-            k.ghost_friction(sx, sd, pts["svf"], pts["friction_slots"], perm, cs, self.fprm, self.iprm, self.acc,
-                             self.de)
+            walls.ghost_friction(sx, sd, pts["svf"], pts["friction_slots"], perm, cs, sf, si, gf, gi, self.acc,
+                                 self.de)
         self._sorted = pts
         self._evaluations += 1
         self._rates_valid = True
@@ -374,7 +381,7 @@ class ParticleSystem:
         """scale x min over active particles of cfl h/(c+|v|), force_factor sqrt(h/|a|) and
         viscous_factor rho h^2/mu, with a = acc + g + f_ext/m (call after ``compute_rates``)."""
         opt = self.options
-        dt = k.stable_time_step(self.h, self.c, self.v, self.acc, self.f_ext, self.m, self.rho, self.mat,
+        dt = integration.stable_time_step(self.h, self.c, self.v, self.acc, self.f_ext, self.m, self.rho, self.mat,
                                 self.active, self.params, self.gravity, float(opt.cfl), float(opt.force_factor),
                                 float(opt.viscous_factor))
         return scale * float(dt)
@@ -394,7 +401,7 @@ class ParticleSystem:
         if not self._rates_valid:
             raise RuntimeError("step() needs the rates of the current state: call compute_rates() first")
         dt = float(dt)
-        work, nref, nlost, lost_mass, lost_energy = k.advance_particles(
+        work, nref, nlost, lost_mass, lost_energy = integration.advance_particles(
             self.x, self.v, self.v_half, self.rho, self.rho_half, self.e, self.e_half, self.acc, self.drho,
             self.de, self.xsph, self.f_ext, self.m, self.active, self.gravity, dt, self._dt_prev, self.walls,
             self._dom_lo, self._dom_hi, self._use_domain)
@@ -422,7 +429,7 @@ class ParticleSystem:
         self.step(dt)
         return dt
 
-    def run(self, end_time: float, scale: float = 1.0, every: Callable[["ParticleSystem"], None] | None = None,
+    def run(self, end_time: float, scale: float = 1.0, every: Callable[["SphSystem"], None] | None = None,
             max_steps: int | None = None) -> None:
         """Step until ``end_time`` (the last step is shortened to land on it); ``every(self)`` after each step."""
         while self.time < end_time * (1.0 - 1e-12):
@@ -437,7 +444,7 @@ class ParticleSystem:
     def energies(self) -> dict:
         """Kinetic, internal and gravitational potential energy of the active particles, the external
         work of ``f_ext``, the energy carried away by deactivated particles and the energy the dummy
-        walls absorbed (``wall``: their half of the fluid-wall pair work, see ``kernels.fluid_rates``)."""
+        walls absorbed (``wall``: their half of the fluid-wall pair work, see ``rates.fluid_rates``)."""
         a = self.active
         m = self.m[a]
         ke = 0.5 * float(np.sum(m * np.sum(self.v[a] ** 2, axis=1)))
@@ -462,11 +469,11 @@ class ParticleSystem:
         (fluid, ghosts and, with ``include_walls``, dummy walls). NaN where no particle is near."""
         if self._sorted is None:
             self.compute_rates()
-        cols = {"pressure": -1, "density": k.D_RHO, "vx": k.D_VX, "vy": k.D_VY, "vz": k.D_VZ,
-                "sound_speed": k.D_C}
-        s = self._sorted
-        return k.interpolate_points(self._pad(points), s["sx"], s["sd"], s["cell_start"], s["fprm"], s["iprm"],
-                                    cols[quantity], include_walls)
+        cols = {"pressure": -1, "density": sl.D_RHO, "vx": sl.D_VX, "vy": sl.D_VY, "vz": sl.D_VZ,
+                "sound_speed": sl.D_C}
+        pts = self._sorted
+        return rates.interpolate_points(self._pad(points), pts["sx"], pts["sd"], pts["cell_start"], self.settings_i,
+                                        pts["grid_f"], pts["grid_i"], cols[quantity], include_walls)
 
     def front(self, axis: int = 0, material: int | None = None) -> float:
         """Largest coordinate along ``axis`` of the active particles (of ``material`` if given)."""
@@ -487,14 +494,14 @@ class ParticleSystem:
         """Neighbour lists of the last evaluation: ``(offsets, neighbours, point_ids)`` in slot
         numbering; slot k's neighbours are ``neighbours[offsets[k]:offsets[k+1]]`` and
         ``point_ids[slot]`` is the point id (particle index < N, then ghosts, then walls)."""
-        s = self._sorted
-        counts = np.empty(len(s["perm"]), dtype=np.int64)
-        k.count_neighbours(s["sx"], s["cell_start"], s["fprm"], s["iprm"], counts)
+        pts = self._sorted
+        counts = np.empty(len(pts["perm"]), dtype=np.int64)
+        search.count_neighbours(pts["sx"], pts["cell_start"], pts["grid_f"], pts["grid_i"], counts)
         offsets = np.zeros(len(counts) + 1, dtype=np.int64)
         np.cumsum(counts, out=offsets[1:])
         out = np.empty(offsets[-1], dtype=np.int64)
-        k.fill_neighbours(s["sx"], s["cell_start"], s["fprm"], s["iprm"], offsets, out)
-        return offsets, out, s["perm"]
+        search.fill_neighbours(pts["sx"], pts["cell_start"], pts["grid_f"], pts["grid_i"], offsets, out)
+        return offsets, out, pts["perm"]
 
     def memory_bytes(self) -> int:
         """Bytes held by the per-particle arrays and the last evaluation's point set."""

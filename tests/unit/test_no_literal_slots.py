@@ -14,7 +14,7 @@ is a number: ``p[5]``, ``q[EOS_OFFSET + 1]``, ``st.hist[:, 0]``, ``model.materia
   ``SLOT_NAME``);
 - any local name assigned from a row (``p = mat_param[m]``, ``q = np.ascontiguousarray(row[EOS_OFFSET:])``).
 
-To cover a new row (an SPH settings vector, a section table), add its name to ``ROW_NAMES`` and
+To cover a new row (a new settings vector or table), add its name to ``ROW_NAMES`` and
 its declaration module to ``DECLARATIONS``. Coordinate axes (``x[:, 0]``) and the 6-vector stress
 components are not slots and are not checked.
 """
@@ -26,13 +26,13 @@ from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[2] / "sphfem_cli"
 
-DECLARATIONS = ("materials/slots.py",)
+DECLARATIONS = ("materials/slots.py", "sph/slots.py")
 """Modules (relative to the package) that declare slots and may write their numbers."""
 
 ROW_NAMES = frozenset({
     "material_param", "mat_param", "params", "mat_q",  # material rows (M, NPARAM), EOS rows (M, NQ)
     "hist",  # history rows (E, NHIST)
-    "fprm", "iprm",  # SPH settings vectors (sph/kernels.py F_* and I_* slots)
+    "settings_f", "settings_i", "grid_f", "grid_i",  # SPH settings and cell-grid vectors (sph/slots.py)
     "sec_param",  # section table (fem/kernels.py SEC_* columns)
 })
 
@@ -44,8 +44,9 @@ ROW_VARIABLES = {
     "ale/reference.py": frozenset({"q"}),
 }
 
-SLOT_NAME = re.compile(r"^((P|Q|H|F|I|SEC)_[A-Z0-9_]+|EOS_OFFSET)$")
-"""Names of slots (materials/slots.py P_, Q_, H_; the SPH settings F_, I_; the section table SEC_)."""
+SLOT_NAME = re.compile(r"^((P|Q|H|SF|SI|GF|GI|SEC)_[A-Z0-9_]+|EOS_OFFSET)$")
+"""Names of slots (materials/slots.py P_, Q_, H_; sph/slots.py settings SF_, SI_ and grid GF_, GI_; the
+section table SEC_)."""
 
 _ROW_CALLS = frozenset({"asarray", "ascontiguousarray", "array", "copy"})
 
@@ -131,11 +132,12 @@ def f(p, q, hist, x, st, model, m, mat_param, row):
     p[5:9] = [1.0, 2.0, 3.0, 4.0]
     r = mat_param[m]
     b = r[3] + np.ascontiguousarray(mat_param[m, EOS_OFFSET:])[1]
-    ok = x[:, 0] + p[P_RHO0] + hist[e, H_EPS] + q[EOS_OFFSET:][Q_E0] + st.fprm[F_GX:F_GZ + 1] + row[0]
+    ok = x[:, 0] + p[P_RHO0] + hist[e, H_EPS] + q[EOS_OFFSET:][Q_E0] + st.settings_f[SF_GX:SF_GZ + 1] + row[0]
+    c = st.grid_i[1] + settings_f[SF_ALPHA]
 """
     hits = [expr for _, expr in literal_slots(source, "materials/kernels.py")]
     assert hits == ["p[5]", "q[EOS_OFFSET + 1]", "st.hist[:, 0]", "model.material_param[m][0]", "p[5:9]",
-                    "r[3]", "np.ascontiguousarray(mat_param[m, EOS_OFFSET:])[1]"]
+                    "r[3]", "np.ascontiguousarray(mat_param[m, EOS_OFFSET:])[1]", "st.grid_i[1]"]
     point = "def project(p, a0, t0):\n    return (p[0] - a0) * t0\n"  # p is a point here, not a row
     assert literal_slots(point, "contact/kernels.py") == []
     assert literal_slots(point.replace("t0\n", "t0 * p[P_RHO0]\n"), "contact/kernels.py") == [(2, "p[0]")]
@@ -148,4 +150,4 @@ def test_no_literal_slot_index_outside_the_declarations():
         if module in DECLARATIONS:
             continue
         found += [f"sphfem_cli/{module}:{line}: {expr}" for line, expr in literal_slots(path.read_text(), module)]
-    assert not found, "literal slot indices (name them in materials/slots.py):\n" + "\n".join(found)
+    assert not found, "literal slot indices (name them in materials/slots.py or sph/slots.py):\n" + "\n".join(found)

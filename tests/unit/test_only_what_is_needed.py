@@ -24,11 +24,12 @@ for _ in range(3):
     sim.step()
 report = {}
 for name in ("fem", "sph", "ale", "contact"):
-    mod = sys.modules.get(f"sphfem_cli.{name}.kernels")
-    compiled = []
-    if mod is not None:
-        compiled = sorted(k for k, v in vars(mod).items() if getattr(v, "signatures", None))
-    report[name] = {"imported": mod is not None, "compiled": compiled}
+    # the kernel modules of the folder: those that define numba dispatchers
+    mods = [m for key, m in list(sys.modules.items()) if key.startswith(f"sphfem_cli.{name}.") and any(
+        getattr(getattr(v, "py_func", None), "__module__", None) == key for v in vars(m).values())]
+    compiled = sorted(k for m in mods for k, v in vars(m).items()
+                      if getattr(v, "signatures", None) and v.py_func.__module__ == m.__name__)
+    report[name] = {"imported": bool(mods), "compiled": compiled}
 print(json.dumps(report))
 """
 

@@ -115,13 +115,13 @@ def test_detonation_front_in_an_ale_strip_arrives_at_r_over_d():
 def test_detonation_front_on_a_line_of_sph_particles():
     """SPH particles on a line (1D), lit at x = 0: the burn fraction of each particle rises from 0
     at t_L = x / D; its pressure becomes positive within one step of x / D and not before."""
-    from sphfem_cli.sph.system import ParticleSystem, SPHOptions
+    from sphfem_cli.sph.system import SphOptions, SphSystem
 
     row = tnt_row()
     dx = 1e-3
     x = (np.arange(60) + 0.5)[:, None] * dx
-    ps = ParticleSystem(x, np.zeros_like(x), np.full(60, RHO0 * dx), np.full(60, RHO0), np.zeros(60, dtype=np.int64),
-                        (np.array([mk.FLUID]), row[None, :]), SPHOptions(alpha=1.0, beta=2.0))
+    ps = SphSystem(x, np.zeros_like(x), np.full(60, RHO0 * dx), np.full(60, RHO0), np.zeros(60, dtype=np.int64),
+                        (np.array([mk.FLUID]), row[None, :]), SphOptions(alpha=1.0, beta=2.0))
     ps.set_burn([([0.0], 0.0)])
     assert np.all(ps.p == 0.0)
     first = np.full(60, np.nan)

@@ -87,7 +87,7 @@ for _ in range(3):
     sim.step()
 from sphfem_cli.fem import kernels as fem
 print(json.dumps({{
-    "sph_imported": "sphfem_cli.sph.kernels" in sys.modules,
+    "sph_imported": "sphfem_cli.sph.rates" in sys.modules,
     "ale_imported": "sphfem_cli.ale.kernels" in sys.modules,
     "fem_compiled": bool(fem.solid_element_forces.signatures),
 }}))

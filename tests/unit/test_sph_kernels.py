@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from sphfem_cli.sph import kernels as k
+from sphfem_cli.sph import kernel_functions as k
 from sphfem_cli.sph import reference as ref
 
 KERNELS = [k.CUBIC_SPLINE, k.WENDLAND_C2]
@@ -91,15 +91,15 @@ def test_consistency_errors_at_default_ratio(kernel, dim):
 def test_gradient_through_the_rates_kernel(dim, ratio, single_thread):
     """The continuity rate of a linear velocity field v = A x on a lattice, computed by the numba
     pair loop, gives drho/rho = -tr(A) within 1e-2 away from the free edges (cubic spline)."""
-    from sphfem_cli.sph import ParticleSystem, SPHOptions, lattice, scenes
+    from sphfem_cli.sph import SphOptions, SphSystem, lattice, scenes
 
     dx = 0.1
     side = 2.0 if dim == 2 else 1.4
     x = lattice.box([0.0] * dim, [side] * dim, dx)
     A = np.array([[0.3, 0.2, 0.1], [-0.1, 0.5, 0.0], [0.2, 0.1, -0.4]])[:dim, :dim]
     mass, rho = lattice.lattice_particles(x, dx, 1000.0)
-    ps = ParticleSystem(x, x @ A.T, mass, rho, np.zeros(len(x), dtype=int), scenes.water(20.0),
-                        SPHOptions(smoothing_ratio=ratio, alpha=0.0))
+    ps = SphSystem(x, x @ A.T, mass, rho, np.zeros(len(x), dtype=int), scenes.water(20.0),
+                        SphOptions(smoothing_ratio=ratio, alpha=0.0))
     ps.compute_rates()
     inner = np.all(np.abs(ps.x - 0.5 * side) < 0.5 * side - 2.0 * ratio * dx - 1e-9, axis=1)
     assert inner.sum() >= 4

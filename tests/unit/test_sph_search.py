@@ -7,7 +7,7 @@ import pytest
 from pydantic import TypeAdapter
 
 from sphfem_cli.deck.schema.materials import EquationOfState, Material
-from sphfem_cli.sph import ParticleSystem, SPHOptions, WallParticles, box_walls, lattice, material_table
+from sphfem_cli.sph import SphOptions, SphSystem, WallParticles, box_walls, lattice, material_table
 from sphfem_cli.sph import reference as ref
 
 MAT = TypeAdapter(Material)
@@ -45,13 +45,13 @@ def random_state(dim, seed, mixed=True, n_side=None):
 def full_options(dim, L):
     walls = box_walls([0.0] * dim, [L] * dim, ["left", "bottom"][:dim], "slip")
     walls += box_walls([0.0] * dim, [L] * dim, ["right"], "no_slip")
-    return SPHOptions(alpha=0.3, beta=0.5, delta=0.1, delta_hydrostatic=True, xsph=0.5, ghost_hydrostatic=True,
+    return SphOptions(alpha=0.3, beta=0.5, delta=0.1, delta_hydrostatic=True, xsph=0.5, ghost_hydrostatic=True,
                       gravity=[0.0] * (dim - 1) + [-9.81], walls=walls, dilatational_viscosity=0.1,
                       reorder_every=0)
 
 
 def build(s, opt, wall=None):
-    return ParticleSystem(s["x"], s["v"], s["m"], s["rho"], s["mat"], s["mats"], opt, energy=s["e"],
+    return SphSystem(s["x"], s["v"], s["m"], s["rho"], s["mat"], s["mats"], opt, energy=s["e"],
                           wall_particles=None if wall is None else WallParticles(*wall))
 
 
@@ -101,7 +101,7 @@ def test_numba_rates_equal_numpy_reference_wendland_cutoff(dim, single_thread):
     opt = full_options(dim, s["L"])
     opt.kernel = "wendland_c2"
     opt.smoothing_ratio = 1.5
-    opt.pressure_min = -50.0
+    opt.pressure_cutoff = -50.0
     opt.ghost_hydrostatic = False
     opt.delta_hydrostatic = False
     ps = build(s, opt)

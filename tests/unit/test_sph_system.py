@@ -1,4 +1,4 @@
-"""ParticleSystem: conservation, time integration, walls, domain, external forces, lattices, 3D run."""
+"""SphSystem: conservation, time integration, walls, domain, external forces, lattices, 3D run."""
 from __future__ import annotations
 
 import math
@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from sphfem_cli.materials import kernels as mk
-from sphfem_cli.sph import ParticleSystem, SPHOptions, Wall, WallParticles, box_walls, lattice, scenes
+from sphfem_cli.sph import SphOptions, SphSystem, Wall, WallParticles, box_walls, lattice, scenes
 
 
 def jittered_block(dim, n_side, dx=0.1, seed=0, speed=1.0, c0=20.0, **options):
@@ -16,7 +16,7 @@ def jittered_block(dim, n_side, dx=0.1, seed=0, speed=1.0, c0=20.0, **options):
     mass, rho = lattice.lattice_particles(x, dx, 1000.0)
     rho = rho * (1.0 + rng.uniform(-0.01, 0.01, len(x)))
     v = rng.normal(0.0, speed, x.shape)
-    return ParticleSystem(x, v, mass, rho, np.zeros(len(x), dtype=int), scenes.water(c0), SPHOptions(**options))
+    return SphSystem(x, v, mass, rho, np.zeros(len(x), dtype=int), scenes.water(c0), SphOptions(**options))
 
 
 @pytest.mark.parametrize("dim,n_side,steps", [(2, 14, 400), (3, 6, 60)])
@@ -46,8 +46,8 @@ def test_total_energy_conserved_by_the_rates_and_the_integrator(single_thread):
 def lone_particle(x, v, **options):
     x = np.atleast_2d(np.asarray(x, dtype=float))
     v = np.atleast_2d(np.asarray(v, dtype=float))
-    return ParticleSystem(x, v, np.array([1.0]), np.array([1000.0]), np.array([0]), scenes.water(20.0),
-                          SPHOptions(**options))
+    return SphSystem(x, v, np.array([1.0]), np.array([1000.0]), np.array([0]), scenes.water(20.0),
+                          SphOptions(**options))
 
 
 def test_leapfrog_is_exact_under_constant_acceleration():
@@ -90,8 +90,8 @@ def test_step_needs_fresh_rates():
 def test_particles_leaving_the_domain_are_deactivated_and_counted():
     x = np.array([[0.5, 0.5], [0.95, 0.5]])
     v = np.array([[0.0, 0.0], [100.0, 0.0]])
-    ps = ParticleSystem(x, v, np.ones(2), np.full(2, 1000.0), np.zeros(2, dtype=int), scenes.water(20.0),
-                        SPHOptions(domain=([0.0, 0.0], [1.0, 1.0]), reorder_every=0))
+    ps = SphSystem(x, v, np.ones(2), np.full(2, 1000.0), np.zeros(2, dtype=int), scenes.water(20.0),
+                        SphOptions(domain=([0.0, 0.0], [1.0, 1.0]), reorder_every=0))
     for _ in range(20):
         ps.advance(0.5, dt_max=1e-3)
     assert ps.lost == 1
@@ -171,8 +171,8 @@ def test_dummy_wall_tank_holds_water(single_thread):
     rho = lattice.hydrostatic_density(x, table[1], mat, [0.0, -g], [0.0, depth])
     mass, rho = lattice.lattice_particles(x, dx, rho)
     walls = WallParticles(lattice.box_wall_particles([0.0, 0.0], [0.4, 1.0], dx, 3, ["left", "right", "bottom"]), dx)
-    ps = ParticleSystem(x, np.zeros_like(x), mass, rho, mat, table,
-                        SPHOptions(alpha=0.05, delta=0.1, gravity=[0.0, -g]), wall_particles=walls)
+    ps = SphSystem(x, np.zeros_like(x), mass, rho, mat, table,
+                        SphOptions(alpha=0.05, delta=0.1, gravity=[0.0, -g]), wall_particles=walls)
     ps.run(0.3)
     assert ps.x[:, 1].min() > 0.0 and ps.x[:, 0].min() > 0.0 and ps.x[:, 0].max() < 0.4
     assert np.abs(ps.v).max() < 0.05 * math.sqrt(g * depth)
@@ -195,7 +195,7 @@ def test_interpolation_of_a_linear_field(single_thread):
     x = lattice.box([0.0, 0.0], [1.0, 1.0], dx)
     mass, rho = lattice.lattice_particles(x, dx, 1000.0)
     v = np.stack([0.2 + 0.5 * x[:, 0] - 0.3 * x[:, 1], np.zeros(len(x))], axis=1)
-    ps = ParticleSystem(x, v, mass, rho, np.zeros(len(x), dtype=int), scenes.water(20.0), SPHOptions())
+    ps = SphSystem(x, v, mass, rho, np.zeros(len(x), dtype=int), scenes.water(20.0), SphOptions())
     pts = np.array([[0.5, 0.5], [0.31, 0.62], [0.77, 0.2]])
     got = ps.interpolate(pts, "vx")
     np.testing.assert_allclose(got, 0.2 + 0.5 * pts[:, 0] - 0.3 * pts[:, 1], atol=1e-3)

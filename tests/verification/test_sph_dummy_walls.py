@@ -3,7 +3,7 @@
 Two modes: layers outside sides of a box (a tank), and a region filled with wall particles (a wall
 of any shape: here a disc the water falls onto). The walls' pressure is extrapolated from the
 fluid with gravity; their share of the fluid-wall pair work is counted in the energy balance
-(sph.kernels.fluid_rates ``wall_power``).
+(sph.rates.fluid_rates ``wall_power``).
 
 Still tank: H = 0.4 m, dx = 0.02 m (H/dx = 20), c0 = 10 sqrt(g H); exact floor pressure
 rho g (H - y). Measured: at y = 2 dx the mean over the last 0.16 s (two acoustic periods

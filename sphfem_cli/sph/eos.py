@@ -1,0 +1,90 @@
+"""EOS glue of the SPH particles: pressure, sound speed and smoothing length from the state,
+and the density at a given pressure (wall points, hydrostatic initial states).
+
+The equations of state are the materials module's (``materials.kernels``); docs/theory/sph.md
+("Equation of state") states how the SPH fluid uses them. ``density_from_pressure`` and
+``sound_speed`` state ``fastmath=False``: the fast-math kernel ``walls.wall_pressure`` calls them,
+and without it numba would compile them, and the EOS functions below them, with that caller's
+flags whenever it is the first to need them, and cache that version (see ``rates._FM``).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0, _eos_state, eos_pressure, eos_sound_speed
+from ..materials.slots import Q_E0, Q_RHO0
+
+
+@njit(cache=True)
+def update_particle_state(rho, e, m, mat, active, params, eta, dim, pressure_cutoff, p, c, h):
+    """Pressure, sound speed and smoothing length of every active particle.
+
+    p = max(p_eos(rho/rho0, rho0 e), pressure_cutoff), c = c_eos (``eos_pressure`` and ``eos_sound_speed``
+    of the materials module, evaluated through their common ``_eos_state`` so that the EOS is
+    computed once), h = eta (m/rho)^(1/dim). ``e`` is the specific internal energy (per unit
+    mass), so the EOS's energy per reference volume is rho0 e. Returns the largest h.
+    """
+    hmax = 0.0
+    for i in range(rho.shape[0]):
+        if not active[i]:
+            continue
+        k = mat[i]
+        rho0 = params[k, P_RHO0]
+        q = params[k, EOS_OFFSET:]
+        r = rho[i] / rho0
+        ee = rho0 * e[i]
+        pr, dpdmu, dpde = _eos_state(int(params[k, P_EOS_TYPE]), q, r, ee)
+        p[i] = pr if pr > pressure_cutoff else pressure_cutoff
+        c2 = (dpdmu + pr * dpde / (r * r)) / q[Q_RHO0]  # as eos_sound_speed
+        c[i] = math.sqrt(c2) if c2 > 0.0 else 0.0
+        vol = m[i] / rho[i]
+        if dim == 2:
+            hi = eta * math.sqrt(vol)
+        elif dim == 1:
+            hi = eta * vol
+        else:
+            hi = eta * np.cbrt(vol)
+        h[i] = hi
+        hmax = max(hmax, hi)
+    return hmax
+
+
+@njit(cache=True, fastmath=False)
+def density_from_pressure(eos, q, rho0, p_target, ee, rho_guess):
+    """Density at which p_eos(rho/rho0, ee) = p_target, by Newton's method with slope c^2."""
+    rho = rho_guess
+    for _ in range(40):
+        r = rho / rho0
+        f = eos_pressure(eos, q, r, ee) - p_target
+        cs = eos_sound_speed(eos, q, r, ee)
+        if cs <= 0.0:
+            break
+        nxt = rho - f / (cs * cs)
+        if nxt < 0.2 * rho:
+            nxt = 0.2 * rho
+        elif nxt > 5.0 * rho:
+            nxt = 5.0 * rho
+        if abs(nxt - rho) <= 1e-14 * rho:
+            return nxt
+        rho = nxt
+    return rho
+
+
+@njit(cache=True, fastmath=False)
+def sound_speed(eos, q, r, ee):
+    """``materials.kernels.eos_sound_speed`` at compression r = rho/rho0 and energy ee, compiled without
+    fast-math whoever calls it first."""
+    return eos_sound_speed(eos, q, r, ee)
+
+
+@njit(cache=True)
+def densities_from_pressures(pressure, mat, params, out):
+    """``out[i]`` = density of material ``mat[i]`` at pressure ``pressure[i]`` and its initial energy."""
+    for i in range(pressure.shape[0]):
+        k = mat[i]
+        rho0 = params[k, P_RHO0]
+        q = params[k, EOS_OFFSET:]
+        out[i] = density_from_pressure(int(params[k, P_EOS_TYPE]), q, rho0, pressure[i], q[Q_E0], rho0)

@@ -1,0 +1,285 @@
+"""SPH neighbour search: the cell-linked list (counting sort of the points by cell), the
+cell-ordered point set every pair loop reads, and CSR neighbour lists.
+
+Arrays and scalars only (no objects, no I/O), like every kernel module of ``sph/``
+(``kernel_functions``, ``search``, ``walls``, ``rates``, ``integration``, ``eos``; slot names in
+``slots``). ``sph/system.py`` orchestrates them; equations and references are in
+``docs/theory/sph.md``; ``sph/reference.py`` holds short NumPy versions that the tests compare
+against.
+
+Points. One evaluation works on a list of *points*: the active real particles (point id = particle
+index ``i < n``), the ghost (mirror) particles of the planar walls (``n + g``) and the fixed dummy
+wall particles (``n + ng + w``). Every point carries a kind (``KIND_FLUID``, ``KIND_GHOST``,
+``KIND_WALL``) and a material id, packed as ``mat * 4 + kind`` in one float column.
+
+Layout of an evaluation, all in cell order (slot ``k`` holds point ``perm[k]``):
+
+* ``sx`` (npts, 4): x, y, z, h (coordinates padded with 0 above the dimension);
+* ``sd`` (npts, ND): vx, vy, vz, rho, V = m/rho, p/rho^2, c, mat*4+kind (columns ``D_*``);
+* ``stau`` (npts, 6): viscous stress tau (xx, yy, zz, xy, yz, zx), only when a material has
+  viscosity (otherwise a (1, 6) dummy);
+* ``cell_start`` (ncell + 1): slots of cell ``key`` are ``cell_start[key]:cell_start[key+1]`` with
+  ``key = (cz*ny + cy)*nx + cx``; cells are ``hmax`` wide, so a neighbour at distance < 2 h_ij
+  lies within two cells, and a row of cells along x is one contiguous slot range;
+* ``grid_f``, ``grid_i``: hmax, cell width and origin; nx, ny, nz (slots ``GF_*``, ``GI_*``),
+  written by ``sort_points``.
+
+Pair quantities use h_ij = (h_i + h_j)/2, which keeps the pair forces antisymmetric (momentum is
+conserved to round-off). Every pair loop is a gather over the slots (``prange``): slot ``k``
+writes only its own entries, so results do not depend on the number of threads.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
+                    GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, ND)
+
+
+@njit(cache=True)
+def bin_points(x, h, active, gpos, gsrc, wpos, wh, max_cells_per_point):
+    """Counting sort of all points by cell.
+
+    Returns ``perm`` (slot -> point id), ``cell_start``, the grid ``(ox, oy, oz, cell)``,
+    ``(nx, ny, nz)`` and hmax. The cell width is hmax (half the largest support 2 hmax), widened
+    if the bounding box would need more than ``max_cells_per_point`` cells per point. The sort is
+    stable: within a cell points keep increasing point id, so the order is deterministic.
+    """
+    n = x.shape[0]
+    dim = x.shape[1]
+    ng = gpos.shape[0]
+    nw = wpos.shape[0]
+    lo = np.full(3, np.inf)
+    hi = np.full(3, -np.inf)
+    lo[dim:] = 0.0
+    hi[dim:] = 0.0
+    hmax = 0.0
+    npts = ng + nw
+    for i in range(n):
+        if active[i]:
+            npts += 1
+            for d in range(dim):
+                lo[d] = min(lo[d], x[i, d])
+                hi[d] = max(hi[d], x[i, d])
+            hmax = max(hmax, h[i])
+    for g in range(ng):
+        for d in range(dim):
+            lo[d] = min(lo[d], gpos[g, d])
+            hi[d] = max(hi[d], gpos[g, d])
+    for w in range(nw):
+        for d in range(dim):
+            lo[d] = min(lo[d], wpos[w, d])
+            hi[d] = max(hi[d], wpos[w, d])
+        hmax = max(hmax, wh[w])
+    if npts == 0:
+        lo[:] = 0.0
+        hi[:] = 0.0
+        hmax = 1.0
+    cell = hmax
+    nc = np.ones(3, dtype=np.int64)
+    while True:
+        total = 1
+        for d in range(dim):
+            nc[d] = int((hi[d] - lo[d]) / cell) + 1
+            total *= nc[d]
+        if total <= max_cells_per_point * npts + 64:
+            break
+        cell *= 1.5
+    nx, ny, nz = nc[0], nc[1], nc[2]
+    ntot = n + ng + nw
+    keys = np.full(ntot, -1, dtype=np.int64)
+    counts = np.zeros(total + 1, dtype=np.int64)
+    inv = 1.0 / cell
+    for pid in range(ntot):
+        if pid < n:
+            if not active[pid]:
+                continue
+            c0 = int((x[pid, 0] - lo[0]) * inv)
+            c1 = int((x[pid, 1] - lo[1]) * inv) if dim > 1 else 0
+            c2 = int((x[pid, 2] - lo[2]) * inv) if dim > 2 else 0
+        else:
+            if pid < n + ng:
+                g = pid - n
+                a0, a1, a2 = gpos[g, 0], gpos[g, 1], gpos[g, 2]
+            else:
+                w = pid - n - ng
+                a0 = wpos[w, 0]
+                a1 = wpos[w, 1] if dim > 1 else 0.0
+                a2 = wpos[w, 2] if dim > 2 else 0.0
+            c0 = int((a0 - lo[0]) * inv)
+            c1 = int((a1 - lo[1]) * inv) if dim > 1 else 0
+            c2 = int((a2 - lo[2]) * inv) if dim > 2 else 0
+        c0 = min(max(c0, 0), nx - 1)
+        c1 = min(max(c1, 0), ny - 1)
+        c2 = min(max(c2, 0), nz - 1)
+        key = (c2 * ny + c1) * nx + c0
+        keys[pid] = key
+        counts[key + 1] += 1
+    for kk in range(total):
+        counts[kk + 1] += counts[kk]
+    cell_start = counts.copy()
+    perm = np.empty(npts, dtype=np.int64)
+    for pid in range(ntot):
+        key = keys[pid]
+        if key >= 0:
+            perm[counts[key]] = pid
+            counts[key] += 1
+    return perm, cell_start, lo[0], lo[1], lo[2], cell, nx, ny, nz, hmax
+
+
+@njit(cache=True)
+def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr,
+                  wpos, wvel, wrho, wm, wh, wmat, sx, sd):
+    """Copy every point's data into cell order (``sx``, ``sd``; layout in the module docstring).
+
+    Wall points get their material's reference density, zero pressure and the EOS sound speed
+    here; ``wall_pressure`` overwrites them.
+    """
+    n = x.shape[0]
+    dim = x.shape[1]
+    ng = gpos.shape[0]
+    for k in range(perm.shape[0]):
+        pid = perm[k]
+        if pid < n:
+            i = pid
+            sx[k, 0] = x[i, 0]
+            sx[k, 1] = x[i, 1] if dim > 1 else 0.0
+            sx[k, 2] = x[i, 2] if dim > 2 else 0.0
+            sx[k, 3] = h[i]
+            sd[k, D_VX] = v[i, 0]
+            sd[k, D_VY] = v[i, 1] if dim > 1 else 0.0
+            sd[k, D_VZ] = v[i, 2] if dim > 2 else 0.0
+            r = rho[i]
+            sd[k, D_RHO] = r
+            sd[k, D_VOL] = m[i] / r
+            sd[k, D_PR] = p[i] / (r * r)
+            sd[k, D_C] = c[i]
+            sd[k, D_MK] = mat[i] * 4 + KIND_FLUID
+        elif pid < n + ng:
+            g = pid - n
+            i = gsrc[g]
+            sx[k, 0], sx[k, 1], sx[k, 2] = gpos[g, 0], gpos[g, 1], gpos[g, 2]
+            sx[k, 3] = h[i]
+            sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ] = gvel[g, 0], gvel[g, 1], gvel[g, 2]
+            r = rho[i] + gdr[g]
+            sd[k, D_RHO] = r
+            sd[k, D_VOL] = m[i] / r
+            sd[k, D_PR] = (p[i] + gdp[g]) / (r * r)
+            sd[k, D_C] = c[i]
+            sd[k, D_MK] = mat[i] * 4 + KIND_GHOST
+        else:
+            w = pid - n - ng
+            sx[k, 0] = wpos[w, 0]
+            sx[k, 1] = wpos[w, 1] if dim > 1 else 0.0
+            sx[k, 2] = wpos[w, 2] if dim > 2 else 0.0
+            sx[k, 3] = wh[w]
+            sd[k, D_VX] = wvel[w, 0]
+            sd[k, D_VY] = wvel[w, 1] if dim > 1 else 0.0
+            sd[k, D_VZ] = wvel[w, 2] if dim > 2 else 0.0
+            sd[k, D_RHO] = wrho[w]
+            sd[k, D_VOL] = wm[w] / wrho[w]
+            sd[k, D_PR] = 0.0
+            sd[k, D_C] = 0.0
+            sd[k, D_MK] = wmat[w] * 4 + KIND_WALL
+
+
+@njit(cache=True)
+def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
+                wpos, wvel, wrho, wm, wh, wmat, max_cells_per_point, grid_f, grid_i):
+    """Cell-sort all points (``bin_points``) and copy their data into cell order (``gather_points``).
+
+    Returns ``(perm, cell_start, sx, sd)``; ``sx`` and ``sd`` have one extra last row, the
+    sentinel: a point far from everything (1e30 in every coordinate) with zero volume and kind
+    wall, whose every pair term is exactly 0; neighbour lists are padded with it. Writes the grid
+    (hmax, cell, origin; nx, ny, nz) into ``grid_f`` and ``grid_i``.
+    """
+    perm, cell_start, ox, oy, oz, cell, nx, ny, nz, hmax = bin_points(x, h, active, gpos, gsrc, wpos, wh,
+                                                                      max_cells_per_point)
+    npts = perm.shape[0]
+    sx = np.empty((npts + 1, 4))
+    sd = np.empty((npts + 1, ND))
+    gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr, wpos, wvel, wrho, wm, wh, wmat, sx, sd)
+    sx[npts, 0] = 1e30
+    sx[npts, 1] = 1e30
+    sx[npts, 2] = 1e30
+    sx[npts, 3] = 1.0
+    sd[npts, :] = 0.0
+    sd[npts, D_RHO] = 1.0
+    sd[npts, D_C] = 1.0
+    sd[npts, D_MK] = KIND_WALL
+    grid_f[GF_HMAX] = hmax
+    grid_f[GF_CELL] = cell
+    grid_f[GF_OX] = ox
+    grid_f[GF_OY] = oy
+    grid_f[GF_OZ] = oz
+    grid_i[GI_NX] = nx
+    grid_i[GI_NY] = ny
+    grid_i[GI_NZ] = nz
+    return perm, cell_start, sx, sd
+
+
+@njit(cache=True, fastmath=False)  # called from fast-math kernels too (see rates._FM)
+def cell_range(v, reach, o, inv_cell, n):
+    """Cells ``lo..hi`` (clipped to ``0..n-1``) along one axis that hold points within ``reach`` of ``v``."""
+    lo = int(math.floor((v - reach - o) * inv_cell))
+    hi = int(math.floor((v + reach - o) * inv_cell))
+    if lo < 0:
+        lo = 0
+    if hi > n - 1:
+        hi = n - 1
+    return lo, hi
+
+
+@njit(cache=True)
+def count_neighbours(sx, cell_start, grid_f, grid_i, counts):
+    """Number of points j != k with |x_k - x_j| < 2 h_kj, for every slot k (cell search)."""
+    nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
+    hmax, inv_cell = grid_f[GF_HMAX], 1.0 / grid_f[GF_CELL]
+    ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
+    for k in range(cell_start[-1]):
+        xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
+        reach = hi + hmax
+        x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
+        y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
+        z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)
+        cnt = 0
+        for cz in range(z0, z1 + 1):
+            for cy in range(y0, y1 + 1):
+                base = (cz * ny + cy) * nx
+                for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
+                    if j == k:
+                        continue
+                    dx, dy, dz = xi - sx[j, 0], yi - sx[j, 1], zi - sx[j, 2]
+                    hij = 0.5 * (hi + sx[j, 3])
+                    if dx * dx + dy * dy + dz * dz < 4.0 * hij * hij:
+                        cnt += 1
+        counts[k] = cnt
+
+
+@njit(cache=True)
+def fill_neighbours(sx, cell_start, grid_f, grid_i, offsets, out):
+    """CSR neighbour lists in slot numbering (``offsets`` from ``count_neighbours``)."""
+    nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
+    hmax, inv_cell = grid_f[GF_HMAX], 1.0 / grid_f[GF_CELL]
+    ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
+    for k in range(cell_start[-1]):
+        xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
+        reach = hi + hmax
+        x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
+        y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
+        z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)
+        pos = offsets[k]
+        for cz in range(z0, z1 + 1):
+            for cy in range(y0, y1 + 1):
+                base = (cz * ny + cy) * nx
+                for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
+                    if j == k:
+                        continue
+                    dx, dy, dz = xi - sx[j, 0], yi - sx[j, 1], zi - sx[j, 2]
+                    hij = 0.5 * (hi + sx[j, 3])
+                    if dx * dx + dy * dy + dz * dz < 4.0 * hij * hij:
+                        out[pos] = j
+                        pos += 1

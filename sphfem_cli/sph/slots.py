@@ -1,0 +1,46 @@
+"""Named slots of the SPH kernels' arrays: the one declaration of every index into them.
+
+Four small vectors carry the scalars of an evaluation into the kernels (numba folds these
+module-level integers into constants):
+
+* ``settings_f`` (``N_SF``) and ``settings_i`` (``N_SI``): the deck's numerical settings, packed
+  once by ``SphSystem`` (``sph/system.py``) and never rewritten;
+* ``grid_f`` (``N_GF``) and ``grid_i`` (``N_GI``): the cell grid of the current evaluation,
+  rewritten by ``search.sort_points`` at every neighbour search.
+
+The per-point columns of the sorted data array ``sd`` (``D_*``, ``ND`` of them) and the point
+kinds (``KIND_*``, packed with the material id as ``mat * 4 + kind``) are declared here too; the
+layout of an evaluation is described in ``sph/search.py``.
+"""
+from __future__ import annotations
+
+__numba_folded__ = True  # numba folds these ints into kernels: part of the compiled-cache key
+
+# point kinds
+KIND_FLUID = 0
+KIND_GHOST = 1
+KIND_WALL = 2
+
+# columns of the sorted data array sd: vx, vy, vz, rho, V = m/rho, p/rho^2, c, mat*4+kind
+D_VX, D_VY, D_VZ, D_RHO, D_VOL, D_PR, D_C, D_MK = 0, 1, 2, 3, 4, 5, 6, 7
+ND = 8
+
+# settings_f: Monaghan viscosity alpha, beta, eps; delta-SPH coefficient; XSPH coefficient;
+# gravity; dilatational viscosity mu'; pressure cut-off (the deck's pressure_cutoff)
+SF_ALPHA, SF_BETA, SF_EPS, SF_DELTA, SF_XSPH = 0, 1, 2, 3, 4
+SF_GX, SF_GY, SF_GZ = 5, 6, 7
+SF_DILATATIONAL_VISCOSITY, SF_PRESSURE_CUTOFF = 8, 9
+N_SF = 10
+
+# settings_i: dimension; smoothing kernel (kernel_functions.CUBIC_SPLINE / WENDLAND_C2); 1 when a
+# material is viscous; 1 with the hydrostatic delta-SPH correction; number of dummy wall particles
+SI_DIM, SI_KERNEL, SI_VISCOUS, SI_DELTA_HYDROSTATIC, SI_NWALL = 0, 1, 2, 3, 4
+N_SI = 5
+
+# grid_f: largest smoothing length, cell width, grid origin
+GF_HMAX, GF_CELL, GF_OX, GF_OY, GF_OZ = 0, 1, 2, 3, 4
+N_GF = 5
+
+# grid_i: number of cells along x, y, z
+GI_NX, GI_NY, GI_NZ = 0, 1, 2
+N_GI = 3

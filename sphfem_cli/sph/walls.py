@@ -1,0 +1,296 @@
+"""SPH walls: ghost (mirror) particles of planar walls, the pressure of dummy wall particles and
+the no-slip friction of the ghosts.
+
+Ghosts (``count_ghosts``, ``fill_ghosts``, ``make_ghosts``): one mirror image of a particle per
+valid subset of the walls it is near (Marrone et al. 2011, fixed ghost particles). Dummy walls
+(``wall_pressure``): Adami et al. (2012). ``ghost_friction``: the no-slip correction of the
+artificial viscosity. Point layout and cell search: ``sph/search.py``; equations:
+docs/theory/sph.md ("Boundaries").
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0
+from ..materials.slots import Q_E0
+from .eos import density_from_pressure, sound_speed
+from .kernel_functions import inv_pow, kernel_shape, kernel_f, kernel_sigma
+from .rates import _FM
+from .search import cell_range
+from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
+                    GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, SF_ALPHA, SF_BETA, SF_EPS, SF_GX,
+                    SF_GY, SF_GZ, SF_PRESSURE_CUTOFF, SI_DIM, SI_KERNEL)
+
+
+@njit(cache=True)
+def _near_mask(x, i, walls, reach):
+    mask = 0
+    for w in range(walls.shape[0]):
+        d = walls[w, 2] * (x[i, int(walls[w, 0])] - walls[w, 1])
+        if 0.0 <= d < reach:
+            mask |= 1 << w
+    return mask
+
+
+@njit(cache=True)
+def count_ghosts(x, active, walls, valid, reach, counts):
+    """Number of mirror images of each particle: one per valid subset of the walls it is near.
+
+    ``walls`` (nw, 4): axis, position, side (+1 fluid where x[axis] > position, -1 below),
+    no-slip flag. ``valid[s]`` is true for wall subsets ``s`` (bit masks) with at most one wall
+    per axis (a corner image is the mirror through both walls of the corner).
+    """
+    for i in range(x.shape[0]):
+        cnt = 0
+        if active[i]:
+            mask = _near_mask(x, i, walls, reach)
+            if mask != 0:
+                for s in range(1, valid.shape[0]):
+                    if valid[s] and (s & mask) == s:
+                        cnt += 1
+        counts[i] = cnt
+
+
+@njit(cache=True)
+def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hydrostatic, gpos, gvel, gflip, gsrc,
+                gdp, gdr):
+    """Ghost positions, velocities, viscous flips, source particles and pressure offsets (see ``count_ghosts``).
+
+    Position mirrored through each wall of the subset. Velocity: the free-slip mirror (normal
+    component reversed) on every wall, slip or no-slip: that is the velocity the continuity,
+    pressure and delta-SPH terms see, so a wall is impermeable without being a source of volume.
+    ``gflip`` holds the factors (+-1 per component) that turn it into the no-slip velocity
+    (whole vector reversed per no-slip wall, wall at rest) which the viscous terms see
+    (``ghost_friction``, ``viscous_stress``): the tangential components are negated once per
+    no-slip wall (Marrone et al. 2011, fixed ghost particles). The ghost carries its source's
+    density and pressure; with ``hydrostatic`` they get the hydrostatic increments
+    dp = rho_i g.(x_ghost - x_i) (``gdp``) and drho = dp / c_i^2 (``gdr``), otherwise 0.
+    """
+    dim = x.shape[1]
+    for i in range(x.shape[0]):
+        k = offsets[i]
+        if offsets[i + 1] == k:
+            continue
+        mask = _near_mask(x, i, walls, reach)
+        x0 = x[i, 0]
+        x1 = x[i, 1] if dim > 1 else 0.0
+        x2 = x[i, 2] if dim > 2 else 0.0
+        v0 = v[i, 0]
+        v1 = v[i, 1] if dim > 1 else 0.0
+        v2 = v[i, 2] if dim > 2 else 0.0
+        for s in range(1, valid.shape[0]):
+            if not (valid[s] and (s & mask) == s):
+                continue
+            p0, p1, p2, u0, u1, u2 = x0, x1, x2, v0, v1, v2
+            f0 = f1 = f2 = 1.0
+            for w in range(walls.shape[0]):
+                if s & (1 << w):
+                    ax = int(walls[w, 0])
+                    pos2 = 2.0 * walls[w, 1]
+                    noslip = walls[w, 3] != 0.0
+                    if ax == 0:
+                        p0 = pos2 - p0
+                        u0 = -u0
+                    elif ax == 1:
+                        p1 = pos2 - p1
+                        u1 = -u1
+                    else:
+                        p2 = pos2 - p2
+                        u2 = -u2
+                    if noslip:
+                        f0 = f0 if ax == 0 else -f0
+                        f1 = f1 if ax == 1 else -f1
+                        f2 = f2 if ax == 2 else -f2
+            gpos[k, 0], gpos[k, 1], gpos[k, 2] = p0, p1, p2
+            gvel[k, 0], gvel[k, 1], gvel[k, 2] = u0, u1, u2
+            gflip[k, 0], gflip[k, 1], gflip[k, 2] = f0, f1, f2
+            gsrc[k] = i
+            if hydrostatic:
+                dp = rho[i] * (gravity[0] * (p0 - x0) + gravity[1] * (p1 - x1) + gravity[2] * (p2 - x2))
+                gdp[k] = dp
+                gdr[k] = dp / (c[i] * c[i]) if c[i] > 0.0 else 0.0
+            else:
+                gdp[k] = 0.0
+                gdr[k] = 0.0
+            k += 1
+
+
+@njit(cache=True)
+def make_ghosts(x, v, rho, c, active, walls, valid, reach, gravity, hydrostatic):
+    """Ghost particles of the planar walls: ``(gpos, gvel, gflip, gsrc, gdp, gdr)`` (see ``fill_ghosts``)."""
+    n = x.shape[0]
+    # the particles near a wall (few) are found first, wall by wall (loops over the particles
+    # that LLVM vectorises; the test of _near_mask); their images are counted and filled for
+    # those only, in the order count_ghosts/fill_ghosts give over all particles
+    flag = np.zeros(n, dtype=np.uint8)
+    for w in range(walls.shape[0]):
+        ax = int(walls[w, 0])
+        pos, side = walls[w, 1], walls[w, 2]
+        for i in range(n):
+            d = side * (x[i, ax] - pos)
+            flag[i] |= (0.0 <= d) & (d < reach)
+    nnear = 0
+    for i in range(n):
+        nnear += flag[i] & active[i]
+    sub = np.empty(nnear, dtype=np.int64)
+    a = 0
+    for i in range(n):
+        if flag[i] & active[i]:
+            sub[a] = i
+            a += 1
+    counts = np.empty(nnear, dtype=np.int64)
+    count_ghosts(x[sub], np.ones(nnear, dtype=np.bool_), walls, valid, reach, counts)
+    offsets = np.zeros(nnear + 1, dtype=np.int64)
+    for a in range(nnear):
+        offsets[a + 1] = offsets[a] + counts[a]
+    ng = offsets[nnear]
+    gpos = np.empty((ng, 3))
+    gvel = np.empty((ng, 3))
+    gflip = np.empty((ng, 3))
+    gsrc = np.empty(ng, dtype=np.int64)
+    gdp = np.empty(ng)
+    gdr = np.empty(ng)
+    fill_ghosts(x[sub], v[sub], rho[sub], c[sub], np.ones(nnear, dtype=np.bool_), walls, valid, reach, offsets, gravity,
+                hydrostatic, gpos, gvel, gflip, gsrc, gdp, gdr)
+    for g in range(ng):
+        gsrc[g] = sub[gsrc[g]]
+    return gpos, gvel, gflip, gsrc, gdp, gdr
+
+
+@njit(cache=True, parallel=True, fastmath=_FM, error_model="numpy")
+def wall_pressure(sx, sd, cell_start, settings_f, settings_i, grid_f, grid_i, params):
+    """Adami et al. (2012) pressure of the dummy wall points, extrapolated from the fluid.
+
+    p_w = (sum_f p_f W_wf + g . sum_f rho_f r_wf W_wf) / sum_f W_wf (fixed wall, a_w = 0), over
+    fluid points f within 2 h_wf; rho_w inverts the wall material's EOS at p_w (energy e0).
+    A wall point with no fluid neighbour keeps p = 0. Writes rho, p/rho^2 and c of wall slots.
+    """
+    kernel, dim = settings_i[SI_KERNEL], settings_i[SI_DIM]
+    nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
+    hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
+    ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
+    gx, gy, gz = settings_f[SF_GX], settings_f[SF_GY], settings_f[SF_GZ]
+    pressure_cutoff = settings_f[SF_PRESSURE_CUTOFF]
+    inv_cell = 1.0 / cell
+    sig = kernel_sigma(kernel, dim)
+    for k in prange(cell_start[-1]):
+        mk = int(sd[k, D_MK])
+        if (mk & 3) != KIND_WALL:
+            continue
+        xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
+        reach = hi + hmax
+        x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
+        y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
+        z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)
+        sw = 0.0
+        spw = 0.0
+        srx = 0.0
+        sry = 0.0
+        srz = 0.0
+        for cz in range(z0, z1 + 1):
+            for cy in range(y0, y1 + 1):
+                base = (cz * ny + cy) * nx
+                for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
+                    if (int(sd[j, D_MK]) & 3) != KIND_FLUID:
+                        continue
+                    dx = xi - sx[j, 0]
+                    dy = yi - sx[j, 1]
+                    dz = zi - sx[j, 2]
+                    hij = 0.5 * (hi + sx[j, 3])
+                    r2 = dx * dx + dy * dy + dz * dz
+                    if r2 >= 4.0 * hij * hij:
+                        continue
+                    inv = 1.0 / hij
+                    wv = sig * inv_pow(inv, dim) * kernel_shape(kernel, dim, math.sqrt(r2) * inv)[0]
+                    rj = sd[j, D_RHO]
+                    sw += wv
+                    spw += sd[j, D_PR] * rj * rj * wv
+                    rw = rj * wv
+                    srx += rw * dx
+                    sry += rw * dy
+                    srz += rw * dz
+        mat = mk >> 2
+        rho0 = params[mat, P_RHO0]
+        eos = int(params[mat, P_EOS_TYPE])
+        q = params[mat, EOS_OFFSET:]
+        pw = 0.0
+        if sw > 0.0:
+            pw = (spw + gx * srx + gy * sry + gz * srz) / sw
+        if pw < pressure_cutoff:
+            pw = pressure_cutoff
+        rw = density_from_pressure(eos, q, rho0, pw, q[Q_E0], sd[k, D_RHO])
+        sd[k, D_VOL] *= sd[k, D_RHO] / rw  # same mass at the new density
+        sd[k, D_RHO] = rw
+        sd[k, D_PR] = pw / (rw * rw)
+        sd[k, D_C] = sound_speed(eos, q, rw / rho0, q[Q_E0])
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def ghost_friction(sx, sd, svf, slots, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, de):
+    """No-slip correction of the artificial viscosity between fluid particles and ghosts.
+
+    ``fluid_rates`` evaluates every ghost with its free-slip velocity v_g (``fill_ghosts``). Near
+    a no-slip wall the viscous term must see the no-slip velocity v_g' = svf_g * v_g instead; for
+    the fluid slots ``slots`` (the particles with a no-slip ghost) this adds, over the ghosts g
+    within 2 h_ig whose factors are not all 1,
+
+      acc_i -= sum_g m_g (Pi_ig' - Pi_ig) grad_i W_ig,     de_i += sum_g m_g (Pi_ig' - Pi_ig) v_i . grad_i W_ig
+
+    with Pi_ig' and Pi_ig the Monaghan viscosity of ``fluid_rates`` with v_i - v_g' and v_i - v_g.
+    The wall is at rest and does no work: the kinetic energy the friction takes from particle i
+    goes, all of it, into its internal energy (so ghost walls conserve energy, no-slip or not).
+    """
+    kernel, dim = settings_i[SI_KERNEL], settings_i[SI_DIM]
+    nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
+    alpha, beta, eps = settings_f[SF_ALPHA], settings_f[SF_BETA], settings_f[SF_EPS]
+    hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
+    ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
+    inv_cell = 1.0 / cell
+    for t in prange(slots.shape[0]):
+        k = slots[t]
+        xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
+        ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
+        rhoi, ci = sd[k, D_RHO], sd[k, D_C]
+        reach = hi + hmax
+        x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
+        y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
+        z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)
+        ax = ay = az = power = 0.0
+        for cz in range(z0, z1 + 1):
+            for cy in range(y0, y1 + 1):
+                base = (cz * ny + cy) * nx
+                for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
+                    if (int(sd[j, D_MK]) & 3) != KIND_GHOST:
+                        continue
+                    f0, f1, f2 = svf[j, 0], svf[j, 1], svf[j, 2]
+                    if f0 == 1.0 and f1 == 1.0 and f2 == 1.0:
+                        continue
+                    dx, dy, dz = xi - sx[j, 0], yi - sx[j, 1], zi - sx[j, 2]
+                    hij = 0.5 * (hi + sx[j, 3])
+                    r2 = dx * dx + dy * dy + dz * dz
+                    if r2 >= 4.0 * hij * hij:
+                        continue
+                    uj, vj, wj = sd[j, D_VX], sd[j, D_VY], sd[j, D_VZ]
+                    slip = min((ui - uj) * dx + (vi - vj) * dy + (wi - wj) * dz, 0.0)
+                    stuck = min((ui - f0 * uj) * dx + (vi - f1 * vj) * dy + (wi - f2 * wj) * dz, 0.0)
+                    dd = r2 + eps * hij * hij
+                    rhoij = 0.5 * (rhoi + sd[j, D_RHO])
+                    cij = 0.5 * (ci + sd[j, D_C])
+                    scale = hij / (dd * rhoij)
+                    mu_s, mu_n = scale * slip, scale * stuck  # mu_ij / rho_ij
+                    dpi = (beta * rhoij * (mu_n * mu_n - mu_s * mu_s) - alpha * cij * (mu_n - mu_s))
+                    coef = sd[j, D_VOL] * sd[j, D_RHO] * dpi * kernel_f(kernel, dim, math.sqrt(r2), hij)
+                    ax -= coef * dx
+                    ay -= coef * dy
+                    az -= coef * dz
+                    power += coef * (ui * dx + vi * dy + wi * dz)
+        i = perm[k]
+        acc[i, 0] += ax
+        if dim > 1:
+            acc[i, 1] += ay
+        if dim > 2:
+            acc[i, 2] += az
+        de[i] += power
