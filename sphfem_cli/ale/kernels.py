@@ -45,8 +45,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..fem.kernels import (_HEX_DV, _HEX_GAMMA, _QUAD_GAMMA, _bulk_viscosity, _stable_dt, hex8_char_length,
-                           hex8_gradient, quad4_char_length, quad4_gradient)
+from ..fem.geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient, hex8_volume,
+                            quad4_char_length, quad4_gradient, stable_dt)
 from ..materials.kernels import EOS_GRUNEISEN, _eos_state
 
 # boundary condition codes per node
@@ -78,17 +78,6 @@ RHO_VOID = 1e-9
 # collapsing the step (decks/underwater_explosion_ale.yaml); with normal energies
 # (E < (K0/2 + p_c)/gamma0 per reference volume) the EOS gives the cut-off there anyway.
 RHO_CAVITATED = 0.5
-
-# local faces of a quad4: face k joins corners k and k+1. Sweep direction 0 (xi) crosses faces
-# 3 (side "a") and 1 (side "b"); direction 1 (eta) crosses faces 0 (a) and 2 (b).
-# For a sweep direction d, half h joins corners (src, dst), src on side a, dst on side b.
-_SIDE_A = (3, 0)
-_SIDE_B = (1, 2)
-# _CORNER_HALF[d, corner] = half index, _CORNER_DST[d, corner] = 1 when the corner is on side b.
-_CORNER_HALF = np.array([[0, 0, 1, 1], [0, 1, 1, 0]], dtype=np.int64)
-_CORNER_DST = np.array([[0, 1, 1, 0], [0, 0, 1, 1]], dtype=np.int64)
-_HALF_NODES = np.array([[[0, 1], [3, 2]], [[0, 3], [1, 2]]], dtype=np.int64)
-
 
 @njit(cache=True)
 def material_state(eos, q, rho0, rho, e_spec):
@@ -206,10 +195,10 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
             for a in range(4):
                 trace_d += ve[a, 0] * b[0, a] + ve[a, 1] * b[1, a]
             length = quad4_char_length(xe, area)
-            q = _bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
+            q = bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
             q_elem[e] = q
             c_eff = c_max + math.sqrt(vmax2)
-            dt_elem[e] = _stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
+            dt_elem[e] = stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
             s = area * (p_mix + q)
             for a in range(4):
                 f_elem[e, a, 0] = s * b[0, a]
@@ -219,17 +208,17 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
                 gx0 = 0.0
                 gx1 = 0.0
                 for a in range(4):
-                    gx0 += _QUAD_GAMMA[a] * xe[a, 0]
-                    gx1 += _QUAD_GAMMA[a] * xe[a, 1]
+                    gx0 += QUAD_GAMMA[a] * xe[a, 0]
+                    gx1 += QUAD_GAMMA[a] * xe[a, 1]
                 coef = 0.25 * qhg * rho_e * c_max * math.sqrt(area)
                 hq0 = 0.0
                 hq1 = 0.0
                 for a in range(4):
-                    g = _QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
+                    g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
                     hq0 += g * ve[a, 0]
                     hq1 += g * ve[a, 1]
                 for a in range(4):
-                    g = _QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
+                    g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
                     f_elem[e, a, 0] -= coef * hq0 * g
                     f_elem[e, a, 1] -= coef * hq1 * g
 
@@ -793,39 +782,7 @@ def nodal_mass(mass_m, node_elem_ptr, node_elem_idx, npe, out):
 
 
 # ------------------------------------------------------------------------------ 3D (hex8)
-#
-# hex8 corners in VTK order (model.mesh.box_mesh): 0 (-,-,-), 1 (+,-,-), 2 (+,+,-), 3 (-,+,-), then
-# 4..7 above 0..3. Local faces, each listed with its normal (right-hand rule) pointing out of the
-# element: 0 xi-, 1 xi+, 2 eta-, 3 eta+, 4 zeta-, 5 zeta+; face k crosses sweep direction k // 2,
-# on side a (k even) or b (k odd); the opposite face is k ^ 1.
-HEX_FACE_NODES = np.array([[0, 4, 7, 3], [1, 2, 6, 5], [0, 1, 5, 4], [3, 7, 6, 2], [0, 3, 2, 1], [4, 5, 6, 7]],
-                          dtype=np.int64)
-# HEX_EDGES[d, h] = (src, dst): the four edges along direction d, src on face 2d, dst on face 2d + 1
-HEX_EDGES = np.array([
-    [[0, 1], [3, 2], [4, 5], [7, 6]],
-    [[0, 3], [1, 2], [4, 7], [5, 6]],
-    [[0, 4], [1, 5], [2, 6], [3, 7]],
-], dtype=np.int64)
-# the three corners joined to each corner by an edge
-HEX_CORNER_NBR = np.array([[1, 3, 4], [0, 2, 5], [1, 3, 6], [0, 2, 7], [0, 5, 7], [1, 4, 6], [2, 5, 7], [3, 4, 6]],
-                          dtype=np.int64)
-
-
-@njit(cache=True)
-def hex_volume(p):
-    """Exact volume of the trilinear hexahedron with corners p (8, 3) (VTK order).
-
-    V = sum_I x_I dV/dx_I (V is linear in the x components), with the rows of fem.kernels._HEX_DV:
-    V = (1/12) sum_rows s x_I (y_j z_k - y_k z_j), the same exact formula as fem.kernels.hex8_gradient.
-    Callers pass corners relative to one of them (translation-invariant; less cancellation).
-    """
-    v = 0.0
-    for r in range(_HEX_DV.shape[0]):
-        i = _HEX_DV[r, 0]
-        j = _HEX_DV[r, 1]
-        k = _HEX_DV[r, 2]
-        v += _HEX_DV[r, 3] * p[i, 0] * (p[j, 1] * p[k, 2] - p[k, 1] * p[j, 2])
-    return v / 12.0
+# (local faces and edges of a hex8: ale.topology)
 
 
 @njit(cache=True)
@@ -842,7 +799,7 @@ def swept_volume_3d(face_nodes, f, x_lag, x_new, p):
         for k in range(3):
             p[a, k] = x_lag[n, k] - x_lag[r, k]
             p[a + 4, k] = x_new[n, k] - x_lag[r, k]
-    return hex_volume(p)
+    return hex8_volume(p)
 
 
 @njit(parallel=True, cache=True)
@@ -855,7 +812,7 @@ def swept_volumes_3d(faces, face_nodes, x_lag, x_new, out):
 
 @njit(parallel=True, cache=True)
 def element_volumes_3d(x, conn, out):
-    """Exact trilinear volume of every hex8 (``hex_volume``), (E,)."""
+    """Exact trilinear volume of every hex8 (``fem.geometry.hex8_volume``), (E,)."""
     n_elem = conn.shape[0]
     n_chunks = min(n_elem, 512)
     for chunk in prange(n_chunks):
@@ -866,7 +823,7 @@ def element_volumes_3d(x, conn, out):
                 n = conn[e, a]
                 for k in range(3):
                     p[a, k] = x[n, k] - x[r, k]
-            out[e] = hex_volume(p)
+            out[e] = hex8_volume(p)
 
 
 @njit(parallel=True, cache=True)
@@ -874,9 +831,9 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
                        phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
     """``lagrange_forces`` on hex8: element forces at x^n with v^{n-1/2}.
 
-    Mean-gradient (Flanagan & Belytschko 1981) b = (1/V) dV/dx_I (fem.kernels.hex8_gradient),
+    Mean-gradient (Flanagan & Belytschko 1981) b = (1/V) dV/dx_I (fem.geometry.hex8_gradient),
     f_eI = V (p_mix + q) b_I with the same mixture pressure (``_mixture_pressure``), bulk viscosity
-    and stable step (length V / largest face area, fem.kernels.hex8_char_length); viscous
+    and stable step (length V / largest face area, fem.geometry.hex8_char_length); viscous
     hourglass on the four hex8 modes gamma_j = Gamma_j - (Gamma_j . x) b, force
     -c_hg (gamma_j . v) gamma_j with c_hg = qhg rho c V^(2/3) / 4 (the FEM solid's viscous form).
     Written: f_elem (E, 8, 3), pres_m, bulk_m, q_elem, dt_elem as in 2D.
@@ -906,10 +863,10 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
             for a in range(8):
                 trace_d += ve[a, 0] * b[0, a] + ve[a, 1] * b[1, a] + ve[a, 2] * b[2, a]
             length = hex8_char_length(xe, vol)
-            q = _bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
+            q = bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
             q_elem[e] = q
             c_eff = c_max + math.sqrt(vmax2)
-            dt_elem[e] = _stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
+            dt_elem[e] = stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
             s = vol * (p_mix + q)
             for a in range(8):
                 for k in range(3):
@@ -921,14 +878,14 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
                     gx1 = 0.0
                     gx2 = 0.0
                     for a in range(8):
-                        gx0 += _HEX_GAMMA[mode, a] * xe[a, 0]
-                        gx1 += _HEX_GAMMA[mode, a] * xe[a, 1]
-                        gx2 += _HEX_GAMMA[mode, a] * xe[a, 2]
+                        gx0 += HEX_GAMMA[mode, a] * xe[a, 0]
+                        gx1 += HEX_GAMMA[mode, a] * xe[a, 1]
+                        gx2 += HEX_GAMMA[mode, a] * xe[a, 2]
                     h0 = 0.0
                     h1 = 0.0
                     h2 = 0.0
                     for a in range(8):
-                        g = _HEX_GAMMA[mode, a] - gx0 * b[0, a] - gx1 * b[1, a] - gx2 * b[2, a]
+                        g = HEX_GAMMA[mode, a] - gx0 * b[0, a] - gx1 * b[1, a] - gx2 * b[2, a]
                         gam[a] = g
                         h0 += g * ve[a, 0]
                         h1 += g * ve[a, 1]
@@ -1004,7 +961,7 @@ def nodal_update_3d(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, 
 def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, q_elem,
                        closure, alpha, beta, phi_eps, work_elem):
     """``lagrange_energy`` on hex8: compatible work W_e = -dt sum_I f_eI . (v_I^{n-1/2} + v_I^{n+1/2}) / 2,
-    the Lagrangian volume (``hex_volume``) at x + dt v^{n+1/2}, then the same closure (``_closure_energy``)."""
+    the Lagrangian volume (``fem.geometry.hex8_volume``) at x + dt v^{n+1/2}, then the same closure (``_closure_energy``)."""
     n_elem = conn.shape[0]
     n_mat = vol_m.shape[1]
     n_chunks = min(n_elem, 512)
@@ -1024,7 +981,7 @@ def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m,
                     p[a, k] = (x[n, k] + dt * v_new[n, k]) - (x[r, k] + dt * v_new[r, k])
             w *= dt
             work_elem[e] = w
-            v_lag = hex_volume(p)
+            v_lag = hex8_volume(p)
             _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps,
                             dvm, dev)
 

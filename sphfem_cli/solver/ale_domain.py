@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..ale import options as ale_options
 from ..ale.system import AleSystem
 from ..model import sets as selection
 from ..model.build import VOID, Model
@@ -33,17 +34,16 @@ class AleDomain(Domain):
                 for m in mesh.materials]
         self.courant = options.courant
         o = options
-        self.system = AleSystem(
-            mesh.nodes, mesh.elements, rows, mesh.fractions, mesh.density, pressure=mesh.pressure,
-            velocity=mesh.velocity, q1=o.q1, q2=o.q2,
-            hourglass=o.hourglass, order=1 if o.advection == "donor_cell" else 2,
-            interface=o.interface, closure=o.closure, advect_every=o.advect_every,
-            mesh_motion={"smoothed": "smooth"}.get(o.mesh_motion, o.mesh_motion),
-            smoothing=o.smoothing, smooth_weight=o.smoothing_weight,
-            smooth_iterations=o.smoothing_iterations, eulerian_pull=o.eulerian_pull,
-            smooth_boundary=o.smoothing_boundary, pressure_cutoff=o.pressure_cutoff,
-            line_axis="xyz".index(o.line_axis),
-        )
+        motion = ale_options.MeshMotion(
+            mesh_motion=o.mesh_motion, smoothing=o.smoothing, smoothing_weight=o.smoothing_weight,
+            smoothing_iterations=o.smoothing_iterations, smoothing_boundary=o.smoothing_boundary,
+            eulerian_pull=o.eulerian_pull, line_axis=o.line_axis)
+        numerics = ale_options.AleOptions(
+            advection=o.advection, interface=o.interface, closure=o.closure, advect_every=o.advect_every, q1=o.q1,
+            q2=o.q2, hourglass=o.hourglass, timestep_scale=o.courant, pressure_cutoff=o.pressure_cutoff,
+            motion=motion)
+        self.system = AleSystem(mesh.nodes, mesh.elements, rows, mesh.fractions, mesh.density, pressure=mesh.pressure,
+                                velocity=mesh.velocity, options=numerics)
         if o.burn:
             self.system.set_burn([j for j, _ in o.burn], [d for _, d in o.burn], list(o.detonations))
         for g in o.gravity:
