@@ -168,7 +168,7 @@ class AleSystem:
         self.coupling_work = 0.0
         self.v_lag = self.velocity.copy()  # v^{n+1/2} of the Lagrangian phase, before the remap
         self.v_mid = np.zeros((n_nodes, dim))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last Lagrangian phase
-        # the kernels that differ between quad4 and hex8
+        # the kernels that differ between quad4 and hex8 (twins: the generic forms measured slower, ale/kernels.py)
         if dim == 2:
             self._k_forces, self._k_nodal, self._k_energy = K.lagrange_forces, K.nodal_update, K.lagrange_energy
             self._k_faces, self._k_finish = K.face_fluxes, K.finish_remap_nodes
