@@ -22,7 +22,7 @@ class AleDomain(Domain):
 
     kind = "ale"
     label = "ALE"
-    non_finite_remedy = "lower the section's courant, check the equations of state and units"
+    non_finite_remedy = "lower the section's timestep_scale, check the equations of state and units"
 
     def __init__(self, model: Model, options: AleDomainOptions):
         mesh = model.ale
@@ -32,7 +32,6 @@ class AleDomain(Domain):
         self.names = [model.material_names[m] for m in mesh.materials]
         rows = [None if model.material_type[m] == VOID else (int(model.material_type[m]), model.material_param[m])
                 for m in mesh.materials]
-        self.courant = options.courant
         o = options
         motion = ale_options.MeshMotion(
             mesh_motion=o.mesh_motion, smoothing=o.smoothing, smoothing_weight=o.smoothing_weight,
@@ -40,7 +39,7 @@ class AleDomain(Domain):
             eulerian_pull=o.eulerian_pull, line_axis=o.line_axis)
         numerics = ale_options.AleOptions(
             advection=o.advection, interface=o.interface, closure=o.closure, advect_every=o.advect_every, q1=o.q1,
-            q2=o.q2, hourglass=o.hourglass, timestep_scale=o.courant, pressure_cutoff=o.pressure_cutoff,
+            q2=o.q2, hourglass=o.hourglass, timestep_scale=o.timestep_scale, pressure_cutoff=o.pressure_cutoff,
             motion=motion)
         self.system = AleSystem(mesh.nodes, mesh.elements, rows, mesh.fractions, mesh.density, pressure=mesh.pressure,
                                 velocity=mesh.velocity, options=numerics)
@@ -64,9 +63,9 @@ class AleDomain(Domain):
     # ------------------------------------------------------------------------------ loop
 
     def stable_dt(self, scale: float | None = None) -> float:
-        """The mesh's stable step at the section's courant number (`scale`, timestep_scale, is not used)."""
+        """The mesh's stable step at the ALE section's timestep_scale (`scale`, control.timestep_scale, is not used)."""
         ale = self.system
-        return stable_or_nan(lambda: ale.stable_dt(self.courant), ale.x, ale.velocity)
+        return stable_or_nan(lambda: ale.stable_dt(ale.options.timestep_scale), ale.x, ale.velocity)
 
     def clear_coupling(self) -> None:
         self.system.f_couple[:] = 0.0
