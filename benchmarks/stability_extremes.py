@@ -100,8 +100,8 @@ def cases(long_steps: int) -> list[tuple[str, str, dict]]:
         out.append(("timestep_scale", f"SPH dam break, scale {s}", variant(SPH, control__timestep_scale=s,
                                                                            control__end_time=0.05)))
     for s in (1.2, 2.0):
-        out.append(("timestep_scale", f"ALE water-air tube, courant x{s}",
-                    variant(ALE, sections__ale__courant=min(1.0, 0.5 * s))))
+        out.append(("timestep_scale", f"ALE water-air tube, section timestep_scale x{s}",
+                    variant(ALE, sections__ale__timestep_scale=min(1.0, 0.5 * s))))
     for v in (1.0, 10.0, 100.0, 300.0, 500.0):
         out.append(("impact speed", f"solid bar on a fixed end, {v:g} m/s", variant(SOLID, initial__0__velocity=[v, 0.0])))
     eroding = variant(SOLID, initial__0__velocity=[500.0, 0.0])

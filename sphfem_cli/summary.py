@@ -55,6 +55,10 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
             figures.append(f"sound speed {fig.sound_speed:.4g} {units.length}/{units.time}")
         lines.append(f"  material {name}: {m.type}, {', '.join(figures)}")
         warnings += [f"warning: material {name}: {w}" for w in fig.warnings]
+    for name, section in deck.sections.items():
+        if getattr(section, "courant", None) is not None:
+            warnings.append(f"warning: sections.{name}.courant is the deprecated name of timestep_scale "
+                            f"(read as timestep_scale {section.courant:g})")
     end = deck.control.end_time
     lines.append(f"  stable time step {dt:.4e} {units.time} (timestep_scale {deck.control.timestep_scale}), set by "
                  f"{sim.limiter_description()}; about {end / dt:.3g} steps to end_time {end:g} {units.time}")

@@ -11,7 +11,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..deck.schema import Deck, SegmentSet
-from ..fem.kernels import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2, hex8_volumes
+from ..fem.geometry import hex8_volumes
+from ..fem.kernels import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2
 from ..materials.kernels import RIGID
 from ..materials.slots import EOS_OFFSET, NPARAM, P_EOS_TYPE, P_G, P_K, P_RHO0, Q_E0
 
@@ -295,7 +296,7 @@ def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarra
 
 def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     """Mesh the ALE part and lay out its materials: the part's material, then each fill in order."""
-    from ..ale.system import fill_fractions
+    from ..ale.fill import fill_fractions
     from ..materials.kernels import eos_pressure
     index = next(i for i, p in enumerate(model.parts) if p.kind == "ale")
     name = model.parts[index].name

@@ -187,7 +187,7 @@ class AleDomainOptions(Options):
     smoothing_boundary: str
     pressure_cutoff: float | None
     line_axis: str
-    courant: float
+    timestep_scale: float
     burn: tuple[tuple[int, float], ...]
     detonations: tuple[tuple[tuple[float, ...], float], ...]
     gravity: tuple[np.ndarray, ...]
@@ -353,7 +353,7 @@ def _ale_options(deck, model, detonations) -> AleDomainOptions:
         advect_every=section.advect_every, mesh_motion=section.mesh_motion, smoothing=section.smoothing,
         smoothing_weight=section.smoothing_weight, smoothing_iterations=section.smoothing_iterations,
         eulerian_pull=section.eulerian_pull, smoothing_boundary=section.smoothing_boundary,
-        pressure_cutoff=section.pressure_cutoff, line_axis=section.line_axis, courant=section.courant,
+        pressure_cutoff=section.pressure_cutoff, line_axis=section.line_axis, timestep_scale=section.timestep_scale,
         burn=tuple((j, deck.materials[n].detonation_velocity) for j, n in enumerate(names)
                    if deck.materials[n].type == "high_explosive"),
         detonations=detonations,

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..ale import options as ale_options
 from ..ale.system import AleSystem
 from ..model import sets as selection
 from ..model.build import VOID, Model
@@ -21,7 +22,7 @@ class AleDomain(Domain):
 
     kind = "ale"
     label = "ALE"
-    non_finite_remedy = "lower the section's courant, check the equations of state and units"
+    non_finite_remedy = "lower the section's timestep_scale, check the equations of state and units"
 
     def __init__(self, model: Model, options: AleDomainOptions):
         mesh = model.ale
@@ -31,19 +32,17 @@ class AleDomain(Domain):
         self.names = [model.material_names[m] for m in mesh.materials]
         rows = [None if model.material_type[m] == VOID else (int(model.material_type[m]), model.material_param[m])
                 for m in mesh.materials]
-        self.courant = options.courant
         o = options
-        self.system = AleSystem(
-            mesh.nodes, mesh.elements, rows, mesh.fractions, mesh.density, pressure=mesh.pressure,
-            velocity=mesh.velocity, q1=o.q1, q2=o.q2,
-            hourglass=o.hourglass, order=1 if o.advection == "donor_cell" else 2,
-            interface=o.interface, closure=o.closure, advect_every=o.advect_every,
-            mesh_motion={"smoothed": "smooth"}.get(o.mesh_motion, o.mesh_motion),
-            smoothing=o.smoothing, smooth_weight=o.smoothing_weight,
-            smooth_iterations=o.smoothing_iterations, eulerian_pull=o.eulerian_pull,
-            smooth_boundary=o.smoothing_boundary, pressure_cutoff=o.pressure_cutoff,
-            line_axis="xyz".index(o.line_axis),
-        )
+        motion = ale_options.MeshMotion(
+            mesh_motion=o.mesh_motion, smoothing=o.smoothing, smoothing_weight=o.smoothing_weight,
+            smoothing_iterations=o.smoothing_iterations, smoothing_boundary=o.smoothing_boundary,
+            eulerian_pull=o.eulerian_pull, line_axis=o.line_axis)
+        numerics = ale_options.AleOptions(
+            advection=o.advection, interface=o.interface, closure=o.closure, advect_every=o.advect_every, q1=o.q1,
+            q2=o.q2, hourglass=o.hourglass, timestep_scale=o.timestep_scale, pressure_cutoff=o.pressure_cutoff,
+            motion=motion)
+        self.system = AleSystem(mesh.nodes, mesh.elements, rows, mesh.fractions, mesh.density, pressure=mesh.pressure,
+                                velocity=mesh.velocity, options=numerics)
         if o.burn:
             self.system.set_burn([j for j, _ in o.burn], [d for _, d in o.burn], list(o.detonations))
         for g in o.gravity:
@@ -64,9 +63,9 @@ class AleDomain(Domain):
     # ------------------------------------------------------------------------------ loop
 
     def stable_dt(self, scale: float | None = None) -> float:
-        """The mesh's stable step at the section's courant number (`scale`, timestep_scale, is not used)."""
+        """The mesh's stable step at the ALE section's timestep_scale (`scale`, control.timestep_scale, is not used)."""
         ale = self.system
-        return stable_or_nan(lambda: ale.stable_dt(self.courant), ale.x, ale.velocity)
+        return stable_or_nan(lambda: ale.stable_dt(ale.options.timestep_scale), ale.x, ale.velocity)
 
     def clear_coupling(self) -> None:
         self.system.f_couple[:] = 0.0

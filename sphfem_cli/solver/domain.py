@@ -12,7 +12,7 @@ One step n -> n+1 (paper eq. 2.7; every domain advances with the same dt, the sm
                                   `label` and `non_finite_remedy`). A domain may compute its rates of
                                   state n here (SPH does): it is called once per step, before advance.
                                   `scale` is control.timestep_scale (a domain with its own number, as
-                                  ALE's section.courant, uses that instead, and says so).
+                                  ALE's section timestep_scale, uses that instead, and says so).
     check_step(state)             after stable_dt: the domain's own guards on state n (raise RunStopped).
     clear_coupling()              zero the force arrays that interactions (contacts, couplings) add to;
                                   called before the interactions' forces(state), only when there are some.

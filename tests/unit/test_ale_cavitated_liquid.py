@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sphfem_cli.ale import AleSystem
+from sphfem_cli.ale import AleOptions, AleSystem
 from sphfem_cli.ale import kernels as K
 from sphfem_cli.deck.schema import materials as sm
 from sphfem_cli.materials.tables import pack_material
@@ -22,7 +22,7 @@ def _water(rho, e, **kw):
     eos = sm.Gruneisen(type="gruneisen", c=1480.0, s1=1.92, gamma0=0.28)
     row = pack_material(sm.Fluid(type="fluid", density=1000.0, eos="water"), eos)[1]
     mesh = box_mesh([0.0, 0.0], [0.0025, 0.0025], divisions=[1, 1])
-    return AleSystem(mesh.nodes, mesh.elements, [row], np.ones((1, 1)), [rho], energy=[e], **kw)
+    return AleSystem(mesh.nodes, mesh.elements, [row], np.ones((1, 1)), [rho], energy=[e], options=AleOptions(**kw))
 
 
 def test_cavitated_water_has_cutoff_pressure_and_reference_sound_speed():

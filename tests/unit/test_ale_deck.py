@@ -65,3 +65,26 @@ def test_bad_ale_decks(tmp_path, change, message):
     result = CliRunner().invoke(main, ["check", str(deck)])
     assert result.exit_code == 65, result.output
     assert message in result.output and len(result.output.strip().splitlines()) == 1
+
+
+SECTION = "  ale: {type: ale_multi_material, advection: van_leer, interface: slic, closure: relax}"
+
+
+def test_courant_is_a_deprecated_name_of_timestep_scale(tmp_path):
+    """The ALE section's step fraction is timestep_scale, as for solids, SPH and contacts; the old
+    key courant is still read as it, with a warning, and giving both is a deck error."""
+    steps = {}
+    for key in ("timestep_scale", "courant"):
+        deck = tmp_path / f"{key}.yaml"
+        deck.write_text(DECK.read_text().replace(SECTION, SECTION[:-1] + f", {key}: 0.25}}"))
+        result = CliRunner().invoke(main, ["check", str(deck)])
+        assert result.exit_code == 0, result.output
+        assert ("deprecated name of timestep_scale" in result.stderr) == (key == "courant")
+        steps[key] = [line for line in result.stdout.splitlines() if "stable time step" in line]
+    assert steps["courant"] == steps["timestep_scale"] and steps["courant"]
+    both = tmp_path / "both.yaml"
+    both.write_text(DECK.read_text().replace(SECTION, SECTION[:-1] + ", courant: 0.25, timestep_scale: 0.25}"))
+    result = CliRunner().invoke(main, ["check", str(both)])
+    assert result.exit_code == 65, result.output
+    assert "sections.ale.courant: courant is the deprecated name of timestep_scale" in result.output
+    assert len(result.output.strip().splitlines()) == 1

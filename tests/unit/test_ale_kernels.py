@@ -5,7 +5,7 @@ import numba
 import numpy as np
 import pytest
 
-from sphfem_cli.ale import AleSystem, build_topology, energy_from_pressure, fill_fractions
+from sphfem_cli.ale import AleOptions, AleSystem, build_topology, energy_from_pressure, fill_fractions
 from sphfem_cli.ale import kernels as K
 from sphfem_cli.ale import reference as R
 from sphfem_cli.materials import kernels as mk
@@ -21,7 +21,7 @@ def _system(nx=4, ny=3, seed=0, **kw):
     rho = 1.0 + 0.2 * rng.random((len(conn), 2))
     pr = 1.0 + rng.random((len(conn), 2))
     ale = AleSystem(nodes, conn, [_gas(1.4, 1.0), _gas(4.4, 2.0, 0.5)], np.stack([f, 1 - f], axis=1), rho,
-                    pressure=pr, velocity=0.3 * rng.standard_normal(nodes.shape), **kw)
+                    pressure=pr, velocity=0.3 * rng.standard_normal(nodes.shape), options=AleOptions(**kw))
     return ale, rng
 
 
@@ -77,20 +77,21 @@ def test_lagrange_forces_match_reference():
     ale, _ = _system()
     ale._forces()
     ref = R.lagrange_forces(ale.x, ale.velocity, ale.conn, ale.vol_m, ale.mass_m, ale.ener_m, ale.mat_eos,
-                            ale.mat_q, ale.mat_rho0, ale.q1, ale.q2, ale.qhg, ale.phi_eps)
+                            ale.mat_q, ale.mat_rho0, ale.options.q1, ale.options.q2,
+                            ale.options.hourglass, ale.options.phi_eps)
     for got, want in zip((ale.f_elem, ale.pres_m, ale.bulk_m, ale.q_elem, ale.dt_elem), ref):
         np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-14)
     assert np.any(ale.q_elem > 0)  # the random field compresses some elements
 
 
 def test_donor_face_fluxes_match_reference():
-    ale, rng = _system(order=1, interface="donor")
+    ale, rng = _system(advection="donor_cell", interface="donor")
     x_lag = ale.x0 + 0.02 * rng.standard_normal(ale.x0.shape)
     topo = ale.topo
     for d in range(2):
         K.face_fluxes(topo["faces_by_dir"][d], topo["face_nodes"], topo["face_elem"], topo["face_local"],
                       topo["elem_nbr"], ale.face_open, x_lag, ale.x0, ale.vol_m, ale.mass_m, ale.ener_m, 1,
-                      K.IFACE_DONOR, ale.phi_eps, ale._fvol, ale._fmass, ale._fener)
+                      K.IFACE_DONOR, ale.options.phi_eps, ale._fvol, ale._fmass, ale._fener)
     ref = R.face_fluxes_donor(topo, ale.face_open, x_lag, ale.x0, ale.vol_m, ale.mass_m, ale.ener_m)
     for got, want in zip((ale._fvol, ale._fmass, ale._fener), ref):
         np.testing.assert_allclose(got, want, rtol=1e-13, atol=1e-16)

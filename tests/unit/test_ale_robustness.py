@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sphfem_cli.ale import AleSystem, fill_fractions
+from sphfem_cli.ale import AleOptions, AleSystem, fill_fractions
 from sphfem_cli.ale import kernels as K
 from sphfem_cli.deck.schema import materials as sm
 from sphfem_cli.materials.tables import gas_row, pack_material
@@ -46,7 +46,7 @@ def test_finish_remap_nodes_mass_floor():
 
 def _water_elements(rho, **kw):
     mesh = box_mesh([0.0, 0.0], [0.02, 0.01], divisions=[2, 1])
-    return AleSystem(mesh.nodes, mesh.elements, [water_row()], np.ones((2, 1)), [rho], energy=[0.0], **kw)
+    return AleSystem(mesh.nodes, mesh.elements, [water_row()], np.ones((2, 1)), [rho], energy=[0.0], options=AleOptions(**kw))
 
 
 def test_pressure_cutoff():
@@ -82,7 +82,7 @@ def test_water_under_void_shaken_in_a_closed_box():
     rng = np.random.default_rng(3)
     ale = AleSystem(nodes, conn, [water_row(), None], np.stack([f, 1 - f], axis=1), [1000.0, 0.0],
                     energy=[0.0, 0.0], velocity=5.0 * rng.standard_normal(nodes.shape),
-                    pressure_cutoff=-1e5)
+                    options=AleOptions(pressure_cutoff=-1e5))
     x = nodes
     ale.set_slip(np.flatnonzero((x[:, 0] == 0.0) | (x[:, 0] == 0.2)), (1.0, 0.0))
     ale.set_slip(np.flatnonzero((x[:, 1] == 0.0) | (x[:, 1] == 0.2)), (0.0, 1.0))

@@ -4,7 +4,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sphfem_cli.fem.kernels import hex8_gradient, quad4_gradient, rotate_stress
+from sphfem_cli.fem.geometry import hex8_gradient, quad4_gradient
+from sphfem_cli.fem.kernels import rotate_stress
 
 HEX_SIGNS = np.array([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
                       (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)], dtype=float)

@@ -40,7 +40,8 @@ ROW_VARIABLES = {
     "materials/kernels.py": frozenset({"p", "q", "hist"}),
     "materials/tables.py": frozenset({"p", "q"}),
     "materials/plausibility.py": frozenset({"row"}),
-    "ale/kernels.py": frozenset({"q"}),
+    "ale/lagrange.py": frozenset({"q"}),
+    "ale/fill.py": frozenset({"q", "row"}),
     "ale/reference.py": frozenset({"q"}),
 }
 

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sphfem_cli.ale import AleSystem, fill_fractions
+from sphfem_cli.ale import AleOptions, AleSystem, fill_fractions
 from sphfem_cli.materials.tables import gas_row
 from sphfem_cli.model.mesh import box_mesh
 
@@ -17,7 +17,7 @@ def box_walls(ale: AleSystem, nodes: np.ndarray, lo, hi, tol: float = 1e-12) -> 
 
 
 def shock_tube(n: int, length: float, x_diaphragm: float, left: tuple, right: tuple, two_materials: bool,
-               **options) -> AleSystem:
+               options: AleOptions | None = None) -> AleSystem:
     """Quasi-1D tube, n x 1 quad4, slip walls all round; left/right = (row, rho, p)."""
     h = length / n
     mesh = box_mesh([0.0, 0.0], [length, h], divisions=[n, 1])
@@ -26,11 +26,11 @@ def shock_tube(n: int, length: float, x_diaphragm: float, left: tuple, right: tu
     if two_materials:
         mats = [left[0], right[0]]
         fr = np.stack([f_left, 1.0 - f_left], axis=1)
-        ale = AleSystem(nodes, conn, mats, fr, [left[1], right[1]], pressure=[left[2], right[2]], **options)
+        ale = AleSystem(nodes, conn, mats, fr, [left[1], right[1]], pressure=[left[2], right[2]], options=options)
     else:
         rho = np.where(f_left > 0.5, left[1], right[1])[:, None]
         pr = np.where(f_left > 0.5, left[2], right[2])[:, None]
-        ale = AleSystem(nodes, conn, [left[0]], np.ones((n, 1)), rho, pressure=pr, **options)
+        ale = AleSystem(nodes, conn, [left[0]], np.ones((n, 1)), rho, pressure=pr, options=options)
     box_walls(ale, nodes, (0.0, 0.0), (length, h), tol=1e-9 * length)
     return ale
 
@@ -41,11 +41,11 @@ def run_to(ale: AleSystem, t_end: float, cfl: float = 0.5) -> AleSystem:
     return ale
 
 
-def sod(n: int, **options) -> AleSystem:
+def sod(n: int, options: AleOptions | None = None, two_materials: bool = False) -> AleSystem:
     g = gas_row(1.4, 1.0)
-    two = options.pop("two_materials", False)
+    two = two_materials
     right_row = gas_row(1.4, 0.125) if two else g
-    return run_to(shock_tube(n, 1.0, 0.5, (g, 1.0, 1.0), (right_row, 0.125, 0.1), two, **options), 0.2)
+    return run_to(shock_tube(n, 1.0, 0.5, (g, 1.0, 1.0), (right_row, 0.125, 0.1), two, options), 0.2)
 
 
 # ------------------------------------------------------------------ exact Riemann solution (Toro ch. 4)

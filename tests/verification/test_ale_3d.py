@@ -29,7 +29,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 from ale_cases import gas_row, riemann_sample, run_to, sod  # noqa: E402
 
-from sphfem_cli.ale import AleSystem, fill_fractions  # noqa: E402
+from sphfem_cli.ale import AleOptions, AleSystem, fill_fractions  # noqa: E402
 from sphfem_cli.model.mesh import box_mesh  # noqa: E402
 
 LEFT = (1.0, 0.0, 1.0, 1.4, 0.0)
@@ -56,7 +56,7 @@ def sod_3d(axis: int, n: int = 100):
     left = fill_fractions(nodes, conn, lambda *c: c[axis] < 0.5)
     rho = np.where(left > 0.5, 1.0, 0.125)[:, None]
     p = np.where(left > 0.5, 1.0, 0.1)[:, None]
-    ale = AleSystem(nodes, conn, [gas_row(1.4, 1.0)], np.ones((n, 1)), rho, pressure=p, order=2)
+    ale = AleSystem(nodes, conn, [gas_row(1.4, 1.0)], np.ones((n, 1)), rho, pressure=p, options=AleOptions(advection="van_leer"))
     walls_3d(ale, nodes, (0.0, 0.0, 0.0), hi)
     m0 = ale.totals()["mass"].copy()
     run_to(ale, 0.2)
@@ -67,7 +67,7 @@ def sod_3d(axis: int, n: int = 100):
 
 @functools.lru_cache(maxsize=None)
 def sod_2d():
-    return sod(100, order=2)
+    return sod(100, AleOptions(advection="van_leer"))
 
 
 @pytest.mark.parametrize("axis", [0, 1, 2], ids=["x", "y", "z"])
@@ -166,7 +166,7 @@ def test_closed_box_3d_conservation(order):
     bump = 1.0 + 4.0 * np.exp(-((xc - [0.6, 0.5, 0.3]) ** 2).sum(axis=1) / 0.02)
     ale = AleSystem(nodes, conn, [gas_row(1.4, 1.0), gas_row(1.67, 0.3)], np.stack([f, 1 - f], axis=1),
                     [1.0, 0.3], pressure=np.stack([bump, bump], axis=1),
-                    velocity=0.3 * rng.standard_normal(nodes.shape), order=order)
+                    velocity=0.3 * rng.standard_normal(nodes.shape), options=AleOptions(advection=("donor_cell", "van_leer")[order - 1]))
     walls_3d(ale, nodes, lo, hi)
     t0 = ale.totals()
     for _ in range(120):

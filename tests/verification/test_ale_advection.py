@@ -22,7 +22,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).parent))
 from ale_cases import box_walls, gas_row, run_to  # noqa: E402
 
-from sphfem_cli.ale import AleSystem, fill_fractions  # noqa: E402
+from sphfem_cli.ale import AleOptions, AleSystem, MeshMotion, fill_fractions  # noqa: E402
 from sphfem_cli.model.mesh import box_mesh  # noqa: E402
 
 
@@ -31,7 +31,7 @@ def _blob_centroid(ale):
     return (w[:, None] * ale.centroids()).sum(axis=0) / w.sum()
 
 
-@pytest.fixture(scope="module", params=["eulerian", "smooth"])
+@pytest.fixture(scope="module", params=["eulerian", "smoothed"])
 def blob(request):
     mesh = box_mesh([0.0, 0.0], [1.0, 1.0], divisions=[50, 50])
     nodes, conn = mesh.nodes, mesh.elements
@@ -39,7 +39,8 @@ def blob(request):
     f = fill_fractions(nodes, conn, lambda x, y: (x - c0[0]) ** 2 + (y - c0[1]) ** 2 < r * r, samples=5)
     vel = np.array([1.0, 0.5])
     ale = AleSystem(nodes, conn, [gas_row(1.4, 1.0), gas_row(1.4, 0.2)], np.stack([f, 1 - f], axis=1),
-                    [1.0, 0.2], pressure=[1.0, 1.0], velocity=vel, mesh_motion=request.param)
+                    [1.0, 0.2], pressure=[1.0, 1.0], velocity=vel,
+                    options=AleOptions(motion=MeshMotion(mesh_motion=request.param)))
     ale.set_transmit(np.arange(len(nodes)))
     m0 = ale.totals()["mass"]
     x0 = _blob_centroid(ale)
@@ -86,7 +87,7 @@ def test_closed_box_conservation(closure):
     bump = 1.0 + 4.0 * np.exp(-((xc[:, 0] - 0.6) ** 2 + (xc[:, 1] - 0.5) ** 2) / 0.02)
     ale = AleSystem(nodes, conn, [gas_row(1.4, 1.0), gas_row(1.67, 0.3)], np.stack([f, 1 - f], axis=1),
                     [1.0, 0.3], pressure=np.stack([bump, bump], axis=1),
-                    velocity=0.3 * rng.standard_normal(nodes.shape), closure=closure)
+                    velocity=0.3 * rng.standard_normal(nodes.shape), options=AleOptions(closure=closure))
     box_walls(ale, nodes, (0.0, 0.0), (1.0, 0.8))
     t0 = ale.totals()
     for _ in range(150):

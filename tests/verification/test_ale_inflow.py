@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sphfem_cli.ale import AleSystem
+from sphfem_cli.ale import AleOptions, AleSystem
 from sphfem_cli.materials.tables import gas_row
 from sphfem_cli.model.mesh import box_mesh
 
@@ -30,7 +30,8 @@ def _channel(case: str):
     water = gas_row(4.4, RHO, 6e8)
     fr = np.tile([1.0, 0.0], (N, 1))
     if case == "void":
-        ale = AleSystem(nodes, conn, [None, water], fr, [0.0, RHO], pressure=[0.0, 1e5], pressure_cutoff=0.0)
+        ale = AleSystem(nodes, conn, [None, water], fr, [0.0, RHO], pressure=[0.0, 1e5],
+                        options=AleOptions(pressure_cutoff=0.0))
     else:
         ale = AleSystem(nodes, conn, [gas_row(1.4, 1.2), water], fr, [1.2, RHO], pressure=[1e5, 1e5])
     ale.set_inflow(np.flatnonzero(nodes[:, 0] < 1e-12), 1, (U, 0.0), pressure=1e5)

@@ -27,8 +27,12 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from ale_cases import box_walls, gas_row, run_to, shock_tube  # noqa: E402
 
-from sphfem_cli.ale import AleSystem, fill_fractions  # noqa: E402
+from sphfem_cli.ale import AleOptions, AleSystem, MeshMotion, fill_fractions  # noqa: E402
 from sphfem_cli.model.mesh import box_mesh  # noqa: E402
+
+
+def _smoothed(**motion) -> AleOptions:
+    return AleOptions(motion=MeshMotion(mesh_motion="smoothed", **motion))
 
 
 def _sheared(n: int = 20, amp: float = 0.06):
@@ -43,7 +47,7 @@ def test_equipotential_relaxes_a_sheared_grid():
     uniform, x, conn = _sheared()
     n_elem = len(conn)
     ale = AleSystem(x, conn, [gas_row(1.4, 1.0)], np.ones((n_elem, 1)), [1.0], pressure=[1.0],
-                    mesh_motion="smooth", smoothing="equipotential", smooth_weight=1.0, eulerian_pull=0.0)
+                    options=_smoothed(smoothing="equipotential", smoothing_weight=1.0, eulerian_pull=0.0))
     box_walls(ale, x, (0.0, 0.0), (1.0, 1.0))
     m0 = ale.totals()["mass"]
     d0 = np.abs(ale.x - uniform).max()
@@ -63,8 +67,8 @@ def test_sliding_boundary_nodes_even_out_along_a_straight_side():
     x[bottom, 0] = x[bottom, 0] ** 2  # bunched towards the left corner
     conn = mesh.elements
     ale = AleSystem(x, conn, [gas_row(1.4, 1.0)], np.ones((len(conn), 1)), [1.0], pressure=[1.0],
-                    mesh_motion="smooth", smoothing="equipotential", smooth_weight=1.0, eulerian_pull=0.0,
-                    smooth_boundary="sliding")
+                    options=_smoothed(smoothing="equipotential", smoothing_weight=1.0, eulerian_pull=0.0,
+                                     smoothing_boundary="sliding"))
     box_walls(ale, x, (0.0, 0.0), (1.0, 1.0))
     m0 = ale.totals()["mass"]
     spread0 = np.ptp(np.diff(np.sort(ale.x[bottom, 0])))
@@ -84,8 +88,8 @@ def test_moving_mesh_remap_conserves_mass_momentum_energy():
     uniform, x, conn = _sheared(16, 0.04)
     f = fill_fractions(x, conn, lambda px, py: py < 0.4 + 0.1 * np.sin(6 * px))
     ale = AleSystem(x, conn, [gas_row(1.4, 1.0), gas_row(1.67, 0.3)], np.stack([f, 1 - f], axis=1), [1.0, 0.3],
-                    pressure=[1.0, 1.0], velocity=0.3 * rng.standard_normal(x.shape), mesh_motion="smooth",
-                    smoothing="equipotential", smooth_weight=0.5, eulerian_pull=0.0)
+                    pressure=[1.0, 1.0], velocity=0.3 * rng.standard_normal(x.shape),
+                    options=_smoothed(smoothing="equipotential", smoothing_weight=0.5, eulerian_pull=0.0))
     box_walls(ale, x, (0.0, 0.0), (1.0, 1.0))
     t0 = ale.totals()
     for _ in range(150):
@@ -100,7 +104,8 @@ def test_moving_mesh_remap_conserves_mass_momentum_energy():
 
 def test_lagrangian_mode_does_not_advect():
     g = gas_row(1.4, 1.0)
-    ale = shock_tube(100, 1.0, 0.5, (g, 1.0, 1.0), (gas_row(1.4, 0.125), 0.125, 0.1), True, mesh_motion="lagrangian")
+    ale = shock_tube(100, 1.0, 0.5, (g, 1.0, 1.0), (gas_row(1.4, 0.125), 0.125, 0.1), True,
+                     AleOptions(motion=MeshMotion(mesh_motion="lagrangian")))
     fr0, m0 = ale.fractions().copy(), ale.mass_m.copy()
     assert set(np.unique(fr0)) == {0.0, 1.0}
     run_to(ale, 0.2)
@@ -136,8 +141,8 @@ def test_straight_lines_track_a_sloshing_free_surface():
     v = A * w / np.sinh(k * H) * np.stack([-np.sin(k * x[:, 0]) * np.cosh(k * x[:, 1]),
                                            np.cos(k * x[:, 0]) * np.sinh(k * x[:, 1])], axis=1)
     ale = AleSystem(x, conn, [gas_row(gamma, 1000.0, p_inf)], np.ones((len(conn), 1)), rho[:, None],
-                    pressure=p[:, None], velocity=v, mesh_motion="smooth", smoothing="straight_lines", line_axis=1,
-                    eulerian_pull=0.0)
+                    pressure=p[:, None], velocity=v,
+                    options=_smoothed(smoothing="straight_lines", line_axis="y", eulerian_pull=0.0))
     ale.gravity[:] = [0.0, -g]
     ale.set_slip(np.flatnonzero(np.abs(x[:, 1]) < 1e-9), [0.0, 1.0])
     for side in (0.0, L):
@@ -168,12 +173,12 @@ def test_straight_lines_need_a_structured_mesh():
     mesh = box_mesh([0.0, 0.0], [1.0, 1.0], divisions=[4, 4])
     x, conn = mesh.nodes.copy(), mesh.elements.copy()
     ale = AleSystem(x, conn, [gas_row(1.4, 1.0)], np.ones((len(conn), 1)), [1.0], pressure=[1.0],
-                    mesh_motion="smooth", smoothing="straight_lines", line_axis=0)
-    assert len(ale._lines[0]) == 5 * 3  # 5 horizontal lines, 3 inner nodes each
+                    options=_smoothed(smoothing="straight_lines", line_axis="x"))
+    assert len(ale.mesh.lines[0]) == 5 * 3  # 5 horizontal lines, 3 inner nodes each
     try:
         AleSystem(x, conn, [gas_row(1.4, 1.0)], np.ones((len(conn), 1)), [1.0], pressure=[1.0],
-                  mesh_motion="smooth", smoothing="straight_lines", line_axis=2)
+                  options=_smoothed(smoothing="straight_lines", line_axis="z"))
     except ValueError as err:
-        assert "line_axis 2" in str(err)
+        assert "line_axis z" in str(err)
     else:
         raise AssertionError("a 2D mesh has no z lines")

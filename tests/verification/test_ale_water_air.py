@@ -17,6 +17,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).parent))
 from ale_cases import gas_row, run_to, shock_tube  # noqa: E402
 
+from sphfem_cli.ale import AleOptions  # noqa: E402
+
 P_STAR = 1.4190e7
 U_STAR = 482.61
 
@@ -25,7 +27,7 @@ U_STAR = 482.61
 def _run(n=500, closure="relax"):
     water = gas_row(4.4, 1000.0, 6e8)
     air = gas_row(1.4, 50.0)
-    ale = shock_tube(n, 1.0, 0.7, (water, 1000.0, 1e9), (air, 50.0, 1e5), True, closure=closure)
+    ale = shock_tube(n, 1.0, 0.7, (water, 1000.0, 1e9), (air, 50.0, 1e5), True, AleOptions(closure=closure))
     return run_to(ale, 240e-6)
 
 

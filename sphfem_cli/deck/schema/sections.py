@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Union
 
-from pydantic import Field
+from pydantic import Field, model_validator
 
 from .base import DeckModel, NonNegativeFloat, PositiveFloat
 from .shapes import VolumeBox
@@ -120,13 +120,24 @@ class AleSection(DeckModel):
         "relax", description="Mixed elements: relax (pressure relaxation between materials) or equal_strain. Default relax."
     )
     hourglass: Annotated[float, Field(ge=0, le=0.12)] = Field(0.1, description="Viscous hourglass coefficient. Default 0.1.")
-    courant: Annotated[float, Field(gt=0, le=1.0)] = Field(
-        0.5, description="Fraction of the ALE element step l/(c + |v|) used (the remap needs it below 1). Default 0.5, as verified on the shock tubes."
+    timestep_scale: Annotated[float, Field(gt=0, le=1.0)] = Field(
+        0.5, description="Fraction of the ALE element step l/(c + |v|) used (the remap needs it at most 1); the name solids, SPH and contacts use. Default 0.5, as verified on the shock tubes."
+    )
+    courant: Annotated[float, Field(gt=0, le=1.0)] | None = Field(
+        None, description="Deprecated name of timestep_scale: still read (`sphfem check` warns); give one of the two."
     )
     bulk_viscosity: BulkViscosity = Field(default_factory=BulkViscosity, description="Shock viscosity.")
     pressure_cutoff: float | None = Field(
         None, description="Lowest pressure any ALE material may carry (cavitation; LS-DYNA *MAT_NULL PC) [pressure]. Default none (a fluid EOS may go into tension)."
     )
+
+    @model_validator(mode="after")
+    def _deprecated_courant(self) -> "AleSection":
+        if self.courant is not None:
+            if "timestep_scale" in self.model_fields_set:
+                raise ValueError("@courant: courant is the deprecated name of timestep_scale; give only timestep_scale")
+            self.timestep_scale = self.courant
+        return self
 
 
 Section = Annotated[Union[SolidSection, SphSection, AleSection], Field(discriminator="type")]

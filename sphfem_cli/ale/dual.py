@@ -1,0 +1,165 @@
+"""ALE remap, nodal side (``kernels`` step 4): momentum and kinetic energy on the dual mesh.
+
+The nodal masses, momenta and kinetic energies are remapped with the element mass fluxes of the
+sweep (half-index shift, Benson 1992 sec. 5.4; generalised to hex8), upwind or van Leer
+velocities along the node lines (``dual_fluxes``), gathered by the nodes (``apply_dual_fluxes``).
+Equations: docs/theory/ale.md.
+"""
+from __future__ import annotations
+
+from numba import njit, prange
+
+from .remap import van_leer
+
+
+@njit(cache=True, inline="always")
+def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass, node_line,
+                  mnode, pnode, order, gm, gp, gk, bm, bp, bk, dim, n_edges):
+    """``dual_fluxes`` of element e; dim and n_edges are constants at the call (unrolled loops)."""
+    n_mat = fmass.shape[1]
+    share = 1.0 / n_edges
+    fa = elem_face[e, ka]
+    fb = elem_face[e, kb]
+    fa_in = 0.0
+    fb_in = 0.0
+    for m in range(n_mat):
+        fa_in += fmass[fa, m]
+        fb_in += fmass[fb, m]
+    fa_in *= elem_sign[e, ka]
+    fb_in *= elem_sign[e, kb]
+    gh = 0.5 * share * (fa_in - fb_in)
+    open_a = elem_nbr[e, ka] < 0 and face_open[fa]
+    open_b = elem_nbr[e, kb] < 0 and face_open[fb]
+    for h in range(n_edges):
+        src = node_line[e, direction, h, 1]
+        dst = node_line[e, direction, h, 2]
+        gm[e, h] = gh
+        if gh >= 0.0:
+            donor = src
+            acc = dst
+            up = node_line[e, direction, h, 0]
+        else:
+            donor = dst
+            acc = src
+            up = node_line[e, direction, h, 3]
+        md = mnode[donor]
+        ke = 0.0
+        for k in range(dim):
+            vd = pnode[donor, k] / md if md > 0.0 else 0.0
+            vf = vd
+            if order == 2 and up >= 0 and md > 0.0 and mnode[acc] > 0.0 and mnode[up] > 0.0:
+                courant = min(1.0, n_edges * abs(gh) / md)
+                vf = van_leer(vd, pnode[acc, k] / mnode[acc], pnode[up, k] / mnode[up], courant)
+            gp[e, h, k] = gh * vf
+            ke += vf * vf
+        gk[e, h] = 0.5 * gh * ke
+        if any_open:
+            for side in range(2):
+                bm[e, h, side] = 0.0
+                for k in range(dim):
+                    bp[e, h, side, k] = 0.0
+                bk[e, h, side] = 0.0
+            for side in range(2):
+                if side == 0:
+                    if not open_a:
+                        continue
+                    flux = share * fa_in
+                    n = src
+                else:
+                    if not open_b:
+                        continue
+                    flux = share * fb_in
+                    n = dst
+                mn = mnode[n]
+                bm[e, h, side] = flux
+                u2 = 0.0
+                for k in range(dim):
+                    u = pnode[n, k] / mn if mn > 0.0 else 0.0
+                    bp[e, h, side, k] = flux * u
+                    u2 += u * u
+                bk[e, h, side] = 0.5 * flux * u2
+
+
+@njit(parallel=True, cache=True)
+def dual_fluxes(ka, kb, direction, conn, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass, node_line,
+                mnode, pnode, order, gm, gp, gk, bm, bp, bk):
+    """Mass, momentum and kinetic-energy fluxes of the dual (nodal) cells in this sweep (2D and 3D).
+
+    The element's H edges along the sweep direction (H = 2 for a quad4, 4 for a hex8) join a
+    corner src on its side-a face ka to a corner dst on its side-b face kb. The dual face that
+    cuts edge h inside element e carries the mass G/H, G = (F_a,in + F_b,out) / 2 the mean of the
+    element's mass fluxes through its side-a and side-b faces (half-index shift, Benson 1992
+    sec. 5.4, generalised to 3D: the dual cell of a node gains what its 2^dim corner shares
+    M_e / 2^dim gain, so that the remapped nodal masses are those of the remapped elements); the
+    momentum G/H v_face and kinetic energy G/(2H) |v_face|^2 with v_face the upwind node's velocity
+    (order 1) or van Leer along the node line node_line[e, direction, h] = (before src, src, dst,
+    after dst), with the dual Courant number H |G/H| / m_donor. On open boundary faces each of the
+    face's H nodes also receives 1/H of the face's mass flux with its own velocity (bm, bp, bk:
+    [e, h, 0] into src through side a, [e, h, 1] into dst through side b); without open faces
+    (any_open False) bm, bp, bk are left as they are (zero).
+    """
+    n_elem = conn.shape[0]
+    three = pnode.shape[1] == 3
+    for e in prange(n_elem):
+        if three:
+            _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass,
+                          node_line, mnode, pnode, order, gm, gp, gk, bm, bp, bk, 3, 4)
+        else:
+            _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass,
+                          node_line, mnode, pnode, order, gm, gp, gk, bm, bp, bk, 2, 2)
+
+
+@njit(cache=True, inline="always")
+def _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
+               mnode, pnode, knode, dim, npe):
+    """``apply_dual_fluxes`` of node n; dim and npe are constants at the call."""
+    dm = 0.0
+    dp0 = 0.0
+    dp1 = 0.0
+    dp2 = 0.0
+    dk = 0.0
+    for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+        ea = node_elem_idx[r]
+        e = ea // npe
+        a = ea - npe * e
+        h = corner_edge[a]
+        side = corner_dst[a]
+        s = 1.0 if side == 1 else -1.0
+        dm += s * gm[e, h]
+        dp0 += s * gp[e, h, 0]
+        dp1 += s * gp[e, h, 1]
+        if dim == 3:
+            dp2 += s * gp[e, h, 2]
+        dk += s * gk[e, h]
+        if any_open:
+            dm += bm[e, h, side]
+            dp0 += bp[e, h, side, 0]
+            dp1 += bp[e, h, side, 1]
+            if dim == 3:
+                dp2 += bp[e, h, side, 2]
+            dk += bk[e, h, side]
+    mnode[n] += dm
+    pnode[n, 0] += dp0
+    pnode[n, 1] += dp1
+    if dim == 3:
+        pnode[n, 2] += dp2
+    knode[n] += dk
+
+
+@njit(parallel=True, cache=True)
+def apply_dual_fluxes(corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
+                      mnode, pnode, knode):
+    """Each node adds the dual fluxes of its element corners (a gather); open-face terms if any_open.
+
+    corner_edge[a], corner_dst[a]: the edge along this sweep that corner a of an element lies on,
+    and 1 when it is the edge's dst end (on the side-b face).
+    """
+    n_nodes = mnode.shape[0]
+    three = pnode.shape[1] == 3
+    for n in prange(n_nodes):
+        if three:
+            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
+                       mnode, pnode, knode, 3, 8)
+        else:
+            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
+                       mnode, pnode, knode, 2, 4)

@@ -1,0 +1,168 @@
+"""Initial state of an ALE fluid: material fractions of regions, and the extensive per-material
+state (volume, mass, internal energy per element and material) from fractions, densities and
+energies or pressures.
+
+Numpy only (model/ uses ``fill_fractions`` while it builds the ALE mesh; ``AleSystem`` the rest).
+"""
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+
+import numpy as np
+
+from ..materials import kernels as mk
+from ..materials import slots as ms
+
+
+def fill_fractions(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, samples: int = 3) -> np.ndarray:
+    """Fraction of each quad4 (hex8) inside a region, by samples^2 (samples^3) points per element.
+
+    ``inside_fn(x, y)`` (``inside_fn(x, y, z)`` in 3D) takes coordinate arrays and returns a
+    boolean array. Sample points are the bilinear (trilinear) images of the midpoints of a
+    samples^dim grid on the reference square (cube), each weighted by the Jacobian there, so the
+    result is the exact fraction for a region made of whole sub-cells of a parallelogram
+    (parallelepiped) element.
+    """
+    if np.shape(conn)[1] == 8:
+        return _fill_fractions_3d(np.asarray(nodes, dtype=float), np.asarray(conn), inside_fn, samples)
+    x = nodes[conn]  # (E, 4, 2)
+    t = (np.arange(samples) + 0.5) / samples * 2.0 - 1.0
+    xi, eta = np.meshgrid(t, t, indexing="ij")
+    xi = xi.ravel()
+    eta = eta.ravel()
+    sn = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]], dtype=float)
+    shape = 0.25 * (1 + np.outer(xi, sn[:, 0])) * (1 + np.outer(eta, sn[:, 1]))  # (S, 4)
+    dxi = 0.25 * sn[:, 0][None, :] * (1 + np.outer(eta, sn[:, 1]))
+    deta = 0.25 * sn[:, 1][None, :] * (1 + np.outer(xi, sn[:, 0]))
+    px = np.einsum("sa,ea->es", shape, x[:, :, 0])
+    py = np.einsum("sa,ea->es", shape, x[:, :, 1])
+    jac = (np.einsum("sa,ea->es", dxi, x[:, :, 0]) * np.einsum("sa,ea->es", deta, x[:, :, 1])
+           - np.einsum("sa,ea->es", deta, x[:, :, 0]) * np.einsum("sa,ea->es", dxi, x[:, :, 1]))
+    inside = np.asarray(inside_fn(px, py), dtype=bool)
+    return (jac * inside).sum(axis=1) / jac.sum(axis=1)
+
+
+def _fill_fractions_3d(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, samples: int) -> np.ndarray:
+    """fill_fractions on hex8 (VTK corner order): samples^3 Jacobian-weighted points per element."""
+    t = (np.arange(samples) + 0.5) / samples * 2.0 - 1.0
+    xi = np.stack([g.ravel() for g in np.meshgrid(t, t, t, indexing="ij")], axis=1)  # (S, 3)
+    sn = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                   [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
+    lin = 1.0 + xi[:, None, :] * sn[None, :, :]  # (S, 8, 3) factors (1 + xi_k s_k)
+    shape = 0.125 * lin.prod(axis=2)  # (S, 8)
+    dshape = np.empty((3,) + shape.shape)  # dN/dxi_k
+    for k in range(3):
+        others = [j for j in range(3) if j != k]
+        dshape[k] = 0.125 * sn[None, :, k] * lin[:, :, others[0]] * lin[:, :, others[1]]
+    out = np.empty(len(conn))
+    chunk = max(1, 200_000 // max(1, xi.shape[0]))
+    for lo in range(0, len(conn), chunk):
+        x = nodes[conn[lo:lo + chunk]]  # (e, 8, 3)
+        pts = np.einsum("sa,eak->esk", shape, x)
+        jac = np.einsum("jsa,eak->esjk", dshape, x)  # d x_k / d xi_j
+        det = np.linalg.det(jac)
+        inside = np.asarray(inside_fn(pts[..., 0], pts[..., 1], pts[..., 2]), dtype=bool)
+        out[lo:lo + chunk] = (det * inside).sum(axis=1) / det.sum(axis=1)
+    return out
+
+
+def energy_from_pressure(row: np.ndarray, rho: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Specific internal energy e with p_eos(rho, e) = p (every EOS here is linear in e)."""
+    rho = np.asarray(rho, dtype=float)
+    p = np.asarray(p, dtype=float)
+    eos = int(row[ms.P_EOS_TYPE])
+    q = np.ascontiguousarray(row[ms.EOS_OFFSET:])
+    rho0 = q[ms.Q_RHO0]
+    out = np.zeros(np.broadcast(rho, p).shape)
+    for idx in np.ndindex(out.shape):
+        r = float(np.broadcast_to(rho, out.shape)[idx]) / rho0
+        p0, _, dpde = mk._eos_state(eos, q, r, 0.0)
+        if dpde != 0.0:
+            out[idx] = (float(np.broadcast_to(p, out.shape)[idx]) - p0) / dpde / rho0
+    return out
+
+
+def per_element(value, n_elem: int, n_mat: int, name: str) -> np.ndarray:
+    """value (N,) broadcast to (E, N), or a copy of value (E, N)."""
+    arr = np.asarray(value, dtype=float)
+    if arr.shape == (n_mat,):
+        return np.broadcast_to(arr, (n_elem, n_mat)).copy()
+    if arr.shape == (n_elem, n_mat):
+        return arr.copy()
+    raise ValueError(f"{name} must have shape ({n_mat},) or ({n_elem}, {n_mat}), got {arr.shape}")
+
+
+def material_tables(materials: Sequence) -> tuple[np.ndarray, np.ndarray, np.ndarray, list]:
+    """EOS tables of the materials: (eos (N,), EOS constants q (N, NQ), reference density (N,), rows).
+
+    A material is a parameter row of ``materials.tables.pack_material`` (or its ``(type id, row)``
+    pair), or None for void (eos -1: no mass, no pressure). rows: the rows, None for void.
+    """
+    n_mat = len(materials)
+    mat_eos = np.full(n_mat, -1, dtype=np.int64)
+    mat_q = np.zeros((n_mat, ms.NPARAM - ms.EOS_OFFSET))
+    mat_rho0 = np.zeros(n_mat)
+    rows = []
+    for m, row in enumerate(materials):
+        if isinstance(row, tuple):
+            _, row = row  # (type id, parameter row)
+        rows.append(row)
+        if row is None:
+            continue
+        row = np.asarray(row, dtype=float)
+        mat_eos[m] = int(row[ms.P_EOS_TYPE])
+        mat_q[m] = row[ms.EOS_OFFSET:]
+        mat_rho0[m] = row[ms.P_RHO0]
+    return mat_eos, mat_q, mat_rho0, rows
+
+
+def material_state(rows: list, vol0: np.ndarray, fractions, density, energy=None, pressure=None) -> tuple:
+    """Extensive start state (vol_m, mass_m, ener_m), each (E, N), of elements of volume vol0 (E,).
+
+    fractions (E, N) are normalised to sum 1 per element; density, energy (specific, per mass)
+    and pressure are (N,) or (E, N); the energy follows from the pressure by the EOS
+    (``energy_from_pressure``) when only the pressure is given, else it is 0. Void materials
+    (rows[m] None) get no mass.
+    """
+    n_elem, n_mat = len(vol0), len(rows)
+    fr = np.asarray(fractions, dtype=float)
+    if fr.shape != (n_elem, n_mat):
+        raise ValueError(f"fractions must be ({n_elem}, {n_mat}), got {fr.shape}")
+    fr = fr / fr.sum(axis=1, keepdims=True)
+    rho = per_element(density, n_elem, n_mat, "density")
+    for m in range(n_mat):
+        if rows[m] is None:
+            rho[:, m] = 0.0
+    if energy is not None:
+        e = per_element(energy, n_elem, n_mat, "energy")
+    elif pressure is not None:
+        pr = per_element(pressure, n_elem, n_mat, "pressure")
+        e = np.zeros((n_elem, n_mat))
+        for m in range(n_mat):
+            if rows[m] is not None:
+                e[:, m] = energy_from_pressure(np.asarray(rows[m], float), np.maximum(rho[:, m], 1e-300), pr[:, m])
+    else:
+        e = np.zeros((n_elem, n_mat))
+    vol_m = fr * vol0[:, None]
+    mass_m = rho * vol_m
+    return vol_m, mass_m, mass_m * e
+
+
+def inflow_state(eos: int, q: np.ndarray, rho0: float, density: float | None = None, energy: float | None = None,
+                 pressure: float | None = None) -> tuple[float, float, float]:
+    """(density, specific energy, pressure) of an inflowing material (``AleSystem.set_inflow``).
+
+    density defaults to rho0; the specific energy is ``energy``, or the one giving ``pressure``
+    (p = p0(rho) + dp/de rho0 e, every EOS here linear in e), or the EOS's e0 per reference
+    volume over rho0 (as a fill).
+    """
+    rho = rho0 if density is None else float(density)
+    q = np.ascontiguousarray(q)
+    p0, _, dpde = mk._eos_state(int(eos), q, rho / rho0, 0.0)
+    if energy is None and pressure is None:
+        e = float(q[ms.Q_E0]) / rho0  # the EOS's e0 (per reference volume), as an initial fill
+    elif energy is None:
+        e = 0.0 if dpde == 0.0 else (float(pressure) - p0) / dpde / rho0
+    else:
+        e = float(energy)
+    return rho, e, p0 + dpde * rho0 * e

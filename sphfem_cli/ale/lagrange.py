@@ -1,0 +1,513 @@
+"""ALE Lagrangian phase (``kernels`` steps 1-3): element forces, nodal update, work and closure.
+
+Per element e and material m: the material's pressure from its EOS at its own density and energy
+(``material_state``), the volume-weighted mixture pressure (``_mixture_pressure``), bulk and
+viscous hourglass viscosity, element forces and the stable step (``lagrange_forces``); the
+central-difference velocity update with the velocity conditions (``nodal_update``,
+``apply_bc``); the compatible work of the element forces, the Lagrangian volume and the
+mixed-element closure (``lagrange_energy``, ``_closure_energy``). Paper section 2, eqs.
+2.5-2.8; Benson 1992. Equations: docs/theory/ale.md.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ..fem.geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient, hex8_volume,
+                            quad4_char_length, quad4_gradient, stable_dt)
+from ..materials.kernels import EOS_GRUNEISEN, _eos_state
+
+
+# boundary condition codes per node
+BC_FREE = 0
+BC_SLIP = 1
+BC_FIXED = 2
+BC_VELOCITY = 3  # prescribed velocity (inflow): bc_normal holds the velocity itself
+BC_LINE = 4  # 3D: a node on two slip planes moves along their intersection, bc_normal its unit direction
+
+# closures
+CLOSURE_EQUAL_STRAIN = 0
+CLOSURE_RELAX = 1
+
+# a material whose density is below RHO_VOID times its reference density (volume the remap left
+# without mass) carries no pressure and no sound speed: it is void
+RHO_VOID = 1e-9
+
+# with a pressure cut-off (cavitation), a Gruneisen liquid below RHO_CAVITATED times its reference
+# density is cavitated: pressure = the cut-off, sound speed its reference one. Below it the EOS's
+# thermal term (Gamma rho = gamma0 rho0, fixed) with the cut-off's work p_c dV in the energy
+# gave fog and traces MPa of pressure and sound speeds of 1e5-1.5e6 m/s (c^2 ~ gamma0 rho0 p / rho^2),
+# collapsing the step (decks/underwater_explosion_ale.yaml); with normal energies
+# (E < (K0/2 + p_c)/gamma0 per reference volume) the EOS gives the cut-off there anyway.
+RHO_CAVITATED = 0.5
+
+
+@njit(cache=True)
+def material_state(eos, q, rho0, rho, e_spec):
+    """(p, c) of one material at density rho and specific internal energy e_spec; (0, 0) for void."""
+    if eos < 0 or rho0 <= 0.0 or rho <= 0.0:
+        return 0.0, 0.0
+    r = rho / rho0
+    p, dpdmu, dpde = _eos_state(eos, q, r, rho0 * e_spec)
+    c2 = (dpdmu + p * dpde / (r * r)) / rho0
+    return p, math.sqrt(c2) if c2 > 0.0 else 0.0
+
+
+@njit(cache=True)
+def quad_area(x0, y0, x1, y1, x2, y2, x3, y3):
+    """Signed area of the quadrilateral (0, 1, 2, 3): half the cross product of its diagonals."""
+    return 0.5 * ((x2 - x0) * (y3 - y1) - (y2 - y0) * (x3 - x1))
+
+
+@njit(cache=True, inline="always")
+def _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps, pscale, p_cut, pres_m, bulk_m):
+    """Material pressures and bulk moduli of element e, and its mixture state (shared by 2D and 3D).
+
+    Each present material's pressure p_m from its EOS at its own density and specific energy (times
+    pscale, at least p_cut; a cavitated Gruneisen liquid at the cut-off); writes pres_m[e], bulk_m[e]
+    (rho c^2). Returns (p_mix, c_e, M): the volume-weighted pressure sum_m phi_m p_m (the paper's
+    mixture theory), the equal-strain mixture sound speed c_e^2 = sum_m M_m c_m^2 / M (see
+    ``lagrange_forces``) and the element's mass.
+    """
+    n_mat = vol_m.shape[1]
+    vtot = 0.0
+    mtot = 0.0
+    for m in range(n_mat):
+        vtot += vol_m[e, m]
+        mtot += mass_m[e, m]
+    p_mix = 0.0
+    mc2 = 0.0
+    m_in = 0.0
+    for m in range(n_mat):
+        pres_m[e, m] = 0.0
+        bulk_m[e, m] = 0.0
+        if vol_m[e, m] > phi_eps * vtot and mass_m[e, m] > RHO_VOID * mat_rho0[m] * vol_m[e, m]:
+            rho = mass_m[e, m] / vol_m[e, m]
+            p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m])
+            p = max(p * pscale[e, m], p_cut)
+            if p_cut > -math.inf and mat_eos[m] == EOS_GRUNEISEN and rho < RHO_CAVITATED * mat_rho0[m]:
+                p = p_cut
+                c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], mat_rho0[m], 0.0)[1]
+            pres_m[e, m] = p
+            bulk_m[e, m] = rho * c * c
+            p_mix += vol_m[e, m] / vtot * p
+            mc2 += mass_m[e, m] * c * c
+            m_in += mass_m[e, m]
+    c_max = math.sqrt(mc2 / m_in) if m_in > 0.0 else 0.0
+    return p_mix, c_max, mtot
+
+
+# quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
+# as in FEM solid_element_forces) measured 6-17 % (2D) and 13-20 % (3D) slower per call (benchmarks/ale_throughput.py cases,
+# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
+@njit(parallel=True, cache=True)
+def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
+                    phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
+    """Element forces at x^n with v^{n-1/2} (see module docstring, step 1).
+
+    pscale (E, N) multiplies each material's EOS pressure (1 except for a high explosive, where it
+    is the programmed-burn fraction, ``materials.burn``); sound speed and bulk modulus are unscaled.
+    p_cut: pressure cut-off, no material pressure below it (cavitation; -inf for none). A material
+    below RHO_VOID of its reference density is void (no pressure, no sound speed).
+
+    The element's sound speed (stable step, bulk and hourglass viscosity) is that of the
+    equal-strain mixture, c_e^2 = sum_m phi_m K_m / rho_e = sum_m M_m c_m^2 / M: the element's
+    stiffness over its mass. A trace of a material contributes in proportion to its mass, so a
+    1 % trace of detonation products stretched to a tiny density with a huge sound speed does not
+    set the step (for one material c_e = c).
+
+    Written: f_elem (E, 4, 2) force on each element node, pres_m (E, N) material pressures,
+    bulk_m (E, N) material bulk moduli rho c^2, q_elem (E,) bulk viscosity, dt_elem (E,) stable step.
+    """
+    n_elem = conn.shape[0]
+    n_chunks = min(n_elem, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * n_elem // n_chunks
+        stop = (chunk + 1) * n_elem // n_chunks
+        xe = np.empty((4, 2))
+        ve = np.empty((4, 2))
+        b = np.empty((2, 4))
+        for e in range(start, stop):
+            vmax2 = 0.0
+            for a in range(4):
+                n = conn[e, a]
+                xe[a, 0] = x[n, 0]
+                xe[a, 1] = x[n, 1]
+                ve[a, 0] = v[n, 0]
+                ve[a, 1] = v[n, 1]
+                vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1])
+            area = quad4_gradient(xe, b)
+            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
+                                                   pscale, p_cut, pres_m, bulk_m)
+            rho_e = mtot / area
+            trace_d = 0.0
+            for a in range(4):
+                trace_d += ve[a, 0] * b[0, a] + ve[a, 1] * b[1, a]
+            length = quad4_char_length(xe, area)
+            q = bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
+            q_elem[e] = q
+            c_eff = c_max + math.sqrt(vmax2)
+            dt_elem[e] = stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
+            s = area * (p_mix + q)
+            for a in range(4):
+                f_elem[e, a, 0] = s * b[0, a]
+                f_elem[e, a, 1] = s * b[1, a]
+            if qhg > 0.0 and rho_e > 0.0:
+                # gamma_a = Gamma_a - (Gamma . x) b_a (Flanagan & Belytschko 1981), viscous form
+                gx0 = 0.0
+                gx1 = 0.0
+                for a in range(4):
+                    gx0 += QUAD_GAMMA[a] * xe[a, 0]
+                    gx1 += QUAD_GAMMA[a] * xe[a, 1]
+                coef = 0.25 * qhg * rho_e * c_max * math.sqrt(area)
+                hq0 = 0.0
+                hq1 = 0.0
+                for a in range(4):
+                    g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
+                    hq0 += g * ve[a, 0]
+                    hq1 += g * ve[a, 1]
+                for a in range(4):
+                    g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
+                    f_elem[e, a, 0] -= coef * hq0 * g
+                    f_elem[e, a, 1] -= coef * hq1 * g
+
+
+@njit(parallel=True, cache=True)
+def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
+                       phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
+    """``lagrange_forces`` on hex8: element forces at x^n with v^{n-1/2}.
+
+    Mean-gradient (Flanagan & Belytschko 1981) b = (1/V) dV/dx_I (fem.geometry.hex8_gradient),
+    f_eI = V (p_mix + q) b_I with the same mixture pressure (``_mixture_pressure``), bulk viscosity
+    and stable step (length V / largest face area, fem.geometry.hex8_char_length); viscous
+    hourglass on the four hex8 modes gamma_j = Gamma_j - (Gamma_j . x) b, force
+    -c_hg (gamma_j . v) gamma_j with c_hg = qhg rho c V^(2/3) / 4 (the FEM solid's viscous form).
+    Written: f_elem (E, 8, 3), pres_m, bulk_m, q_elem, dt_elem as in 2D.
+    """
+    n_elem = conn.shape[0]
+    n_chunks = min(n_elem, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * n_elem // n_chunks
+        stop = (chunk + 1) * n_elem // n_chunks
+        xe = np.empty((8, 3))
+        ve = np.empty((8, 3))
+        b = np.empty((3, 8))
+        gam = np.empty(8)
+        for e in range(start, stop):
+            vmax2 = 0.0
+            for a in range(8):
+                n = conn[e, a]
+                for k in range(3):
+                    xe[a, k] = x[n, k]
+                    ve[a, k] = v[n, k]
+                vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1] + v[n, 2] * v[n, 2])
+            vol = hex8_gradient(xe, b)
+            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
+                                                   pscale, p_cut, pres_m, bulk_m)
+            rho_e = mtot / vol
+            trace_d = 0.0
+            for a in range(8):
+                trace_d += ve[a, 0] * b[0, a] + ve[a, 1] * b[1, a] + ve[a, 2] * b[2, a]
+            length = hex8_char_length(xe, vol)
+            q = bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
+            q_elem[e] = q
+            c_eff = c_max + math.sqrt(vmax2)
+            dt_elem[e] = stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
+            s = vol * (p_mix + q)
+            for a in range(8):
+                for k in range(3):
+                    f_elem[e, a, k] = s * b[k, a]
+            if qhg > 0.0 and rho_e > 0.0:
+                coef = 0.25 * qhg * rho_e * c_max * vol ** (2.0 / 3.0)
+                for mode in range(4):
+                    gx0 = 0.0
+                    gx1 = 0.0
+                    gx2 = 0.0
+                    for a in range(8):
+                        gx0 += HEX_GAMMA[mode, a] * xe[a, 0]
+                        gx1 += HEX_GAMMA[mode, a] * xe[a, 1]
+                        gx2 += HEX_GAMMA[mode, a] * xe[a, 2]
+                    h0 = 0.0
+                    h1 = 0.0
+                    h2 = 0.0
+                    for a in range(8):
+                        g = HEX_GAMMA[mode, a] - gx0 * b[0, a] - gx1 * b[1, a] - gx2 * b[2, a]
+                        gam[a] = g
+                        h0 += g * ve[a, 0]
+                        h1 += g * ve[a, 1]
+                        h2 += g * ve[a, 2]
+                    for a in range(8):
+                        f_elem[e, a, 0] -= coef * h0 * gam[a]
+                        f_elem[e, a, 1] -= coef * h1 * gam[a]
+                        f_elem[e, a, 2] -= coef * h2 * gam[a]
+
+
+@njit(cache=True, inline="always")
+def apply_bc(kind, bc, w, dim):
+    """Velocity conditions on w (dim,) in place; bc = the node's bc_normal row.
+
+    BC_FIXED: w = 0; BC_SLIP: w - (w . n) n; BC_VELOCITY: w = bc (the prescribed velocity);
+    BC_LINE (3D): (w . t) t along the unit direction t of two walls' intersection; BC_FREE: w.
+    """
+    if kind == BC_FIXED:
+        for k in range(dim):
+            w[k] = 0.0
+    elif kind == BC_SLIP:
+        vn = w[0] * bc[0]
+        for k in range(1, dim):
+            vn += w[k] * bc[k]
+        for k in range(dim):
+            w[k] -= vn * bc[k]
+    elif kind == BC_VELOCITY:
+        for k in range(dim):
+            w[k] = bc[k]
+    elif kind == BC_LINE:
+        vt = w[0] * bc[0]
+        for k in range(1, dim):
+            vt += w[k] * bc[k]
+        for k in range(dim):
+            w[k] = vt * bc[k]
+
+
+@njit(cache=True, inline="always")
+def apply_bc_2d(kind, nx, ny, w0, w1):
+    """``apply_bc`` on the 2D velocity (w0, w1), returned (BC_LINE does not occur in 2D)."""
+    if kind == BC_FIXED:
+        return 0.0, 0.0
+    if kind == BC_SLIP:
+        vn = w0 * nx + w1 * ny
+        return w0 - vn * nx, w1 - vn * ny
+    if kind == BC_VELOCITY:
+        return nx, ny
+    return w0, w1
+
+
+# quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
+# as in FEM solid_element_forces) measured 10-25 % (2D) slower per call (benchmarks/ale_throughput.py cases,
+# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
+@njit(parallel=True, cache=True)
+def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
+    """v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m (eq. 2.7), then the velocity conditions.
+
+    bc_type per node: BC_FREE, BC_SLIP (normal component along bc_normal removed), BC_FIXED,
+    BC_VELOCITY (v = bc_normal, a prescribed velocity).
+    impulse (N, 2) receives the reaction impulse m (v_constrained - v_free) of this step.
+    Nodes with a mass at or below m_floor (N,) (numerical fog, or none) are held at zero velocity,
+    their momentum booked in impulse like a fixed node's; a prescribed velocity (BC_VELOCITY)
+    holds whatever the mass.
+    """
+    n_nodes = v.shape[0]
+    for n in prange(n_nodes):
+        f0 = f_ext[n, 0]
+        f1 = f_ext[n, 1]
+        for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+            ea = node_elem_idx[r]
+            e = ea // 4
+            a = ea - 4 * e
+            f0 += f_elem[e, a, 0]
+            f1 += f_elem[e, a, 1]
+        m = mass[n]
+        if m > 0.0:
+            w0 = v[n, 0] + dt * f0 / m
+            w1 = v[n, 1] + dt * f1 / m
+        else:
+            w0 = 0.0
+            w1 = 0.0
+        if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
+            u0, u1 = apply_bc_2d(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
+        else:
+            u0, u1 = 0.0, 0.0
+        impulse[n, 0] = m * (u0 - w0)
+        impulse[n, 1] = m * (u1 - w1)
+        v[n, 0] = u0
+        v[n, 1] = u1
+
+
+@njit(parallel=True, cache=True)
+def nodal_update_3d(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
+    """``nodal_update`` in 3D: v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m, then the velocity conditions."""
+    n_nodes = v.shape[0]
+    n_chunks = min(n_nodes, 512)
+    for chunk in prange(n_chunks):
+        w = np.empty(3)
+        u = np.empty(3)
+        for n in range(chunk * n_nodes // n_chunks, (chunk + 1) * n_nodes // n_chunks):
+            f0 = f_ext[n, 0]
+            f1 = f_ext[n, 1]
+            f2 = f_ext[n, 2]
+            for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+                ea = node_elem_idx[r]
+                e = ea // 8
+                a = ea - 8 * e
+                f0 += f_elem[e, a, 0]
+                f1 += f_elem[e, a, 1]
+                f2 += f_elem[e, a, 2]
+            m = mass[n]
+            if m > 0.0:
+                w[0] = v[n, 0] + dt * f0 / m
+                w[1] = v[n, 1] + dt * f1 / m
+                w[2] = v[n, 2] + dt * f2 / m
+            else:
+                w[0] = 0.0
+                w[1] = 0.0
+                w[2] = 0.0
+            for k in range(3):
+                u[k] = w[k]
+            if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
+                apply_bc(bc_type[n], bc_normal[n], u, 3)
+            else:
+                u[0] = 0.0
+                u[1] = 0.0
+                u[2] = 0.0
+            for k in range(3):
+                impulse[n, k] = m * (u[k] - w[k])
+                v[n, k] = u[k]
+
+
+@njit(cache=True, inline="always")
+def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps, dvm, dev):
+    """Mixed-element closure of element e over the Lagrangian step (shared by 2D and 3D).
+
+    The volume change dV = v_lag - sum_m V_m split between the materials (``lagrange_energy``:
+    equal strain, or pressure relaxation limited by beta), each material's energy changed by its
+    own -p_m dV_m plus its mass share of the rest of the element's work w (viscous and hourglass
+    work). dvm, dev: scratch (N,).
+    """
+    n_mat = vol_m.shape[1]
+    vtot = 0.0
+    for m in range(n_mat):
+        vtot += vol_m[e, m]
+    dv = v_lag - vtot
+    n_present = 0
+    s_comp = 0.0
+    s_p = 0.0
+    kmax = 0.0
+    for m in range(n_mat):
+        dvm[m] = dv * vol_m[e, m] / vtot
+        dev[m] = 0.0
+        if vol_m[e, m] > phi_eps * vtot:
+            n_present += 1
+            kmax = max(kmax, bulk_m[e, m])
+    if closure == CLOSURE_RELAX and n_present > 1 and kmax > 0.0:
+        kmin = 1e-9 * kmax  # void (or a material without stiffness) takes the volume change
+        for m in range(n_mat):
+            if vol_m[e, m] > phi_eps * vtot:
+                k = max(bulk_m[e, m], kmin)
+                s_comp += vol_m[e, m] / k
+                s_p += vol_m[e, m] * pres_m[e, m] / k
+        pbar = s_p / s_comp
+        scale = 1.0
+        for m in range(n_mat):
+            if vol_m[e, m] > phi_eps * vtot:
+                k = max(bulk_m[e, m], kmin)
+                target = dv * vol_m[e, m] / k / s_comp + alpha * vol_m[e, m] * (pres_m[e, m] - pbar) / k
+                dev[m] = target - dvm[m]
+                if dev[m] < 0.0:
+                    room = beta * vol_m[e, m] + dvm[m]
+                    if room <= 0.0:
+                        scale = 0.0
+                    else:
+                        scale = min(scale, room / -dev[m])
+        for m in range(n_mat):
+            dvm[m] += scale * dev[m]
+    # energy: each material its own -p_m dV_m; the remainder of W_e (the shock viscosity's
+    # and hourglass work) by mass fraction, so that a trace of material with volume but
+    # almost no mass is not heated to an unbounded specific energy by q dV_m
+    own = 0.0
+    for m in range(n_mat):
+        if mass_m[e, m] > 0.0:
+            own -= pres_m[e, m] * dvm[m]
+    rest = w - own
+    mass_e = 0.0
+    for m in range(n_mat):
+        mass_e += mass_m[e, m]
+    for m in range(n_mat):
+        if mass_m[e, m] > 0.0:
+            ener_m[e, m] += -pres_m[e, m] * dvm[m] + rest * mass_m[e, m] / mass_e
+        vol_m[e, m] += dvm[m]
+
+
+# quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
+# as in FEM solid_element_forces) measured 19-27 % (2D and 3D) slower per call (benchmarks/ale_throughput.py cases,
+# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
+@njit(parallel=True, cache=True)
+def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, q_elem,
+                    closure, alpha, beta, phi_eps, work_elem):
+    """Internal energy and material volumes over the Lagrangian step (module docstring, step 3).
+
+    work_elem (E,) receives W_e, the internal-energy increment of the element. Material volumes
+    follow the Lagrangian volume at x + dt v_new. Closure CLOSURE_EQUAL_STRAIN: dV_m = phi_m dV;
+    CLOSURE_RELAX: dV_m = dV (V_m/K_m) / S + alpha V_m (p_m - pbar) / K_m, S = sum V_k/K_k,
+    pbar = sum (V_k p_k / K_k) / S (equal pressure increments plus a relaxation towards a common
+    pressure), its departure from equal strain scaled down so that no material loses more than a
+    fraction beta of its volume in one step.
+    """
+    n_elem = conn.shape[0]
+    n_mat = vol_m.shape[1]
+    n_chunks = min(n_elem, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * n_elem // n_chunks
+        stop = (chunk + 1) * n_elem // n_chunks
+        dvm = np.empty(n_mat)
+        dev = np.empty(n_mat)
+        px = np.empty(4)
+        py = np.empty(4)
+        for e in range(start, stop):
+            w = 0.0
+            for a in range(4):
+                n = conn[e, a]
+                w -= f_elem[e, a, 0] * 0.5 * (v_old[n, 0] + v_new[n, 0]) + f_elem[e, a, 1] * 0.5 * (v_old[n, 1] + v_new[n, 1])
+                px[a] = x[n, 0] + dt * v_new[n, 0]
+                py[a] = x[n, 1] + dt * v_new[n, 1]
+            w *= dt
+            work_elem[e] = w
+            v_lag = quad_area(px[0], py[0], px[1], py[1], px[2], py[2], px[3], py[3])
+            _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps,
+                            dvm, dev)
+
+
+@njit(parallel=True, cache=True)
+def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, q_elem,
+                       closure, alpha, beta, phi_eps, work_elem):
+    """``lagrange_energy`` on hex8: compatible work W_e = -dt sum_I f_eI . (v_I^{n-1/2} + v_I^{n+1/2}) / 2,
+    the Lagrangian volume (``fem.geometry.hex8_volume``) at x + dt v^{n+1/2}, then the same closure (``_closure_energy``)."""
+    n_elem = conn.shape[0]
+    n_mat = vol_m.shape[1]
+    n_chunks = min(n_elem, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * n_elem // n_chunks
+        stop = (chunk + 1) * n_elem // n_chunks
+        dvm = np.empty(n_mat)
+        dev = np.empty(n_mat)
+        p = np.empty((8, 3))
+        for e in range(start, stop):
+            w = 0.0
+            r = conn[e, 0]
+            for a in range(8):
+                n = conn[e, a]
+                for k in range(3):
+                    w -= f_elem[e, a, k] * 0.5 * (v_old[n, k] + v_new[n, k])
+                    p[a, k] = (x[n, k] + dt * v_new[n, k]) - (x[r, k] + dt * v_new[r, k])
+            w *= dt
+            work_elem[e] = w
+            v_lag = hex8_volume(p)
+            _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps,
+                            dvm, dev)
+
+
+@njit(parallel=True, cache=True)
+def element_volumes_3d(x, conn, out):
+    """Exact trilinear volume of every hex8 (``fem.geometry.hex8_volume``), (E,)."""
+    n_elem = conn.shape[0]
+    n_chunks = min(n_elem, 512)
+    for chunk in prange(n_chunks):
+        p = np.empty((8, 3))
+        for e in range(chunk * n_elem // n_chunks, (chunk + 1) * n_elem // n_chunks):
+            r = conn[e, 0]
+            for a in range(8):
+                n = conn[e, a]
+                for k in range(3):
+                    p[a, k] = x[n, k] - x[r, k]
+            out[e] = hex8_volume(p)

@@ -1,0 +1,393 @@
+"""ALE remap, element side (``kernels`` step 4): face fluxes of material volume, mass and energy.
+
+Directional sweeps through the faces of one logical direction: the volume through a face is
+the signed volume it sweeps from its Lagrangian to its remapped position; material volumes are
+split by a directional SLIC (Noh & Woodward 1976) or by donor fractions, mass and energy by
+donor-cell or van Leer (1977) MUSCL values (``face_fluxes``, ``_face_flux``), added by each
+element (``apply_face_fluxes``). After the sweeps: velocity from the remapped momentum
+(``finish_remap_nodes``), DeBar's kinetic-energy fix (``finish_remap_elements``) and the nodal
+masses (``nodal_mass``). Equations: docs/theory/ale.md.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit, prange
+
+from ..fem.geometry import hex8_volume
+from .lagrange import BC_VELOCITY, apply_bc, apply_bc_2d, quad_area
+
+
+# interface (material volume flux) modes
+IFACE_DONOR = 0
+IFACE_SLIC = 1
+
+# SLIC orders the materials only where their fraction gradient across the donor is at least this
+SLIC_JUMP = 0.1
+
+
+@njit(cache=True)
+def van_leer(qd, qa, qu, courant):
+    """Face value of q leaving donor d towards acceptor a (u: upwind of d), van Leer limited.
+
+    slope s = 2 (qa - qd)(qd - qu) / (qa - qu) where both differences share a sign, else 0;
+    value at the centre of the swept region: qd + s (1 - courant) / 2.
+    """
+    d1 = qa - qd
+    d2 = qd - qu
+    if d1 * d2 <= 0.0:
+        return qd
+    return qd + (1.0 - courant) * d1 * d2 / (d1 + d2)
+
+
+@njit(cache=True, inline="always")
+def _face_flux(f, amount, donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener,
+               dvm, g, used):
+    """Material volume, mass and energy fluxes of face f for a swept volume ``amount`` (shared by 2D and 3D).
+
+    donor gives, acc receives, far is the element upwind of the donor (-1: none); sgn +1 when the
+    acceptor is the face's owner. See ``face_fluxes``: a donor of -1 (inflow through an open face)
+    is a copy of the acceptor, an acceptor of -1 (outflow) a copy of the donor; material volumes by
+    SLIC or donor fractions, mass and energy by donor cell or van Leer. Writes fvol, fmass, fener
+    rows of f (already zero); dvm, g, used: scratch (N,).
+    """
+    n_mat = vol_m.shape[1]
+    if donor < 0:
+        # inflow through an open boundary: the outside is a copy of the acceptor
+        vt = 0.0
+        for m in range(n_mat):
+            vt += vol_m[acc, m]
+        for m in range(n_mat):
+            if vol_m[acc, m] > 0.0:
+                dvol = amount * vol_m[acc, m] / vt
+                dmass = dvol * mass_m[acc, m] / vol_m[acc, m]
+                fvol[f, m] = sgn * dvol
+                fmass[f, m] = sgn * dmass
+                if mass_m[acc, m] > 0.0:
+                    fener[f, m] = sgn * dmass * ener_m[acc, m] / mass_m[acc, m]
+        return
+    if acc < 0:
+        acc = donor  # outflow: zero gradient outside
+    vd = 0.0
+    va = 0.0
+    vu = 0.0
+    for m in range(n_mat):
+        vd += vol_m[donor, m]
+        va += vol_m[acc, m]
+        if far >= 0:
+            vu += vol_m[far, m]
+    amount = min(amount, vd)
+    # material volumes
+    sharp = False
+    if iface == IFACE_SLIC:
+        gmin = 1.0
+        gmax = -1.0
+        for m in range(n_mat):
+            used[m] = vol_m[donor, m] <= 0.0
+            dvm[m] = 0.0
+            fu = vol_m[far, m] / vu if far >= 0 else vol_m[donor, m] / vd
+            g[m] = vol_m[acc, m] / va - fu
+            if not used[m]:
+                gmin = min(gmin, g[m])
+                gmax = max(gmax, g[m])
+        # an interface across the sweep shows as a fraction jump; without one (interface
+        # along the sweep, or an isolated fragment) the donor's fractions are used
+        sharp = gmax - gmin >= SLIC_JUMP
+    if sharp:
+        left = amount
+        for it in range(n_mat):
+            best = -1
+            for m in range(n_mat):
+                if not used[m] and (best < 0 or g[m] > g[best]):
+                    best = m
+            if best < 0:
+                break
+            used[best] = True
+            take = min(left, vol_m[donor, best])
+            dvm[best] = take
+            left -= take
+            if left <= 0.0:
+                break
+    else:
+        for m in range(n_mat):
+            dvm[m] = amount * vol_m[donor, m] / vd
+    for m in range(n_mat):
+        if dvm[m] <= 0.0:
+            continue
+        vdm = vol_m[donor, m]
+        if dvm[m] >= vdm * (1.0 - 1e-12):
+            dmass = mass_m[donor, m]
+            dener = ener_m[donor, m]
+            dvol = vdm
+        else:
+            dvol = dvm[m]
+            mdm = mass_m[donor, m]
+            if mdm > 0.0:
+                rho_d = mdm / vdm
+                e_d = ener_m[donor, m] / mdm
+                rho_f = rho_d
+                e_f = e_d
+                ha = False
+                hu = False
+                if order == 2 and far >= 0:
+                    ha = vol_m[acc, m] > phi_eps * va and mass_m[acc, m] > 0.0
+                    hu = vol_m[far, m] > phi_eps * vu and mass_m[far, m] > 0.0
+                    if ha and hu:
+                        # Courant number of the material itself, so that what stays in the
+                        # donor keeps a density between its neighbours' (no mass without volume)
+                        rho_f = van_leer(rho_d, mass_m[acc, m] / vol_m[acc, m],
+                                         mass_m[far, m] / vol_m[far, m], dvol / vdm)
+                dmass = min(rho_f * dvol, mdm)
+                if order == 2 and far >= 0 and ha and hu:
+                    e_f = van_leer(e_d, ener_m[acc, m] / mass_m[acc, m],
+                                   ener_m[far, m] / mass_m[far, m], dmass / mdm)
+                dener = e_f * dmass
+                if ener_m[donor, m] > 0.0:
+                    dener = min(dener, ener_m[donor, m])
+            else:
+                dmass = 0.0
+                dener = 0.0
+        fvol[f, m] = sgn * dvol
+        fmass[f, m] = sgn * dmass
+        fener[f, m] = sgn * dener
+
+
+# quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
+# as in FEM solid_element_forces) measured about 5-10 % (2D and 3D) slower per call (benchmarks/ale_throughput.py cases,
+# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
+@njit(parallel=True, cache=True)
+def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x_lag, x_new,
+                vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener):
+    """Fluxes through the listed faces, positive into the face's first element (its owner).
+
+    The volume through face (n0, n1) (owner orientation) is the signed area swept by it from the
+    Lagrangian position x_lag to the remapped position x_new: quad (l0, w0, w1, l1); positive when
+    the owner gains volume, the other element (or the outside, on open faces) being the donor.
+    Material volumes: IFACE_DONOR phi_m of the donor; IFACE_SLIC materials leave the donor in the
+    order of their fraction gradient across it (acceptor minus upwind), the highest first, each
+    at most its volume in the donor. Mass and energy: donor-cell (order 1) or van Leer (order 2)
+    values of rho_m and e_m. Boundary faces carry flux only when open (transmitting): the outside
+    state is a copy of the inside element. Writes fvol, fmass, fener rows of the listed faces.
+    """
+    nf = faces.shape[0]
+    n_mat = vol_m.shape[1]
+    n_chunks = min(nf, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * nf // n_chunks
+        stop = (chunk + 1) * nf // n_chunks
+        dvm = np.empty(n_mat)
+        g = np.empty(n_mat)
+        used = np.empty(n_mat, dtype=np.bool_)
+        for i in range(start, stop):
+            f = faces[i]
+            n0 = face_nodes[f, 0]
+            n1 = face_nodes[f, 1]
+            for m in range(n_mat):
+                fvol[f, m] = 0.0
+                fmass[f, m] = 0.0
+                fener[f, m] = 0.0
+            el = face_elem[f, 0]
+            er = face_elem[f, 1]
+            if er < 0 and not face_open[f]:
+                continue
+            dv = quad_area(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
+                           x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
+            if dv == 0.0:
+                continue
+            if dv > 0.0:
+                donor = er
+                acc = el
+                sgn = 1.0
+                far = elem_nbr[er, (face_local[f, 1] + 2) % 4] if er >= 0 else -1
+            else:
+                donor = el
+                acc = er
+                sgn = -1.0
+                far = elem_nbr[el, (face_local[f, 0] + 2) % 4]
+            _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
+                       fvol, fmass, fener, dvm, g, used)
+
+
+@njit(parallel=True, cache=True)
+def face_fluxes_3d(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x_lag, x_new,
+                   vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener):
+    """``face_fluxes`` on hex8 meshes: the volume through a quad face is its exact swept volume
+    (``swept_volume_3d``), the upwind element of a donor is its neighbour across the opposite face
+    (local face k ^ 1); the rest is ``_face_flux``."""
+    nf = faces.shape[0]
+    n_mat = vol_m.shape[1]
+    n_chunks = min(nf, 512)
+    for chunk in prange(n_chunks):
+        start = chunk * nf // n_chunks
+        stop = (chunk + 1) * nf // n_chunks
+        dvm = np.empty(n_mat)
+        g = np.empty(n_mat)
+        used = np.empty(n_mat, dtype=np.bool_)
+        p = np.empty((8, 3))
+        for i in range(start, stop):
+            f = faces[i]
+            for m in range(n_mat):
+                fvol[f, m] = 0.0
+                fmass[f, m] = 0.0
+                fener[f, m] = 0.0
+            el = face_elem[f, 0]
+            er = face_elem[f, 1]
+            if er < 0 and not face_open[f]:
+                continue
+            dv = swept_volume_3d(face_nodes, f, x_lag, x_new, p)
+            if dv == 0.0:
+                continue
+            if dv > 0.0:
+                donor = er
+                acc = el
+                sgn = 1.0
+                far = elem_nbr[er, face_local[f, 1] ^ 1] if er >= 0 else -1
+            else:
+                donor = el
+                acc = er
+                sgn = -1.0
+                far = elem_nbr[el, face_local[f, 0] ^ 1]
+            _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
+                       fvol, fmass, fener, dvm, g, used)
+
+
+@njit(parallel=True, cache=True)
+def apply_face_fluxes(ka, kb, elem_face, elem_sign, fvol, fmass, fener, vol_m, mass_m, ener_m):
+    """Each element adds the fluxes of its two faces ka, kb (local numbers) of this sweep direction (a gather)."""
+    n_elem = elem_face.shape[0]
+    n_mat = vol_m.shape[1]
+    for e in prange(n_elem):
+        for k in (ka, kb):
+            f = elem_face[e, k]
+            s = elem_sign[e, k]
+            for m in range(n_mat):
+                vol_m[e, m] += s * fvol[f, m]
+                mass_m[e, m] += s * fmass[f, m]
+                ener_m[e, m] += s * fener[f, m]
+
+
+@njit(cache=True)
+def swept_volume_3d(face_nodes, f, x_lag, x_new, p):
+    """Signed volume swept by the quad face f from x_lag to x_new: the trilinear hexahedron whose
+    bottom is the face at x_lag and top the face at x_new (face_nodes[f] ordered with the normal
+    out of the owner element), positive when the face moves out of the owner, which then gains
+    that volume from its neighbour. The six swept volumes of an element sum exactly to its new
+    minus its Lagrangian volume (each lateral bilinear side is shared by two swept hexahedra with
+    opposite orientations). p: scratch (8, 3)."""
+    r = face_nodes[f, 0]
+    for a in range(4):
+        n = face_nodes[f, a]
+        for k in range(3):
+            p[a, k] = x_lag[n, k] - x_lag[r, k]
+            p[a + 4, k] = x_new[n, k] - x_lag[r, k]
+    return hex8_volume(p)
+
+
+@njit(parallel=True, cache=True)
+def swept_volumes_3d(faces, face_nodes, x_lag, x_new, out):
+    """out[i] = swept_volume_3d of faces[i] (used for the inflow faces)."""
+    for i in prange(faces.shape[0]):
+        p = np.empty((8, 3))
+        out[i] = swept_volume_3d(face_nodes, faces[i], x_lag, x_new, p)
+
+
+# quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
+# as in FEM solid_element_forces) measured 15-30 % (2D) slower per call (benchmarks/ale_throughput.py cases,
+# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
+@njit(parallel=True, cache=True)
+def finish_remap_nodes(mnode, pnode, knode, m_floor, bc_type, bc_normal, v, impulse, dissip):
+    """Velocity from the remapped momentum, velocity conditions, kinetic energy lost (DeBar).
+
+    v = p / m; the velocity conditions (reaction impulse into ``impulse``); dissip[n] = the
+    kinetic energy carried into the node minus 1/2 m |v|^2 afterwards. A node whose remapped mass
+    is at or below m_floor[n] gets v = 0 (its momentum p into ``impulse``, its kinetic energy into
+    dissip): p and m come from different flux stencils, so p / m of a near-empty node is noise
+    (a fog node of 2e-58 kg was measured at 8.6e6 m/s).
+    """
+    n_nodes = mnode.shape[0]
+    for n in prange(n_nodes):
+        m = mnode[n]
+        if m > 0.0:
+            w0 = pnode[n, 0] / m
+            w1 = pnode[n, 1] / m
+        else:
+            w0 = 0.0
+            w1 = 0.0
+        if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
+            u0, u1 = apply_bc_2d(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
+        else:
+            u0, u1 = 0.0, 0.0
+        impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
+        impulse[n, 1] = -pnode[n, 1] if m <= 0.0 else m * (u1 - w1)
+        v[n, 0] = u0
+        v[n, 1] = u1
+        dissip[n] = knode[n] - 0.5 * m * (u0 * u0 + u1 * u1) if m > 0.0 else knode[n]
+
+
+@njit(parallel=True, cache=True)
+def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, bc_type, bc_normal, v, impulse, dissip):
+    """``finish_remap_nodes`` in 3D: v = p / m, velocity conditions, kinetic energy lost (DeBar)."""
+    n_nodes = mnode.shape[0]
+    n_chunks = min(n_nodes, 512)
+    for chunk in prange(n_chunks):
+        w = np.empty(3)
+        u = np.empty(3)
+        for n in range(chunk * n_nodes // n_chunks, (chunk + 1) * n_nodes // n_chunks):
+            m = mnode[n]
+            for k in range(3):
+                w[k] = pnode[n, k] / m if m > 0.0 else 0.0
+                u[k] = w[k]
+            if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
+                apply_bc(bc_type[n], bc_normal[n], u, 3)
+            else:
+                u[0] = 0.0
+                u[1] = 0.0
+                u[2] = 0.0
+            u2 = 0.0
+            for k in range(3):
+                impulse[n, k] = -pnode[n, k] if m <= 0.0 else m * (u[k] - w[k])
+                v[n, k] = u[k]
+                u2 += u[k] * u[k]
+            dissip[n] = knode[n] - 0.5 * m * u2 if m > 0.0 else knode[n]
+
+
+@njit(parallel=True, cache=True)
+def finish_remap_elements(conn, mass_m, ener_m, node_mass, dissip, ke_fix):
+    """Element share of the nodal kinetic-energy loss, by corner mass M_e / n_corners, into material energies."""
+    n_elem, npe = conn.shape
+    n_mat = mass_m.shape[1]
+    corner = 1.0 / npe
+    if not ke_fix:
+        return
+    for e in prange(n_elem):
+        me = 0.0
+        for m in range(n_mat):
+            me += mass_m[e, m]
+        if me <= 0.0:
+            continue
+        add = 0.0
+        for a in range(npe):
+            n = conn[e, a]
+            if node_mass[n] > 0.0:
+                add += dissip[n] * corner * me / node_mass[n]
+        for m in range(n_mat):
+            ener_m[e, m] += add * mass_m[e, m] / me
+
+
+@njit(cache=True, inline="always")
+def _node_mass(n, mass_m, node_elem_ptr, node_elem_idx, npe):
+    s = 0.0
+    for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+        e = node_elem_idx[r] // npe
+        for m in range(mass_m.shape[1]):
+            s += (1.0 / npe) * mass_m[e, m]
+    return s
+
+
+@njit(parallel=True, cache=True)
+def nodal_mass(mass_m, node_elem_ptr, node_elem_idx, npe, out):
+    """m_I = sum over the node's elements of M_e / npe (gather; node_elem_idx lists e * npe + corner)."""
+    for n in prange(out.shape[0]):
+        if npe == 8:
+            out[n] = _node_mass(n, mass_m, node_elem_ptr, node_elem_idx, 8)
+        else:
+            out[n] = _node_mass(n, mass_m, node_elem_ptr, node_elem_idx, 4)

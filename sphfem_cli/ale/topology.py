@@ -1,0 +1,182 @@
+"""Topology of an ALE mesh (quad4 or hex8): faces, element-face and node-element maps, the dual
+node lines of the momentum remap, and the local face/edge tables of the two element types.
+
+Numpy only (built once per mesh); the kernels take the arrays ``build_topology`` returns.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+# local faces of a quad4: face k joins corners k and k+1. Sweep direction 0 (xi) crosses faces
+# 3 (side "a") and 1 (side "b"); direction 1 (eta) crosses faces 0 (a) and 2 (b).
+# For a sweep direction d, half h joins corners QUAD_HALF_NODES[d, h] = (src, dst), src on side a, dst on side b.
+QUAD_SIDE_A = (3, 0)
+QUAD_SIDE_B = (1, 2)
+# QUAD_CORNER_HALF[d, corner] = half index, QUAD_CORNER_DST[d, corner] = 1 when the corner is on side b.
+QUAD_CORNER_HALF = np.array([[0, 0, 1, 1], [0, 1, 1, 0]], dtype=np.int64)
+QUAD_CORNER_DST = np.array([[0, 1, 1, 0], [0, 0, 1, 1]], dtype=np.int64)
+QUAD_HALF_NODES = np.array([[[0, 1], [3, 2]], [[0, 3], [1, 2]]], dtype=np.int64)
+
+# hex8 corners in VTK order (model.mesh.box_mesh): 0 (-,-,-), 1 (+,-,-), 2 (+,+,-), 3 (-,+,-), then
+# 4..7 above 0..3. Local faces, each listed with its normal (right-hand rule) pointing out of the
+# element: 0 xi-, 1 xi+, 2 eta-, 3 eta+, 4 zeta-, 5 zeta+; face k crosses sweep direction k // 2,
+# on side a (k even) or b (k odd); the opposite face is k ^ 1.
+HEX_FACE_NODES = np.array([[0, 4, 7, 3], [1, 2, 6, 5], [0, 1, 5, 4], [3, 7, 6, 2], [0, 3, 2, 1], [4, 5, 6, 7]],
+                          dtype=np.int64)
+# HEX_EDGES[d, h] = (src, dst): the four edges along direction d, src on face 2d, dst on face 2d + 1
+HEX_EDGES = np.array([
+    [[0, 1], [3, 2], [4, 5], [7, 6]],
+    [[0, 3], [1, 2], [4, 7], [5, 6]],
+    [[0, 4], [1, 5], [2, 6], [3, 7]],
+], dtype=np.int64)
+# the three corners joined to each corner by an edge
+HEX_CORNER_NBR = np.array([[1, 3, 4], [0, 2, 5], [1, 3, 6], [0, 2, 7], [0, 5, 7], [1, 4, 6], [2, 5, 7], [3, 4, 6]],
+                          dtype=np.int64)
+
+
+def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
+    """Faces, element-face and node-element maps and dual node lines of a quad4 (or hex8) mesh.
+
+    Besides the maps, per sweep direction d: ``side_a[d]``, ``side_b[d]`` the local faces it
+    crosses, ``corner_edge[d]``, ``corner_dst[d]`` (npe,) the edge along d each corner lies on and
+    whether it is that edge's far (side-b) end, ``faces_by_dir[d]`` the faces it sweeps.
+    """
+    conn = np.ascontiguousarray(conn, dtype=np.int64)
+    if conn.shape[1] == 8:
+        return _build_topology_3d(conn, n_nodes)
+    n_elem = conn.shape[0]
+    a = conn.ravel()
+    b = np.roll(conn, -1, axis=1).ravel()
+    key = np.minimum(a, b) * n_nodes + np.maximum(a, b)
+    uniq, first, inv = np.unique(key, return_index=True, return_inverse=True)
+    n_faces = uniq.size
+    flat = np.arange(4 * n_elem)
+    owner_flat = first
+    face_nodes = np.stack([a[owner_flat], b[owner_flat]], axis=1)
+    face_elem = -np.ones((n_faces, 2), dtype=np.int64)
+    face_local = -np.ones((n_faces, 2), dtype=np.int64)
+    face_elem[:, 0] = owner_flat // 4
+    face_local[:, 0] = owner_flat % 4
+    second = flat[flat != first[inv]]
+    if np.bincount(inv, minlength=n_faces).max() > 2:
+        raise ValueError("a face is shared by more than two elements")
+    face_elem[inv[second], 1] = second // 4
+    face_local[inv[second], 1] = second % 4
+    elem_face = inv.reshape(n_elem, 4).astype(np.int64)
+    elem_sign = np.where(flat == first[inv], 1.0, -1.0).reshape(n_elem, 4)
+    elem_nbr = np.where(elem_sign > 0, face_elem[elem_face, 1], face_elem[elem_face, 0]).astype(np.int64)
+    face_dir = np.where(face_local[:, 0] % 2 == 1, 0, 1)
+
+    order = np.argsort(a, kind="stable")
+    node_elem_idx = flat[order].astype(np.int64)
+    node_elem_ptr = np.zeros(n_nodes + 1, dtype=np.int64)
+    node_elem_ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
+
+    node_line = -np.ones((n_elem, 2, 2, 4), dtype=np.int64)
+    e_all = np.arange(n_elem)
+    for d in range(2):
+        ka, kb = QUAD_SIDE_A[d], QUAD_SIDE_B[d]
+        for h in range(2):
+            src = conn[:, QUAD_HALF_NODES[d, h, 0]]
+            dst = conn[:, QUAD_HALF_NODES[d, h, 1]]
+            node_line[:, d, h, 1] = src
+            node_line[:, d, h, 2] = dst
+            for col, node, k in ((0, src, ka), (3, dst, kb)):
+                nb = elem_nbr[:, k]
+                ok = nb >= 0
+                fa, fb = conn[e_all, k], conn[e_all, (k + 1) % 4]
+                other = np.where(fa == node, fb, fa)
+                cn = conn[nb[ok]]
+                c = np.argmax(cn == node[ok, None], axis=1)
+                r = np.arange(cn.shape[0])
+                c1 = cn[r, (c + 1) % 4]
+                c2 = cn[r, (c + 3) % 4]
+                node_line[ok, d, h, col] = np.where(c1 == other[ok], c2, c1)
+    return dict(
+        face_nodes=face_nodes.astype(np.int64), face_elem=face_elem, face_local=face_local,
+        face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
+        node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line,
+        faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64) for d in range(2)],
+        side_a=QUAD_SIDE_A, side_b=QUAD_SIDE_B, corner_edge=QUAD_CORNER_HALF, corner_dst=QUAD_CORNER_DST,
+    )
+
+
+def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:
+    """build_topology for hex8 (VTK order; local faces, edges: HEX_FACE_NODES, HEX_EDGES).
+
+    A face is keyed by its sorted four nodes; its first element (owner) gives face_nodes in the
+    owner's outward order, face_local and the sweep direction face_local // 2. node_line[e, d, h]
+    = (before src, src, dst, after dst) along edge h of direction d: "before src" is the node
+    joined to src by the edge of the side-a neighbour that leaves the shared face (-1 without one).
+    """
+    n_elem = conn.shape[0]
+    loc = HEX_FACE_NODES
+    quads = conn[:, loc].reshape(6 * n_elem, 4)  # (6E, 4) in outward order
+    key = np.sort(quads, axis=1)
+    uniq, first, inv, counts = np.unique(key, axis=0, return_index=True, return_inverse=True, return_counts=True)
+    inv = inv.ravel()
+    if counts.max(initial=0) > 2:
+        raise ValueError("a face is shared by more than two elements")
+    n_faces = uniq.shape[0]
+    flat = np.arange(6 * n_elem)
+    face_nodes = quads[first]
+    face_elem = -np.ones((n_faces, 2), dtype=np.int64)
+    face_local = -np.ones((n_faces, 2), dtype=np.int64)
+    face_elem[:, 0] = first // 6
+    face_local[:, 0] = first % 6
+    second = flat[flat != first[inv]]
+    face_elem[inv[second], 1] = second // 6
+    face_local[inv[second], 1] = second % 6
+    elem_face = inv.reshape(n_elem, 6).astype(np.int64)
+    elem_sign = np.where(flat == first[inv], 1.0, -1.0).reshape(n_elem, 6)
+    elem_nbr = np.where(elem_sign > 0, face_elem[elem_face, 1], face_elem[elem_face, 0]).astype(np.int64)
+    face_dir = face_local[:, 0] // 2
+
+    a = conn.ravel()
+    order = np.argsort(a, kind="stable")
+    node_elem_idx = np.arange(8 * n_elem, dtype=np.int64)[order]
+    node_elem_ptr = np.zeros(n_nodes + 1, dtype=np.int64)
+    node_elem_ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
+
+    node_line = -np.ones((n_elem, 3, 4, 4), dtype=np.int64)
+    e_all = np.arange(n_elem)
+    for d in range(3):
+        for h in range(4):
+            src = conn[:, HEX_EDGES[d, h, 0]]
+            dst = conn[:, HEX_EDGES[d, h, 1]]
+            node_line[:, d, h, 1] = src
+            node_line[:, d, h, 2] = dst
+            for col, node, k in ((0, src, 2 * d), (3, dst, 2 * d + 1)):
+                nb = elem_nbr[:, k]
+                ok = nb >= 0
+                shared = conn[e_all[ok][:, None], loc[k][None, :]]  # (M, 4) nodes of the shared face
+                cn = conn[nb[ok]]
+                c = np.argmax(cn == node[ok, None], axis=1)
+                cand = cn[np.arange(cn.shape[0])[:, None], HEX_CORNER_NBR[c]]  # (M, 3)
+                off = ~(cand[:, :, None] == shared[:, None, :]).any(axis=2)
+                node_line[ok, d, h, col] = cand[np.arange(cand.shape[0]), np.argmax(off, axis=1)]
+    corner_edge = np.zeros((3, 8), dtype=np.int64)
+    corner_dst = np.zeros((3, 8), dtype=np.int64)
+    for d in range(3):
+        for h in range(4):
+            corner_edge[d, HEX_EDGES[d, h]] = h
+            corner_dst[d, HEX_EDGES[d, h, 1]] = 1
+    return dict(
+        face_nodes=face_nodes.astype(np.int64), face_elem=face_elem, face_local=face_local,
+        face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
+        node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line,
+        faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64) for d in range(3)],
+        side_a=(0, 2, 4), side_b=(1, 3, 5), corner_edge=corner_edge, corner_dst=corner_dst,
+    )
+
+
+def hex_edges(conn: np.ndarray) -> np.ndarray:
+    """Unique edges (n, 2) of a hex8 mesh."""
+    e = np.concatenate([conn[:, HEX_EDGES[d]].reshape(-1, 2) for d in range(3)])
+    return np.unique(np.sort(e, axis=1), axis=0)
+
+
+def largest_face_area(nodes: np.ndarray, conn: np.ndarray) -> np.ndarray:
+    """Largest face area of each hex8 (half the cross product of the face's diagonals)."""
+    q = nodes[conn[:, HEX_FACE_NODES]]  # (E, 6, 4, 3)
+    return 0.5 * np.linalg.norm(np.cross(q[:, :, 2] - q[:, :, 0], q[:, :, 3] - q[:, :, 1]), axis=2).max(axis=1)
