@@ -17,6 +17,7 @@ exception: its ``status`` and ``message`` say why (and ``diagnostics.txt`` in it
 from __future__ import annotations
 
 import copy
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
@@ -86,17 +87,11 @@ def read_histories(folder: str | Path) -> dict[str, dict[str, np.ndarray]]:
 
 
 @dataclass(frozen=True)
-class RunResult:
-    """A finished run: how it ended (``code``, ``status``, ``message``, ``time``, ``steps``, ``wall``) and
-    where its files are (``folder``: results.xdmf, results.h5, histories/, run.log)."""
+class RunResult(RunOutcome):
+    """A finished run: how it ended (``RunOutcome``: ``code``, ``status``, ``message``, ``time``, ``steps``,
+    ``wall``) and where its files are (``folder``: results.xdmf, results.h5, histories/, run.log)."""
 
     folder: Path
-    code: int
-    status: str
-    message: str
-    time: float
-    steps: int
-    wall: float
 
     @property
     def completed(self) -> bool:
@@ -134,4 +129,4 @@ def run(deck: str | Path | Mapping | Loaded, output: str | Path, overrides: Mapp
         outcome: RunOutcome = execute(loaded, out, quiet=quiet)
     finally:
         numba.set_num_threads(before)
-    return RunResult(out, outcome.code, outcome.status, outcome.message, outcome.time, outcome.steps, outcome.wall)
+    return RunResult(**dataclasses.asdict(outcome), folder=out)
