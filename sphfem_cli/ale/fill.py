@@ -76,7 +76,7 @@ def energy_from_pressure(row: np.ndarray, rho: np.ndarray, p: np.ndarray) -> np.
     out = np.zeros(np.broadcast(rho, p).shape)
     for idx in np.ndindex(out.shape):
         r = float(np.broadcast_to(rho, out.shape)[idx]) / rho0
-        p0, _, dpde = mk._eos_state(eos, q, r, 0.0)
+        p0, _, dpde = mk.eos_state(eos, q, r, 0.0)
         if dpde != 0.0:
             out[idx] = (float(np.broadcast_to(p, out.shape)[idx]) - p0) / dpde / rho0
     return out
@@ -158,7 +158,7 @@ def inflow_state(eos: int, q: np.ndarray, rho0: float, density: float | None = N
     """
     rho = rho0 if density is None else float(density)
     q = np.ascontiguousarray(q)
-    p0, _, dpde = mk._eos_state(int(eos), q, rho / rho0, 0.0)
+    p0, _, dpde = mk.eos_state(int(eos), q, rho / rho0, 0.0)
     if energy is None and pressure is None:
         e = float(q[ms.Q_E0]) / rho0  # the EOS's e0 (per reference volume), as an initial fill
     elif energy is None:

@@ -17,7 +17,7 @@ from numba import njit, prange
 
 from ..fem.geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient, hex8_volume,
                             quad4_char_length, quad4_gradient, stable_dt)
-from ..materials.kernels import EOS_GRUNEISEN, _eos_state
+from ..materials.kernels import EOS_GRUNEISEN, eos_state
 
 
 # boundary condition codes per node
@@ -50,7 +50,7 @@ def material_state(eos, q, rho0, rho, e_spec):
     if eos < 0 or rho0 <= 0.0 or rho <= 0.0:
         return 0.0, 0.0
     r = rho / rho0
-    p, dpdmu, dpde = _eos_state(eos, q, r, rho0 * e_spec)
+    p, dpdmu, dpde = eos_state(eos, q, r, rho0 * e_spec)
     c2 = (dpdmu + p * dpde / (r * r)) / rho0
     return p, math.sqrt(c2) if c2 > 0.0 else 0.0
 

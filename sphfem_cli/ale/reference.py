@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..materials.kernels import _eos_state
+from ..materials.kernels import eos_state
 from . import kernels as K
 
 _GAMMA = np.array([1.0, -1.0, 1.0, -1.0])
@@ -17,7 +17,7 @@ def material_state(eos, q, rho0, rho, e_spec):
     if eos < 0 or rho0 <= 0.0 or rho <= 0.0:
         return 0.0, 0.0
     r = rho / rho0
-    p, dpdmu, dpde = _eos_state(int(eos), q, r, rho0 * e_spec)
+    p, dpdmu, dpde = eos_state(int(eos), q, r, rho0 * e_spec)
     c2 = (dpdmu + p * dpde / (r * r)) / rho0
     return p, float(np.sqrt(max(c2, 0.0)))
 

@@ -50,7 +50,7 @@ _JC_RTOL = 1e-12
 
 
 @njit(cache=True)
-def _eos_state(eos_type, q, r, e):
+def eos_state(eos_type, q, r, e):
     """Pressure and its partial derivatives ``(p, dp/dmu at fixed E, dp/dE at fixed mu)``.
 
     ``r`` = rho/rho0, mu = r - 1, ``e`` = internal energy per unit reference volume E.
@@ -120,7 +120,7 @@ def eos_pressure(eos_type, q, rho_ratio, e_int):
     ``e_int`` is the internal energy per unit reference volume (LS-DYNA's E). Formulas per type in
     docs/theory/materials.md; the row layout is in ``materials.slots``.
     """
-    return _eos_state(eos_type, q, rho_ratio, e_int)[0]
+    return eos_state(eos_type, q, rho_ratio, e_int)[0]
 
 
 @njit(cache=True)
@@ -130,7 +130,7 @@ def eos_sound_speed(eos_type, q, rho_ratio, e_int):
     In the variables mu = rho/rho0 - 1 and E = rho0 e this is
     c^2 = (dp/dmu + p (dp/dE) / (rho/rho0)^2) / rho0. Negative c^2 is clamped to 0.
     """
-    p, dpdmu, dpde = _eos_state(eos_type, q, rho_ratio, e_int)
+    p, dpdmu, dpde = eos_state(eos_type, q, rho_ratio, e_int)
     c2 = (dpdmu + p * dpde / (rho_ratio * rho_ratio)) / q[Q_RHO0]
     return math.sqrt(c2) if c2 > 0.0 else 0.0
 

@@ -323,7 +323,7 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     pressure = np.array([[state(m, rho0[j]) for j, m in enumerate(mats)]] * n_elem)
     velocity = np.zeros((len(nodes), model.dim))
     for j, fill in enumerate(part.fill):
-        inside = _region(fill)
+        inside = fill_region(fill)
         try:
             f = fill_fractions(nodes, conn, inside)
         except ValueError as exc:
@@ -404,7 +404,7 @@ def _unit(v) -> np.ndarray:
     return scaled / np.linalg.norm(scaled)
 
 
-def _region(fill):
+def fill_region(fill):
     """inside(x, y) (2D) or inside(x, y, z) (3D) -> bool array for a fill's region."""
     if fill.box is not None:
         lo, hi = fill.box.min, fill.box.max

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0, _eos_state, eos_pressure, eos_sound_speed
+from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0, eos_state, eos_pressure, eos_sound_speed
 from ..materials.slots import Q_E0, Q_RHO0
 
 
@@ -23,7 +23,7 @@ def update_particle_state(rho, e, m, mat, active, params, eta, dim, pressure_cut
     """Pressure, sound speed and smoothing length of every active particle.
 
     p = max(p_eos(rho/rho0, rho0 e), pressure_cutoff), c = c_eos (``eos_pressure`` and ``eos_sound_speed``
-    of the materials module, evaluated through their common ``_eos_state`` so that the EOS is
+    of the materials module, evaluated through their common ``eos_state`` so that the EOS is
     computed once), h = eta (m/rho)^(1/dim). ``e`` is the specific internal energy (per unit
     mass), so the EOS's energy per reference volume is rho0 e. Returns the largest h.
     """
@@ -36,7 +36,7 @@ def update_particle_state(rho, e, m, mat, active, params, eta, dim, pressure_cut
         q = params[k, EOS_OFFSET:]
         r = rho[i] / rho0
         ee = rho0 * e[i]
-        pr, dpdmu, dpde = _eos_state(int(params[k, P_EOS_TYPE]), q, r, ee)
+        pr, dpdmu, dpde = eos_state(int(params[k, P_EOS_TYPE]), q, r, ee)
         p[i] = pr if pr > pressure_cutoff else pressure_cutoff
         c2 = (dpdmu + pr * dpde / (r * r)) / q[Q_RHO0]  # as eos_sound_speed
         c[i] = math.sqrt(c2) if c2 > 0.0 else 0.0

@@ -163,12 +163,12 @@ def sub_centres(info: AleInfo, ratio: int) -> tuple[np.ndarray, np.ndarray, floa
 
 def source_labels(deck, info: AleInfo, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
     """(ny, nx) int: 0 where the base material is, j + 1 where fill j is (later fills win)."""
-    from ..model.build import _region
+    from ..model.build import fill_region
 
     X, Y = np.meshgrid(xs, ys)
     labels = np.zeros(X.shape, dtype=np.int64)
     for j, fill in enumerate(deck.parts[info.name].fill):
-        labels[np.asarray(_region(fill)(X, Y), dtype=bool)] = j + 1
+        labels[np.asarray(fill_region(fill)(X, Y), dtype=bool)] = j + 1
     return labels
 
 
