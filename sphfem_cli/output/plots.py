@@ -215,7 +215,7 @@ def table_plot(table: Path, path: Path, units: dict, dimension: int, references:
     fig, axes = plt.subplots(n, 1, figsize=(7.5, 1.6 + 2.2 * n), sharex=True, squeeze=False)
     for ax, (family, idx) in zip(axes[:, 0], panels.items()):
         for i in idx:
-            ax.plot(data[:, 0], data[:, i], lw=1.2, label=columns[i])
+            ax.plot(data[:, 0], data[:, i], "o-" if len(data) < 3 else "-", lw=1.2, label=columns[i])
         for ref in references:
             tab, _, col = ref.quantity.partition(".")
             if tab == table.stem and (col == family or col in (columns[i] for i in idx)):
@@ -235,7 +235,7 @@ def quantity_plot(histories: Path, quantity: str, path: Path, units: dict, dimen
     plt = _pyplot()
     t, v = quantity_series(histories, quantity)
     fig, ax = plt.subplots(figsize=(7.0, 4.4))
-    ax.plot(t, v, "-", lw=1.4, label=f"{_run_name(histories.parent)}")
+    ax.plot(t, v, "o-" if len(t) < 3 else "-", lw=1.4, label=f"{_run_name(histories.parent)}")
     drawn = [r for r in references if r.quantity == quantity]
     for ref in drawn:
         ax.plot(*_within(ref, t[-1] if len(t) else 0.0), "ko", ms=4, mfc="none", label=ref.label)
