@@ -23,7 +23,7 @@ from . import mesh as meshgen
 from . import sets as selection
 from .options import RunOptions, resolve_options
 from .sizes import (BYTES_PER_ELEMENT, BYTES_PER_NODE, BYTES_PER_PARTICLE,  # noqa: F401 - re-exported
-                    available_memory, check_memory, estimate_counts)
+                    available_memory, check_memory)
 
 
 class ModelError(Exception):

@@ -107,7 +107,7 @@ def read_keyword_mesh(path: str | Path):
         eid = np.concatenate([g[0] for g in groups])
         pid = np.concatenate([g[1] for g in groups])
         conn = np.concatenate([g[2] for g in groups])
-        degenerate = np.array([len(set(row)) < conn.shape[1] for row in conn.tolist()], dtype=bool)
+        degenerate = np.any(np.diff(np.sort(conn, axis=1), axis=1) == 0, axis=1)
         if np.any(degenerate):
             raise ValueError(f"{path}: {keyword} element {int(eid[degenerate][0])} repeats a node (a "
                              f"{'tetrahedron or wedge' if kind == 'hexahedron' else 'triangle'} in LS-DYNA's "

@@ -147,15 +147,11 @@ def probe(run: Path, point: Sequence[float], quantity: str, part: str | None = N
         dim3 = np.asarray(point, dtype=float)
         x = np.zeros(3)
         x[: len(dim3)] = dim3
-        chosen = None
-        for g in having:
-            if _value(f[g], first, quantity, x, _kernel(run)) is not None:
-                chosen = g
-                break
+        kernel = _kernel(run)
+        chosen = next((g for g in having if _value(f[g], first, quantity, x, kernel) is not None), None)
         if chosen is None:
             raise ProbeError(f"the point {tuple(point)} lies in none of the parts with '{quantity}' "
                              f"({', '.join(having)}) at t = {times[0]:g}")
-        kernel = _kernel(run)
         columns, rows = None, []
         for t, s in zip(times, steps):
             if s not in f[chosen]:
