@@ -203,7 +203,7 @@ def _pair_terms(j, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi
             gr += gy * dy
         if dim > 2:
             gr += gz * dz
-        psi += rij * gr / (cij * cij)
+        psi += rij * gr / (cij * cij) if cij > 0.0 else 0.0  # c_ij = 0: no diffusion, no correction (0/0)
     diff = same * hij * cij * psi * f * vol
     wr = notwall * norm * th * mj * (dd * dd * rcp) if full else 0.0
     return (coef * wgx, coef * wgy, coef * wgz, vol * vdotg, work, wall_work, diff, wr * du, wr * dv, wr * dw)

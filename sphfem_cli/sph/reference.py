@@ -81,7 +81,7 @@ def ghosts(x, v, rho, p, c, walls, reach, gravity=None, hydrostatic=False):
                 src.append(i)
                 dp = rho[i] * g @ (xg - x3[i]) if hydrostatic else 0.0
                 pg.append(p[i] + dp)
-                rg.append(rho[i] + dp / c[i] ** 2)
+                rg.append(rho[i] + (dp / c[i] ** 2 if c[i] > 0.0 else 0.0))  # as walls.fill_ghosts
     return (np.array(out_x).reshape(-1, 3), np.array(out_v).reshape(-1, 3), np.array(src, dtype=int),
             np.array(pg), np.array(rg), np.array(out_vv).reshape(-1, 3))
 
@@ -203,7 +203,8 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
     if opt.delta:
         psi = R[None, :] - rho[:, None]
         if opt.delta_hydrostatic:
-            psi = psi + rbar * (rij @ g) / cbar**2
+            c2 = cbar**2
+            psi = psi + np.divide(rbar * (rij @ g), c2, out=np.zeros_like(c2), where=c2 > 0.0)
         same = (MAT[None, :] == mat[:, None]) & (KIND[None, :] != 2)
         drho = drho - 2.0 * opt.delta * np.sum(same * hij * cbar * psi * F * vol[None, :], axis=1)
     notwall = KIND[None, :] != 2

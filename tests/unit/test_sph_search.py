@@ -112,6 +112,22 @@ def test_numba_rates_equal_numpy_reference_wendland_cutoff(dim, single_thread):
         np.testing.assert_allclose(got, r[key], rtol=0, atol=1e-12 * np.abs(r[key]).max(), err_msg=key)
 
 
+def test_hydrostatic_diffusion_is_finite_where_sound_speed_vanishes(single_thread):
+    """Ideal-gas particles with e = 0 have c = 0: the hydrostatic correction rho g.r / c^2 of
+    their pairs is 0/0; the pair has no diffusion (delta h c_ij = 0) and drho stays finite and
+    equal to the NumPy reference (it was NaN: the underwater explosion's SPH stop)."""
+    s = random_state(2, seed=31, mixed=True)
+    gas = s["mat"] == 1
+    s["e"][gas] = 0.0
+    opt = full_options(2, s["L"])
+    ps = build(s, opt)
+    ps.compute_rates()
+    assert gas.sum() > 2 and np.all(ps.c[gas] == 0.0)
+    assert np.isfinite(ps.drho).all() and np.isfinite(ps.acc).all()
+    r = ref.rates_reference(s["x"], s["v"], s["rho"], s["e"], s["m"], s["mat"], s["mats"][1], opt)
+    np.testing.assert_allclose(ps.drho, r["drho"], rtol=0, atol=1e-12 * np.abs(r["drho"]).max())
+
+
 def test_rates_do_not_depend_on_thread_count():
     import numba
 
