@@ -320,7 +320,7 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     fractions = np.zeros((n_elem, n_mat))
     fractions[:, 0] = 1.0
     density = np.tile(rho0, (n_elem, 1))
-    pressure = np.array([[state(m, rho0[j]) for j, m in enumerate(mats)]] * n_elem)
+    pressure = np.tile(np.array([state(m, rho0[j]) for j, m in enumerate(mats)], dtype=float), (n_elem, 1))
     velocity = np.zeros((len(nodes), model.dim))
     for j, fill in enumerate(part.fill):
         inside = fill_region(fill)
