@@ -16,17 +16,27 @@ from ..materials import kernels as mk
 from ..materials import slots as ms
 
 
-def fill_fractions(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, samples: int = 3) -> np.ndarray:
+def fill_fractions(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, samples: int = 3,
+                   points: tuple | None = None) -> np.ndarray:
     """Fraction of each quad4 (hex8) inside a region, by samples^2 (samples^3) points per element.
 
     ``inside_fn(x, y)`` (``inside_fn(x, y, z)`` in 3D) takes coordinate arrays and returns a
     boolean array. Sample points are the bilinear (trilinear) images of the midpoints of a
     samples^dim grid on the reference square (cube), each weighted by the Jacobian there, so the
     result is the exact fraction for a region made of whole sub-cells of a parallelogram
-    (parallelepiped) element.
+    (parallelepiped) element. ``points``: ``quad_sample_points(nodes, conn, samples)`` of a quad4
+    mesh, computed once for several regions of it.
     """
     if np.shape(conn)[1] == 8:
         return _fill_fractions_3d(np.asarray(nodes, dtype=float), np.asarray(conn), inside_fn, samples)
+    px, py, jac, jac_sum = quad_sample_points(nodes, conn, samples) if points is None else points
+    inside = np.asarray(inside_fn(px, py), dtype=bool)
+    return (jac * inside).sum(axis=1) / jac_sum
+
+
+def quad_sample_points(nodes: np.ndarray, conn: np.ndarray, samples: int = 3) -> tuple:
+    """The samples^2 points of each quad4 of ``fill_fractions`` and their Jacobian weights:
+    (x (E, S), y (E, S), J (E, S), sum of J over the points (E,))."""
     t = (np.arange(samples) + 0.5) / samples * 2.0 - 1.0
     xi, eta = np.meshgrid(t, t, indexing="ij")
     xi = xi.ravel()
@@ -40,8 +50,7 @@ def fill_fractions(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, sam
     jac = np.empty_like(px)
     _quad_samples(np.ascontiguousarray(nodes, dtype=np.float64), np.ascontiguousarray(conn, dtype=np.int64),
                   shape, dxi, deta, px, py, jac)
-    inside = np.asarray(inside_fn(px, py), dtype=bool)
-    return (jac * inside).sum(axis=1) / jac.sum(axis=1)
+    return px, py, jac, jac.sum(axis=1)
 
 
 @njit(cache=True)
