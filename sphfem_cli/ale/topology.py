@@ -51,26 +51,17 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
     b = conn[:, [1, 2, 3, 0]].ravel()  # face k joins corners k and k + 1
     first, inv = _unique_keys(np.minimum(a, b) * n_nodes + np.maximum(a, b))
     n_faces = first.size
-    flat = np.arange(4 * n_elem)
-    owner_flat = first
-    face_nodes = np.stack([a[owner_flat], b[owner_flat]], axis=1)
-    face_elem = -np.ones((n_faces, 2), dtype=np.int64)
-    face_local = -np.ones((n_faces, 2), dtype=np.int64)
-    face_elem[:, 0] = owner_flat // 4
-    face_local[:, 0] = owner_flat % 4
-    owned = flat == first[inv]
-    second = flat[~owned]
-    if np.bincount(inv, minlength=n_faces).max() > 2:
+    face_nodes = np.stack([a[first], b[first]], axis=1)
+    face_elem = np.empty((n_faces, 2), dtype=np.int64)
+    face_local = np.empty((n_faces, 2), dtype=np.int64)
+    elem_face = np.empty((n_elem, 4), dtype=np.int64)
+    elem_sign = np.empty((n_elem, 4))
+    elem_nbr = np.empty((n_elem, 4), dtype=np.int64)
+    if _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
         raise ValueError("a face is shared by more than two elements")
-    face_elem[inv[second], 1] = second // 4
-    face_local[inv[second], 1] = second % 4
-    elem_face = inv.reshape(n_elem, 4).astype(np.int64)
-    elem_sign = np.where(owned, 1.0, -1.0).reshape(n_elem, 4)
-    elem_nbr = np.where(elem_sign > 0, face_elem[elem_face, 1], face_elem[elem_face, 0]).astype(np.int64)
     face_dir = np.where(face_local[:, 0] % 2 == 1, 0, 1)
 
-    order = np.argsort(a, kind="stable")
-    node_elem_idx = flat[order].astype(np.int64)
+    node_elem_idx = np.argsort(a, kind="stable").astype(np.int64)
     node_elem_ptr = np.zeros(n_nodes + 1, dtype=np.int64)
     node_elem_ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
 
@@ -97,6 +88,37 @@ def _unique_keys(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     inverse = np.empty(len(key), dtype=np.int64)
     inverse[order] = np.cumsum(new) - 1
     return order[new], inverse
+
+
+@njit(cache=True)
+def _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
+    """The face maps of a quad4 mesh from its local faces' face numbers inv (4E,) (local face k of
+    element e at 4 e + k) and each face's first local face first (F,): face_elem, face_local (F, 2)
+    owner then neighbour (-1: none), elem_face, elem_sign (+1 on the owner's side, -1 on the
+    neighbour's), elem_nbr (-1: none) (E, 4). True when a face is met more than twice."""
+    for f in range(first.size):
+        face_elem[f, 0] = first[f] // 4
+        face_local[f, 0] = first[f] % 4
+        face_elem[f, 1] = -1
+        face_local[f, 1] = -1
+    too_many = False
+    for i in range(inv.size):
+        f = inv[i]
+        e, k = i // 4, i % 4
+        elem_face[e, k] = f
+        if first[f] == i:
+            elem_sign[e, k] = 1.0
+        else:
+            elem_sign[e, k] = -1.0
+            if face_elem[f, 1] >= 0:
+                too_many = True
+            face_elem[f, 1] = e
+            face_local[f, 1] = k
+    for e in range(elem_face.shape[0]):
+        for k in range(4):
+            f = elem_face[e, k]
+            elem_nbr[e, k] = face_elem[f, 1] if elem_sign[e, k] > 0 else face_elem[f, 0]
+    return too_many
 
 
 @njit(cache=True)
