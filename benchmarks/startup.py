@@ -23,6 +23,16 @@ with the load average before and after.
 
 No peer is run for the set-up figures (CloverLeaf reads its deck and generates its mesh in well
 under a second; it is not built here).
+
+Measured (2 December 2026, the 2-core machine shared with four other sessions, load average 11.1
+before and 9.1 after, 3 interleaved rounds, min / median CPU seconds):
+
+* check 0.764 / 0.785 against import numpy 0.109 / 0.113: 7.0x (goal 3x, not met: the numba
+  import, 0.14 s, and loading the solid kernels, 0.19 s, are half of it; see the startup report);
+* tiny run, warm 0.830 / 0.856 (goal 1.5 s); empty cache 8.82 / 8.88, and it says it compiles
+  (goal 15 s);
+* ALE 960^2, two materials 2.97 / 3.02 (main, one run in the same hour: 14.1 s), one material
+  1.99 / 1.99 (main: 9.1-10.4 s); SPH 5e5 particles 0.515 / 0.537 (main: 1.07 s, one run).
 """
 from __future__ import annotations
 
