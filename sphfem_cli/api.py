@@ -24,7 +24,8 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from .driver import DeckProblem, Loaded, OutputProblem, RunOutcome, build_loaded, default_threads, execute, prepare_folder
+from .driver import (DeckProblem, Loaded, OutputProblem, RunOutcome, announce_compiling, build_loaded, default_threads,
+                     execute, prepare_folder)
 
 __all__ = ["DeckProblem", "Loaded", "OutputProblem", "RunResult", "load", "read_histories", "run"]
 
@@ -119,6 +120,7 @@ def run(deck: str | Path | Mapping | Loaded, output: str | Path, overrides: Mapp
     numba thread count is restored afterwards."""
     import numba
 
+    announced = not isinstance(deck, Loaded) and announce_compiling(quiet)
     loaded = deck if isinstance(deck, Loaded) else load(deck, overrides, base_dir)
     if isinstance(deck, Loaded) and overrides:
         raise ValueError("overrides apply when the deck is loaded: pass them to load(), or pass the deck itself")
@@ -126,7 +128,7 @@ def run(deck: str | Path | Mapping | Loaded, output: str | Path, overrides: Mapp
     before = numba.get_num_threads()
     numba.set_num_threads(min(threads or default_threads(loaded.model), numba.config.NUMBA_NUM_THREADS))
     try:
-        outcome: RunOutcome = execute(loaded, out, quiet=quiet)
+        outcome: RunOutcome = execute(loaded, out, quiet=quiet, announced=announced)
     finally:
         numba.set_num_threads(before)
     return RunResult(**dataclasses.asdict(outcome), folder=out)

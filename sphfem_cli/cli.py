@@ -14,8 +14,8 @@ from pathlib import Path
 import click
 
 from . import __version__
-from .driver import (EXIT_INTERNAL, EXIT_INTERRUPTED, DeckProblem, default_threads, execute, load_model,
-                     prepare_folder)
+from .driver import (EXIT_INTERNAL, EXIT_INTERRUPTED, DeckProblem, announce_compiling, default_threads, execute,
+                     load_model, prepare_folder)
 
 EXIT_BROKEN_PIPE = 141  # 128 + SIGPIPE, what a shell reports for a writer whose reader closed the pipe
 
@@ -96,6 +96,7 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
     """
     if restart and overwrite:
         prepare_folder(Path(restart).parent, Path(restart), overwrite)  # refuses the pair, exit 2
+    announced = announce_compiling(quiet)
     loaded = load_model(deck)
     import numba
 
@@ -105,7 +106,8 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
     out = (Path(outdir) if outdir else Path(restart).parent if restart
            else Path.cwd() / f"{Path(deck).stem}_results")
     prepare_folder(out, Path(restart) if restart else None, overwrite)
-    outcome = execute(loaded, out, quiet=quiet, verbose=verbose, restart=Path(restart) if restart else None)
+    outcome = execute(loaded, out, quiet=quiet, verbose=verbose, restart=Path(restart) if restart else None,
+                      announced=announced)
     sys.exit(outcome.code)
 
 

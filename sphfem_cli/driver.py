@@ -135,7 +135,7 @@ class RunOutcome:
 
 
 def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = False,
-            restart: Path | None = None) -> RunOutcome:
+            restart: Path | None = None, announced: bool = False) -> RunOutcome:
     """Run a built model into `out`; returns how it ended (`RunOutcome.code` is the exit code). Keeps the
     effective deck and a log.
 
@@ -148,12 +148,13 @@ def execute(loaded: Loaded, out: Path, quiet: bool = False, verbose: bool = Fals
     of a checkpoint in `out`: the Simulation is built from the deck and its state restored from the
     checkpoint (output.checkpoint). A checkpoint that cannot be used raises DeckProblem (exit 65), a
     folder or file that cannot be created OutputProblem (exit 73); a write that fails during the run
-    ends it with exit 73 or 74, the files written so far kept.
+    ends it with exit 73 or 74, the files written so far kept. `announced`: the caller has printed
+    ``announce_compiling``'s notice before it built the model (which compiles some kernels itself).
     """
     from .output.checkpoint import deck_hash
 
     digest = deck_hash(loaded.deck, loaded.model)
-    progress = _Progress(loaded.deck.control.end_time, quiet, sys.stderr.isatty())
+    progress = _Progress(loaded.deck.control.end_time, quiet, sys.stderr.isatty(), announced)
     try:
         return _execute(loaded, out, verbose, restart, digest, progress)
     finally:
@@ -418,13 +419,24 @@ def kernel_cache_is_cold() -> bool:
     return bool(folder) and not any(Path(folder).rglob("*.nbi"))
 
 
+def announce_compiling(quiet: bool) -> bool:
+    """Say "compiling kernels (first run only; cached in ...)" on stderr when numba's cache is cold;
+    True when it was said. Called before the model is built: building compiles some kernels (the
+    EOS of a hydrostatic start, a fill's sample points), after which the cache is no longer empty."""
+    if quiet or not kernel_cache_is_cold():
+        return False
+    click.echo(f"compiling kernels (first run only; cached in {os.environ.get('NUMBA_CACHE_DIR')})", err=True)
+    return True
+
+
 class _Progress:
     """Progress on stderr, nothing when quiet. Before the first step: "compiling kernels" at once when the
-    numba cache is cold, else a line after SLOW_START_S. Then a rich bar on a terminal (simulated time,
+    numba cache is cold (unless the caller said it before building the model: `announced`), else a
+    line after SLOW_START_S. Then a rich bar on a terminal (simulated time,
     step, dt, ETA), or elsewhere (a log, a batch job) a line every HEARTBEAT_S of wall time with t, step,
     dt, wall time and ETA."""
 
-    def __init__(self, end_time: float, quiet: bool, terminal: bool):
+    def __init__(self, end_time: float, quiet: bool, terminal: bool, announced: bool = False):
         self.end_time = end_time
         self.quiet = quiet
         self.bar_on = not quiet and terminal
@@ -432,17 +444,14 @@ class _Progress:
         self._started = time.monotonic()
         self._first: tuple[float, float] | None = None  # (wall, t) at the first step
         self._timer: threading.Timer | None = None
-        if quiet:
+        if quiet or announced or announce_compiling(quiet):
             return
         cache = os.environ.get("NUMBA_CACHE_DIR", "numba's cache")
-        if kernel_cache_is_cold():
-            click.echo(f"compiling kernels (first run only; cached in {cache})", err=True)
-        else:
-            self._timer = threading.Timer(SLOW_START_S, click.echo, (
-                f"preparing the first step: building the model or compiling kernels new to the cache ({cache}); "
-                "later runs of this kind start faster",), {"err": True})
-            self._timer.daemon = True
-            self._timer.start()
+        self._timer = threading.Timer(SLOW_START_S, click.echo, (
+            f"preparing the first step: building the model or compiling kernels new to the cache ({cache}); "
+            "later runs of this kind start faster",), {"err": True})
+        self._timer.daemon = True
+        self._timer.start()
 
     def __enter__(self):
         if self.bar_on:

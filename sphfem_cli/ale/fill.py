@@ -2,30 +2,41 @@
 state (volume, mass, internal energy per element and material) from fractions, densities and
 energies or pressures.
 
-Numpy only (model/ uses ``fill_fractions`` while it builds the ALE mesh; ``AleSystem`` the rest).
+Numpy, and one small kernel for the sample points of quad4 fills (model/ uses ``fill_fractions``
+while it builds the ALE mesh; ``AleSystem`` the rest).
 """
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 
 import numpy as np
+from numba import njit
 
 from ..materials import kernels as mk
 from ..materials import slots as ms
 
 
-def fill_fractions(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, samples: int = 3) -> np.ndarray:
+def fill_fractions(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, samples: int = 3,
+                   points: tuple | None = None) -> np.ndarray:
     """Fraction of each quad4 (hex8) inside a region, by samples^2 (samples^3) points per element.
 
     ``inside_fn(x, y)`` (``inside_fn(x, y, z)`` in 3D) takes coordinate arrays and returns a
     boolean array. Sample points are the bilinear (trilinear) images of the midpoints of a
     samples^dim grid on the reference square (cube), each weighted by the Jacobian there, so the
     result is the exact fraction for a region made of whole sub-cells of a parallelogram
-    (parallelepiped) element.
+    (parallelepiped) element. ``points``: ``quad_sample_points(nodes, conn, samples)`` of a quad4
+    mesh, computed once for several regions of it.
     """
     if np.shape(conn)[1] == 8:
         return _fill_fractions_3d(np.asarray(nodes, dtype=float), np.asarray(conn), inside_fn, samples)
-    x = nodes[conn]  # (E, 4, 2)
+    px, py, jac, jac_sum = quad_sample_points(nodes, conn, samples) if points is None else points
+    inside = np.asarray(inside_fn(px, py), dtype=bool)
+    return (jac * inside).sum(axis=1) / jac_sum
+
+
+def quad_sample_points(nodes: np.ndarray, conn: np.ndarray, samples: int = 3) -> tuple:
+    """The samples^2 points of each quad4 of ``fill_fractions`` and their Jacobian weights:
+    (x (E, S), y (E, S), J (E, S), sum of J over the points (E,))."""
     t = (np.arange(samples) + 0.5) / samples * 2.0 - 1.0
     xi, eta = np.meshgrid(t, t, indexing="ij")
     xi = xi.ravel()
@@ -34,12 +45,38 @@ def fill_fractions(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, sam
     shape = 0.25 * (1 + np.outer(xi, sn[:, 0])) * (1 + np.outer(eta, sn[:, 1]))  # (S, 4)
     dxi = 0.25 * sn[:, 0][None, :] * (1 + np.outer(eta, sn[:, 1]))
     deta = 0.25 * sn[:, 1][None, :] * (1 + np.outer(xi, sn[:, 0]))
-    px = np.einsum("sa,ea->es", shape, x[:, :, 0])
-    py = np.einsum("sa,ea->es", shape, x[:, :, 1])
-    jac = (np.einsum("sa,ea->es", dxi, x[:, :, 0]) * np.einsum("sa,ea->es", deta, x[:, :, 1])
-           - np.einsum("sa,ea->es", deta, x[:, :, 0]) * np.einsum("sa,ea->es", dxi, x[:, :, 1]))
-    inside = np.asarray(inside_fn(px, py), dtype=bool)
-    return (jac * inside).sum(axis=1) / jac.sum(axis=1)
+    px = np.empty((len(conn), len(xi)))
+    py = np.empty_like(px)
+    jac = np.empty_like(px)
+    _quad_samples(np.ascontiguousarray(nodes, dtype=np.float64), np.ascontiguousarray(conn, dtype=np.int64),
+                  shape, dxi, deta, px, py, jac)
+    return px, py, jac, jac.sum(axis=1)
+
+
+@njit(cache=True)
+def _quad_samples(nodes, conn, shape, dxi, deta, px, py, jac):
+    """Sample points (px, py) and Jacobians jac (E, S) of quad4 elements: x(s) = sum_a N_a(s) x_a and
+    J = x_xi y_eta - x_eta y_xi, each sum taken over the corners a in order."""
+    for e in range(conn.shape[0]):
+        for s in range(shape.shape[0]):
+            x = shape[s, 0] * nodes[conn[e, 0], 0]
+            y = shape[s, 0] * nodes[conn[e, 0], 1]
+            x_xi = dxi[s, 0] * nodes[conn[e, 0], 0]
+            y_xi = dxi[s, 0] * nodes[conn[e, 0], 1]
+            x_eta = deta[s, 0] * nodes[conn[e, 0], 0]
+            y_eta = deta[s, 0] * nodes[conn[e, 0], 1]
+            for a in range(1, 4):
+                xa = nodes[conn[e, a], 0]
+                ya = nodes[conn[e, a], 1]
+                x += shape[s, a] * xa
+                y += shape[s, a] * ya
+                x_xi += dxi[s, a] * xa
+                y_xi += dxi[s, a] * ya
+                x_eta += deta[s, a] * xa
+                y_eta += deta[s, a] * ya
+            px[e, s] = x
+            py[e, s] = y
+            jac[e, s] = x_xi * y_eta - x_eta * y_xi
 
 
 def _fill_fractions_3d(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, samples: int) -> np.ndarray:
@@ -67,19 +104,29 @@ def _fill_fractions_3d(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable,
 
 
 def energy_from_pressure(row: np.ndarray, rho: np.ndarray, p: np.ndarray) -> np.ndarray:
-    """Specific internal energy e with p_eos(rho, e) = p (every EOS here is linear in e)."""
+    """Specific internal energy e with p_eos(rho, e) = p (every EOS here is linear in e):
+    e = (p - p0(rho)) / (dp/de)(rho) / rho0, with p0 and dp/de the EOS at (rho / rho0, e = 0)
+    (``materials.kernels.eos_state``); e = 0 where dp/de = 0.
+
+    The EOS is evaluated once per distinct density (a fill has one or a few; a hydrostatic one
+    one per layer), the rest element-wise in the same order of operations as a scalar loop.
+    """
     rho = np.asarray(rho, dtype=float)
     p = np.asarray(p, dtype=float)
     eos = int(row[ms.P_EOS_TYPE])
     q = np.ascontiguousarray(row[ms.EOS_OFFSET:])
     rho0 = q[ms.Q_RHO0]
-    out = np.zeros(np.broadcast(rho, p).shape)
-    for idx in np.ndindex(out.shape):
-        r = float(np.broadcast_to(rho, out.shape)[idx]) / rho0
-        p0, _, dpde = mk.eos_state(eos, q, r, 0.0)
-        if dpde != 0.0:
-            out[idx] = (float(np.broadcast_to(p, out.shape)[idx]) - p0) / dpde / rho0
-    return out
+    shape = np.broadcast(rho, p).shape
+    values, inverse = np.unique(np.broadcast_to(rho, shape).ravel(), return_inverse=True)
+    p0 = np.empty(len(values))
+    dpde = np.empty(len(values))
+    for i, value in enumerate(values):
+        p0[i], _, dpde[i] = mk.eos_state(eos, q, float(value) / rho0, 0.0)
+    p0, dpde = p0[inverse], dpde[inverse]
+    out = np.zeros(len(inverse))
+    live = dpde != 0.0
+    out[live] = (np.broadcast_to(p, shape).ravel()[live] - p0[live]) / dpde[live] / rho0
+    return out.reshape(shape)
 
 
 def per_element(value, n_elem: int, n_mat: int, name: str) -> np.ndarray:

@@ -41,11 +41,12 @@ class MeshMover:
         bf = fn[topo["face_elem"][:, 1] < 0]
         on_boundary[bf.ravel()] = True
         self._interior = ~on_boundary
+        self._stencil = (np.zeros(0, dtype=np.int64), np.zeros((0, 8), dtype=np.int64))
         if dim == 2:
-            self._stencil = _winslow_stencil(conn, n_nodes, self._interior)
+            if motion.mesh_motion == "smoothed" and motion.smoothing == "equipotential":  # its only user
+                self._stencil = _winslow_stencil(conn, n_nodes, self._interior)
             self._slide = _sliding_nodes(x0, bf, n_nodes)
         else:
-            self._stencil = (np.zeros(0, dtype=np.int64), np.zeros((0, 8), dtype=np.int64))
             self._slide = (np.zeros(0, dtype=np.int64),) * 3 + (np.zeros((0, 3)),)
 
     def target(self, x_lag: np.ndarray) -> np.ndarray:

@@ -1,11 +1,13 @@
 """Topology of an ALE mesh (quad4 or hex8): faces, element-face and node-element maps, the dual
 node lines of the momentum remap, and the local face/edge tables of the two element types.
 
-Numpy only (built once per mesh); the kernels take the arrays ``build_topology`` returns.
+Built once per mesh: numpy, and a kernel for the quad4 dual node lines; the kernels take the arrays
+``build_topology`` returns.
 """
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 # local faces of a quad4: face k joins corners k and k+1. Sweep direction 0 (xi) crosses faces
 # 3 (side "a") and 1 (side "b"); direction 1 (eta) crosses faces 0 (a) and 2 (b).
@@ -46,52 +48,26 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
         return _build_topology_3d(conn, n_nodes)
     n_elem = conn.shape[0]
     a = conn.ravel()
-    b = np.roll(conn, -1, axis=1).ravel()
-    key = np.minimum(a, b) * n_nodes + np.maximum(a, b)
-    uniq, first, inv = np.unique(key, return_index=True, return_inverse=True)
-    n_faces = uniq.size
-    flat = np.arange(4 * n_elem)
-    owner_flat = first
-    face_nodes = np.stack([a[owner_flat], b[owner_flat]], axis=1)
-    face_elem = -np.ones((n_faces, 2), dtype=np.int64)
-    face_local = -np.ones((n_faces, 2), dtype=np.int64)
-    face_elem[:, 0] = owner_flat // 4
-    face_local[:, 0] = owner_flat % 4
-    second = flat[flat != first[inv]]
-    if np.bincount(inv, minlength=n_faces).max() > 2:
+    b = conn[:, [1, 2, 3, 0]].ravel()  # face k joins corners k and k + 1
+    first, inv = _unique_keys(np.minimum(a, b) * n_nodes + np.maximum(a, b))
+    n_faces = first.size
+    face_nodes = np.stack([a[first], b[first]], axis=1)
+    face_elem = np.empty((n_faces, 2), dtype=np.int64)
+    face_local = np.empty((n_faces, 2), dtype=np.int64)
+    elem_face = np.empty((n_elem, 4), dtype=np.int64)
+    elem_sign = np.empty((n_elem, 4))
+    elem_nbr = np.empty((n_elem, 4), dtype=np.int64)
+    if _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
         raise ValueError("a face is shared by more than two elements")
-    face_elem[inv[second], 1] = second // 4
-    face_local[inv[second], 1] = second % 4
-    elem_face = inv.reshape(n_elem, 4).astype(np.int64)
-    elem_sign = np.where(flat == first[inv], 1.0, -1.0).reshape(n_elem, 4)
-    elem_nbr = np.where(elem_sign > 0, face_elem[elem_face, 1], face_elem[elem_face, 0]).astype(np.int64)
     face_dir = np.where(face_local[:, 0] % 2 == 1, 0, 1)
 
-    order = np.argsort(a, kind="stable")
-    node_elem_idx = flat[order].astype(np.int64)
+    node_elem_idx = np.argsort(a, kind="stable").astype(np.int64)
     node_elem_ptr = np.zeros(n_nodes + 1, dtype=np.int64)
     node_elem_ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
 
-    node_line = -np.ones((n_elem, 2, 2, 4), dtype=np.int64)
-    e_all = np.arange(n_elem)
-    for d in range(2):
-        ka, kb = QUAD_SIDE_A[d], QUAD_SIDE_B[d]
-        for h in range(2):
-            src = conn[:, QUAD_HALF_NODES[d, h, 0]]
-            dst = conn[:, QUAD_HALF_NODES[d, h, 1]]
-            node_line[:, d, h, 1] = src
-            node_line[:, d, h, 2] = dst
-            for col, node, k in ((0, src, ka), (3, dst, kb)):
-                nb = elem_nbr[:, k]
-                ok = nb >= 0
-                fa, fb = conn[e_all, k], conn[e_all, (k + 1) % 4]
-                other = np.where(fa == node, fb, fa)
-                cn = conn[nb[ok]]
-                c = np.argmax(cn == node[ok, None], axis=1)
-                r = np.arange(cn.shape[0])
-                c1 = cn[r, (c + 1) % 4]
-                c2 = cn[r, (c + 3) % 4]
-                node_line[ok, d, h, col] = np.where(c1 == other[ok], c2, c1)
+    node_line = np.empty((n_elem, 2, 2, 4), dtype=np.int64)
+    _quad_node_lines(conn, elem_nbr, np.array(QUAD_SIDE_A, dtype=np.int64), np.array(QUAD_SIDE_B, dtype=np.int64),
+                     QUAD_HALF_NODES, node_line)
     return dict(
         face_nodes=face_nodes.astype(np.int64), face_elem=face_elem, face_local=face_local,
         face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
@@ -99,6 +75,82 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
         faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64) for d in range(2)],
         side_a=QUAD_SIDE_A, side_b=QUAD_SIDE_B, corner_edge=QUAD_CORNER_HALF, corner_dst=QUAD_CORNER_DST,
     )
+
+
+def _unique_keys(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first, inverse) of ``np.unique(key, return_index=True, return_inverse=True)``: the index of each
+    distinct key's first occurrence, in increasing key order, and each entry's distinct-key number."""
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    new = np.empty(len(key), dtype=bool)
+    new[:1] = True
+    np.not_equal(sorted_key[1:], sorted_key[:-1], out=new[1:])
+    inverse = np.empty(len(key), dtype=np.int64)
+    inverse[order] = np.cumsum(new) - 1
+    return order[new], inverse
+
+
+@njit(cache=True)
+def _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
+    """The face maps of a quad4 mesh from its local faces' face numbers inv (4E,) (local face k of
+    element e at 4 e + k) and each face's first local face first (F,): face_elem, face_local (F, 2)
+    owner then neighbour (-1: none), elem_face, elem_sign (+1 on the owner's side, -1 on the
+    neighbour's), elem_nbr (-1: none) (E, 4). True when a face is met more than twice."""
+    for f in range(first.size):
+        face_elem[f, 0] = first[f] // 4
+        face_local[f, 0] = first[f] % 4
+        face_elem[f, 1] = -1
+        face_local[f, 1] = -1
+    too_many = False
+    for i in range(inv.size):
+        f = inv[i]
+        e, k = i // 4, i % 4
+        elem_face[e, k] = f
+        if first[f] == i:
+            elem_sign[e, k] = 1.0
+        else:
+            elem_sign[e, k] = -1.0
+            if face_elem[f, 1] >= 0:
+                too_many = True
+            face_elem[f, 1] = e
+            face_local[f, 1] = k
+    for e in range(elem_face.shape[0]):
+        for k in range(4):
+            f = elem_face[e, k]
+            elem_nbr[e, k] = face_elem[f, 1] if elem_sign[e, k] > 0 else face_elem[f, 0]
+    return too_many
+
+
+@njit(cache=True)
+def _quad_node_lines(conn, elem_nbr, side_a, side_b, half_nodes, node_line):
+    """node_line[e, d, h] = (before src, src, dst, after dst) of quad4 element e's half h along sweep
+    direction d (src, dst = half_nodes[d, h]): "before src" is the corner of the side-a neighbour
+    across face side_a[d] joined to src by the neighbour's edge that leaves the shared face, "after
+    dst" the same across side_b[d]; -1 without a neighbour."""
+    for e in range(conn.shape[0]):
+        for d in range(2):
+            for h in range(2):
+                src = conn[e, half_nodes[d, h, 0]]
+                dst = conn[e, half_nodes[d, h, 1]]
+                node_line[e, d, h, 1] = src
+                node_line[e, d, h, 2] = dst
+                for side in range(2):
+                    col = 0 if side == 0 else 3
+                    node = src if side == 0 else dst
+                    k = side_a[d] if side == 0 else side_b[d]
+                    nb = elem_nbr[e, k]
+                    if nb < 0:
+                        node_line[e, d, h, col] = -1
+                        continue
+                    fa = conn[e, k]
+                    other = conn[e, (k + 1) % 4] if fa == node else fa
+                    c = 0
+                    for j in range(4):
+                        if conn[nb, j] == node:
+                            c = j
+                            break
+                    c1 = conn[nb, (c + 1) % 4]
+                    node_line[e, d, h, col] = conn[nb, (c + 3) % 4] if c1 == other else c1
 
 
 def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:

@@ -296,7 +296,7 @@ def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarra
 
 def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     """Mesh the ALE part and lay out its materials: the part's material, then each fill in order."""
-    from ..ale.fill import fill_fractions
+    from ..ale.fill import fill_fractions, quad_sample_points
     from ..materials.kernels import eos_pressure
     index = next(i for i, p in enumerate(model.parts) if p.kind == "ale")
     name = model.parts[index].name
@@ -320,12 +320,13 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     fractions = np.zeros((n_elem, n_mat))
     fractions[:, 0] = 1.0
     density = np.tile(rho0, (n_elem, 1))
-    pressure = np.array([[state(m, rho0[j]) for j, m in enumerate(mats)]] * n_elem)
+    pressure = np.tile(np.array([state(m, rho0[j]) for j, m in enumerate(mats)], dtype=float), (n_elem, 1))
     velocity = np.zeros((len(nodes), model.dim))
+    points = quad_sample_points(nodes, conn) if model.dim == 2 and part.fill else None  # shared by the fills
     for j, fill in enumerate(part.fill):
         inside = fill_region(fill)
         try:
-            f = fill_fractions(nodes, conn, inside)
+            f = fill_fractions(nodes, conn, inside, points=points)
         except ValueError as exc:
             raise ModelError(f"parts.{name}.fill.{j}", str(exc)) from None
         k = names.index(fill.material)

@@ -140,8 +140,8 @@ def corner_jacobians(nodes: np.ndarray, elements: np.ndarray) -> np.ndarray:
     nodes = np.asarray(nodes, dtype=np.float64)
     x = nodes[np.asarray(elements)]  # (E, corners, dim)
     if x.shape[1] == 4:
-        a = np.roll(x, -1, axis=1) - x
-        b = np.roll(x, 1, axis=1) - x
+        a = np.concatenate([x[:, 1:], x[:, :1]], axis=1) - x  # to the next corner
+        b = np.concatenate([x[:, 3:], x[:, :3]], axis=1) - x  # to the previous corner
         return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
     e = x[:, _HEX_CORNER_EDGES, :] - x[:, :, None, :]  # (E, 8, 3 edges, 3)
     u, v, w = e[:, :, 0], e[:, :, 1], e[:, :, 2]

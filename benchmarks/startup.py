@@ -1,0 +1,168 @@
+"""Start-up figures of issue 17: CPU seconds before the first step, each against its peer.
+
+    python benchmarks/startup.py [--repeat 3] [--cases check,run,cold,ale2,ale1,sph] [--threads 1]
+
+Every figure is the CPU time (user + system, from the child's rusage) of a fresh process, so imports,
+numba's cache loads and the model build all count; the repetitions of all cases are interleaved
+(round r runs every case once, then round r + 1), and min and median over the rounds are printed
+with the load average before and after.
+
+* ``check``: ``sphfem check decks/cantilever_2d.yaml``, warm numba cache; peer ``python -c "import
+  numpy"`` (goal: at most 3x the peer).
+* ``run``: ``sphfem run`` of a tiny 2D deck (the cantilever, 8 x 2 quad4, 20 steps), warm cache
+  (goal <= 1.5 s).
+* ``cold``: the same run with an empty numba cache (a fresh ``NUMBA_CACHE_DIR``): the compile cost
+  of what such a deck loads (goal <= 15 s; the run must say that it compiles).
+* ``ale2`` / ``ale1``: model set-up of a 960 x 960 quad4 ALE mesh, water and air (SLIC, van Leer;
+  ``decks/water_air_shock_tube.yaml`` on the unit square, water in [0, 0.7] x [0, 0.5]) or air
+  alone: ``api.load`` (validate, mesh, fills, sets) and ``Simulation(model)`` (the ALE system: topology,
+  material state, work arrays), in seconds of CPU inside the process, after its imports
+  (goal <= 2 s).
+* ``sph``: the same for the SPH dam break (``decks/dam_break_2d.yaml``) at spacing 1.144e-4 m,
+  5.0e5 particles (goal <= 2 s).
+
+No peer is run for the set-up figures (CloverLeaf reads its deck and generates its mesh in well
+under a second; it is not built here).
+
+Measured (2 December 2026, the 2-core machine shared with four other sessions, load average 11.1
+before and 9.1 after, 3 interleaved rounds, min / median CPU seconds):
+
+* check 0.764 / 0.785 against import numpy 0.109 / 0.113: 7.0x (goal 3x, not met: the numba
+  import, 0.14 s, and loading the solid kernels, 0.19 s, are half of it; see the startup report);
+* tiny run, warm 0.830 / 0.856 (goal 1.5 s); empty cache 8.82 / 8.88, and it says it compiles
+  (goal 15 s);
+* ALE 960^2, two materials 2.97 / 3.02 (main, one run in the same hour: 14.1 s), one material
+  1.99 / 1.99 (main: 9.1-10.4 s); SPH 5e5 particles 0.515 / 0.537 (main: 1.07 s, one run).
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import textwrap
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+TINY = """\
+title: tiny cantilever (benchmarks/startup.py)
+units: {length: m, mass: kg, time: s}
+dimension: 2
+control: {end_time: 3.0e-5, timestep_scale: 0.9}
+materials:
+  steel: {type: elastic, density: 7850.0, youngs_modulus: 2.1e11, poisson_ratio: 0.3}
+sections:
+  solid: {type: solid, hourglass: {type: stiffness, coefficient: 0.1}}
+parts:
+  beam: {material: steel, section: solid,
+         geometry: {box: {min: [0.0, -0.025], max: [1.0, 0.025], divisions: [8, 2]}}}
+sets:
+  clamp: {type: node, part: beam, side: left}
+  tip: {type: node, part: beam, side: right}
+boundaries:
+  - {type: fixed, set: clamp, directions: [x, y]}
+loads:
+  - {type: nodal_force, set: tip, force: [0.0, -7200.0]}
+output:
+  interval: 1.0e-5
+  history_interval: 1.0e-6
+  fields: [displacement, velocity]
+  histories:
+    - {name: tip, point: [1.0, 0.0], quantities: [displacement]}
+"""
+
+SETUP = textwrap.dedent("""\
+    import sys, time
+    from sphfem_cli import api
+    from sphfem_cli.solver.explicit import Simulation
+    deck, overrides = sys.argv[1], eval(sys.argv[2])
+    t0 = time.process_time()
+    loaded = api.load(deck, overrides)
+    t1 = time.process_time()
+    sim = Simulation(loaded.model)
+    t2 = time.process_time()
+    print(f"{t2 - t0:.6f} {t1 - t0:.6f} {t2 - t1:.6f}")
+""")
+
+SETUPS = {
+    "ale2": ("decks/water_air_shock_tube.yaml",
+             {"parts.tube.geometry.box.max": [1.0, 1.0], "parts.tube.geometry.box.divisions": [960, 960],
+              "parts.tube.fill.1.box.max": [0.7, 0.5]}),
+    "ale1": ("decks/water_air_shock_tube.yaml",
+             {"parts.tube.geometry.box.max": [1.0, 1.0], "parts.tube.geometry.box.divisions": [960, 960],
+              "parts.tube.fill": [{"material": "air", "box": {"min": [0.0, 0.0], "max": [1.0, 1.0]},
+                                   "pressure": 1.0e5}]}),
+    "sph": ("decks/dam_break_2d.yaml", {"parts.column.spacing": 1.144e-4}),
+}
+GOALS = {"check": "<= 3x numpy", "run": "<= 1.5 s", "cold": "<= 15 s", "ale2": "<= 2 s", "ale1": "<= 2 s",
+         "sph": "<= 2 s"}
+
+
+def child_cpu(cmd: list[str], env: dict | None = None) -> tuple[float, str]:
+    """(user + system CPU seconds of the child, its stdout + stderr)."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    done = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    if done.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} exited {done.returncode}:\n{done.stdout}{done.stderr}")
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime), done.stdout + done.stderr
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--cases", default="check,run,cold,ale2,ale1,sph")
+    ap.add_argument("--threads", type=int, default=1, help="NUMBA_NUM_THREADS of the children")
+    args = ap.parse_args()
+    cases = args.cases.split(",")
+    env = dict(os.environ, NUMBA_NUM_THREADS=str(args.threads))
+    tmp = Path(tempfile.mkdtemp(prefix="sphfem-startup-"))
+    tiny = tmp / "tiny.yaml"
+    tiny.write_text(TINY)
+    sphfem = [sys.executable, "-m", "sphfem_cli.cli"]
+    run_cmd = sphfem + ["run", str(tiny), "-o", str(tmp / "out"), "--overwrite", "--threads", "1"]
+    child_cpu(run_cmd, env)  # a warm cache for every kernel of the tiny deck
+    results: dict[str, list[float]] = {c: [] for c in cases}
+    results["numpy"] = []
+    notes: dict[str, str] = {}
+    load0 = os.getloadavg()
+    for r in range(args.repeat):
+        for case in cases:
+            if case == "check":
+                results["numpy"].append(child_cpu([sys.executable, "-c", "import numpy"], env)[0])
+                results["check"].append(child_cpu(sphfem + ["check", "decks/cantilever_2d.yaml"], env)[0])
+            elif case == "run":
+                results["run"].append(child_cpu(run_cmd, env)[0])
+            elif case == "cold":
+                cold_env = dict(env, NUMBA_CACHE_DIR=str(tmp / f"cold-cache-{r}"))
+                cpu, out = child_cpu(run_cmd, cold_env)
+                results["cold"].append(cpu)
+                notes["cold"] = "says it compiles" if "compiling kernels" in out else "SILENT (no compile notice)"
+            else:
+                deck, overrides = SETUPS[case]
+                cpu, out = child_cpu([sys.executable, "-c", SETUP, deck, repr(overrides)], env)
+                total, load, build = (float(v) for v in out.split()[-3:])
+                results[case].append(total)
+                notes[case] = f"last: load {load:.2f} s + Simulation {build:.2f} s"
+    load1 = os.getloadavg()
+    print(f"load average {load0[0]:.2f} before, {load1[0]:.2f} after; {args.repeat} interleaved rounds; "
+          f"CPU seconds of each process, NUMBA_NUM_THREADS={args.threads}")
+    print(f"{'case':8s} {'min':>8s} {'median':>8s}  goal")
+    for case in ["numpy"] + cases if "check" in cases else cases:
+        v = results[case]
+        line = f"{case:8s} {min(v):8.3f} {statistics.median(v):8.3f}  {GOALS.get(case, 'peer')}"
+        if case == "check":
+            ratios = [c / n for c, n in zip(results["check"], results["numpy"])]
+            line += (f"; ratio to numpy: min {min(ratios):.2f}, median {statistics.median(ratios):.2f}, "
+                     f"min/min {min(v) / min(results['numpy']):.2f}")
+        if case in notes:
+            line += f"; {notes[case]}"
+        print(line)
+
+
+if __name__ == "__main__":
+    main()
