@@ -42,6 +42,8 @@ class Constraints:
         self.rigid_prescribed: dict[int, list[tuple[int, float, str | None]]] = {}
         self.rigid_held: set[int] = set()  # rigid parts fixed in every direction or hold_rotation: no spin
         rigid_parts = {b.part: b for b in model.rigid_bodies}
+        if model.axisymmetric:  # the axis (r = 0): u_r = 0 on its nodes, always (model.checks.radii puts them at 0)
+            self.free[model.coordinates[:, 0] == 0.0, 0] = False
         for bc in model.options.solids.conditions:
             comps, curve = list(bc.components), bc.curve
             if bc.part is not None and model.part_index(bc.part) in rigid_parts:
@@ -79,6 +81,7 @@ class Loads:
             weight = np.where(mask, model.mass, 0.0)[:, None] * np.array(load.acceleration)[None, :]
             self.gravity.append((weight, load.curve))
         self.pressures = [(model.segment_sets[l.set], l.value, l.curve) for l in solids.pressures]
+        self.axisymmetric = model.axisymmetric
         self.nodal = [(model.node_sets[l.set], np.array(l.force), l.curve) for l in solids.nodal_forces]
         self.active = bool(self.gravity or self.pressures or self.nodal)
 
@@ -93,9 +96,21 @@ class Loads:
             if p == 0.0:
                 continue
             area_vectors = _segment_area_vectors(x, segs)
+            if self.axisymmetric:
+                _ring_pressure(x, segs, -p * area_vectors, out)
+                continue
             share = -p * area_vectors / segs.shape[1]
             for a in range(segs.shape[1]):
                 np.add.at(out, segs[:, a], share)
+
+
+def _ring_pressure(x: np.ndarray, segs: np.ndarray, edge_force: np.ndarray, out: np.ndarray) -> None:
+    """Consistent nodal forces of a pressure on the ring an r-z edge sweeps: node a of edge (a, b) gets
+    -p n ds 2 pi (2 r_a + r_b) / 6 (the integral of N_a p n 2 pi r ds for linear N, r), the pair summing to
+    the ring force -p n L 2 pi (r_a + r_b) / 2; `edge_force` is -p (dy, -dx) per edge."""
+    ra, rb = x[segs[:, 0], 0], x[segs[:, 1], 0]
+    np.add.at(out, segs[:, 0], edge_force * (2.0 * np.pi * (2.0 * ra + rb) / 6.0)[:, None])
+    np.add.at(out, segs[:, 1], edge_force * (2.0 * np.pi * (ra + 2.0 * rb) / 6.0)[:, None])
 
 
 def _segment_area_vectors(x: np.ndarray, segs: np.ndarray) -> np.ndarray:
