@@ -25,10 +25,10 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
     n_elements = model.n_elements + (len(model.ale.elements) if model.ale is not None else 0)
     lines = [f"{deck.title or deck_path.name}",
              f"  units: {units.length}-{units.mass}-{units.time} (force {force}, pressure {pressure}, "
-             f"density {density}); dimension {deck.dimension}",
+             f"density {density}); dimension {'axisymmetric (full 2 pi)' if deck.axisymmetric else deck.dimension}",
              f"  {n_nodes} nodes, {n_elements} elements, {n_particles} particles, {len(model.parts)} part(s)"]
     masses = part_masses(model)
-    mass_unit = f"{units.mass}{'/' + units.length if deck.dimension == 2 else ''}"
+    mass_unit = f"{units.mass}{'/' + units.length if deck.dimension == 2 and not deck.axisymmetric else ''}"
     for p, mass in zip(model.parts, masses):
         kind = "rigid" if p.rigid else deck.parts[p.name].section
         material = model.material_names[p.material]

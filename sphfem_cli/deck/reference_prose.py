@@ -145,6 +145,16 @@ Mesh files named by `geometry.file` must be regular files too; a file that meshi
 acceleration) has 2 components in 2D and 3 in 3D; its length is checked against `dimension`
 once the whole deck has been read. Directions are named `x`, `y`, `z`; `z` does not exist in 2D.
 
+`dimension: axisymmetric` is the meridian plane of a body of revolution: `x` is the radius r (every
+node at x >= 0) and `y` the axis, so vectors have 2 components (r, z) as in 2D. Masses, forces
+(loads, reactions, histories), energies and the glstat table are for the **full 2 pi** (the whole
+body), not per radian; a pressure acts on the ring an edge sweeps (area 2 pi r L). The **axis
+condition is automatic**: nodes at x = 0 (within 1e-12 of the part's size) keep u_r = 0, with no
+boundary keyword. Solid parts only so far: SPH and ALE parts, rigid parts, contacts and couplings
+are deck errors (issue 15). The element is the one-point volume-weighted ring quad4 with
+Flanagan-Belytschko hourglass control; the hoop strain rate v_r/r at the element centre is the
+stress's `zz` component (docs/theory/fem.md, `sphfem_cli/fem/axisymmetric.py`).
+
 ### How to read the tables
 
 Each table lists the keys of one mapping: its **type** (number, integer, string, boolean, a list,

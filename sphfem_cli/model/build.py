@@ -130,6 +130,7 @@ class Model:
     ale: "AleMesh | None" = None
     element_dt_factor: np.ndarray | None = None  # (E,) see free_dilatation_factor; None: all 1
     options: "RunOptions | None" = None  # the settings below model/ reads (model.options.resolve_options)
+    axisymmetric: bool = False  # dimension: axisymmetric (x = r, y = the axis; volumes and masses for 2 pi)
 
     @property
     def n_nodes(self) -> int:
@@ -210,6 +211,8 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
             continue
         mesh = _mesh_part(name, part, dim, deck_path)
         checks.elements(name, part, mesh)
+        if deck.axisymmetric:
+            checks.radii(name, mesh)
         conns.append(mesh.elements + n_nodes)
         coords.append(mesh.nodes)
         mat = material_names.index(part.material)
@@ -235,6 +238,9 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
         volume0 = hex8_volumes(coordinates, connectivity)
     else:
         volume0 = meshgen.element_jacobian_sign_check(coordinates, connectivity)  # exact quad4 areas
+    if deck.axisymmetric and len(connectivity):
+        from ..fem.axisymmetric import ring_volumes  # 2 pi r_c A; compiled only for axisymmetric decks
+        volume0 = ring_volumes(coordinates, connectivity)
     mass = np.zeros(len(coordinates))
     np.add.at(mass, connectivity, (material_param[element_material, P_RHO0] * volume0 / npe)[:, None])
 
@@ -246,7 +252,7 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
         element_section=element_section, element_active=element_active,
         material_names=material_names, material_type=material_type, material_param=material_param,
         section_param=section_param, volume0=volume0, mass=mass, node_elem_ptr=ptr, node_elem_idx=idx,
-        element_dt_factor=dt_factor,
+        element_dt_factor=dt_factor, axisymmetric=deck.axisymmetric,
     )
     model.node_sets.update(file_sets)
     checks.file_sets(deck, file_sets)

@@ -121,3 +121,23 @@ def file_sets(deck, file_sets: dict) -> None:
         held = sorted(k.partition(".")[2] for k in file_sets if k.startswith(part + "."))
         raise build.ModelError(f"{path}.set", f"the mesh file of part '{part}' has no set '{name.partition('.')[2]}' "
                          f"(its sets: {', '.join(held) or 'none'})")
+
+
+AXIS_TOLERANCE = 1e-12
+"""Relative distance (to the part's largest |x|) within which a node is on the axis of an axisymmetric
+model: r snapped to 0 there, an error below it."""
+
+
+def radii(name: str, mesh) -> None:
+    """Axisymmetric parts: every node at r = x >= 0; nodes within AXIS_TOLERANCE of the axis are put on it."""
+    from . import build
+
+    r = mesh.nodes[:, 0]
+    scale = float(np.abs(r).max()) if len(r) else 0.0
+    near = np.abs(r) <= AXIS_TOLERANCE * scale
+    r[near] = 0.0
+    if (r < 0.0).any():
+        k = int(np.argmin(r))
+        raise build.ModelError(f"parts.{name}.geometry",
+                               f"node {k} is at r = x = {r[k]:g} < 0: an axisymmetric model lies in x = r >= 0 "
+                               "(y is the axis)")

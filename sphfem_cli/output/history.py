@@ -110,6 +110,12 @@ class HistoryWriter:
         """Rows appended so far (flushed or not)."""
         return self._n_rows + len(self._pending)
 
+    def note(self, key: str, text: str) -> None:
+        """A text attribute `key` on the HDF5 mirror (what the CSV's one header line cannot carry); none without it."""
+        dataset = getattr(self, "_dataset", None)
+        if dataset is not None:
+            dataset.attrs[key] = text
+
     def append(self, row: Sequence[float]) -> None:
         """Add one row; its length must equal the number of columns."""
         if self._closed:

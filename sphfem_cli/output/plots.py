@@ -259,7 +259,8 @@ def plot_run(run: Path, quantities: Sequence[str] = (), outdir: Path | None = No
     if not tables:
         raise FileNotFoundError(f"{run}: neither a study folder (study.json) nor a run (histories/*.csv)")
     data, _ = _deck_info(run)
-    units, dimension = data.get("units") or {}, int(data.get("dimension", 2))
+    units = data.get("units") or {}
+    dimension = 3 if data.get("dimension") == "axisymmetric" else int(data.get("dimension", 2))  # 2 pi: no per-length
     names = [resolve_quantity(histories, q) for q in quantities]
     if reference_files and not names:
         raise KeyError("--reference needs --quantity: the quantity the reference compares with")

@@ -55,6 +55,8 @@ class RunOutput:
         group = self.xdmf.h5  # HistoryWriter mirrors each table in /histories/<name>
         hist_dir = self.directory / "histories"
         self.glstat = HistoryWriter(hist_dir, "glstat", EnergyRow.COLUMNS, h5=group, resume_rows=rows.get("glstat"))
+        if model.axisymmetric:
+            self.glstat.note("basis", "axisymmetric: energies and work for the full 2 pi (the whole body of revolution)")
         part_cols = ["time"] + [f"{p.name}_{k}" for p in model.parts for k in ("kinetic", "internal", "hourglass")]
         self.matsum = HistoryWriter(hist_dir, "matsum", part_cols, h5=group, resume_rows=rows.get("matsum"))
         self.domain_tables = [(d, [HistoryWriter(hist_dir, name, ["time", *columns], h5=group,

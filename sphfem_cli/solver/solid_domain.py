@@ -163,7 +163,11 @@ class SolidDomain(Domain):
 
     def _element_pass(self, st: State, dt: float) -> None:
         m = self.model
-        fem.solid_element_forces(
+        if m.axisymmetric:  # a module of its own: plane-strain and 3D decks never compile it
+            from ..fem.axisymmetric import axisymmetric_element_forces as element_forces
+        else:
+            element_forces = fem.solid_element_forces
+        element_forces(
             st.x, st.v, m.connectivity, m.element_active, m.element_material, m.element_section,
             m.material_type, m.material_param, m.section_param, m.volume0, dt,
             st.stress, st.hist, st.energy, st.hg_energy, st.hg_force,

@@ -75,3 +75,15 @@ def test_an_ale_deck_compiles_only_its_dimension(deck, dim):
     else:
         assert three and not (compiled & _ALE_2D_ONLY), f"{deck} compiled 2D ALE kernels {sorted(compiled & _ALE_2D_ONLY)}"
     assert not report["fem"]["compiled"] and not report["sph"]["compiled"]
+
+
+_AXISYMMETRIC = {"axisymmetric_element_forces", "ring_volumes"}  # fem/axisymmetric.py
+
+
+@pytest.mark.parametrize("deck, axisymmetric", [("cantilever_2d.yaml", False), ("taylor_bar_axisymmetric.yaml", True)])
+def test_only_an_axisymmetric_deck_compiles_the_axisymmetric_element(deck, axisymmetric):
+    compiled = set(_compiled(DECKS / deck)["fem"]["compiled"])
+    if axisymmetric:
+        assert _AXISYMMETRIC <= compiled and "solid_element_forces" not in compiled, sorted(compiled)
+    else:
+        assert not (compiled & _AXISYMMETRIC), f"{deck} compiled axisymmetric kernels {sorted(compiled & _AXISYMMETRIC)}"

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, model_validator
+from pydantic import Field, PrivateAttr, model_validator
 
 from ..errors import format_path
 from . import boundaries, control, initial, interaction, loads, materials, output, parts, sections, sets, shapes
@@ -43,7 +43,10 @@ class Deck(DeckModel):
 
     title: str = Field("", description="Free text shown in the output and logs.")
     units: Units = Field(default_factory=Units, description="Consistent unit system. Default m-kg-s.")
-    dimension: Literal[2, 3] = Field(description="2 = plane strain in x-y, 3 = solid.")
+    dimension: Literal[2, 3, "axisymmetric"] = Field(
+        description="2 = plane strain in x-y, 3 = solid, axisymmetric = the meridian plane of a body of revolution "
+        "(x = radius r >= 0, y = the axis; solid parts only so far; forces, masses and energies for the full 2 pi)."
+    )
     control: Control = Field(description="End time and time-step control.")
     curves: dict[str, Curve] = Field(default_factory=dict, description="Named time curves.")
     equations_of_state: dict[str, EquationOfState] = Field(
@@ -64,8 +67,19 @@ class Deck(DeckModel):
     )
     output: Output = Field(default_factory=Output, description="Output requests.")
 
+    _axisymmetric: bool = PrivateAttr(False)
+
+    @property
+    def axisymmetric(self) -> bool:
+        """True for ``dimension: axisymmetric``; `dimension` then reads 2 (two coordinates, r and z)."""
+        return self._axisymmetric
+
     @model_validator(mode="after")
     def _cross_references(self) -> "Deck":
+        if self.dimension == "axisymmetric":
+            self.dimension = 2
+            self._axisymmetric = True
+            _check_axisymmetric(self)
         _check_names(self)
         check_vector_lengths(self, self.dimension)
         _check_references(self)
@@ -74,6 +88,27 @@ class Deck(DeckModel):
 
 RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")
 """Tables the solver writes itself (histories/<name>.csv); a history or probe cannot take these names."""
+
+
+AXISYMMETRIC_ONLY_SOLIDS = "axisymmetric models support solid parts only for now (SPH, ALE, contact: issue 15)"
+
+
+def _check_axisymmetric(deck: Deck) -> None:
+    """What an axisymmetric deck cannot hold yet: fluid parts, rigid parts, contacts and couplings."""
+    for pname, part in deck.parts.items():
+        section = deck.sections.get(part.section)
+        kind = getattr(section, "type", "solid")
+        if kind in ("sph", "ale_multi_material"):
+            raise ValueError(f"@parts.{pname}.section: {AXISYMMETRIC_ONLY_SOLIDS}; '{part.section}' is {kind}")
+        material = deck.materials.get(part.material)
+        if part.rigid or getattr(material, "type", "") == "rigid":
+            where = "rigid" if part.rigid else "material"
+            raise ValueError(f"@parts.{pname}.{where}: {AXISYMMETRIC_ONLY_SOLIDS}; rigid parts are not yet "
+                             "axisymmetric (use a symmetry or velocity boundary)")
+    if deck.contacts:
+        raise ValueError(f"@contacts.0: {AXISYMMETRIC_ONLY_SOLIDS}")
+    if deck.couplings:
+        raise ValueError(f"@couplings.0: {AXISYMMETRIC_ONLY_SOLIDS}")
 
 
 def _check_names(deck: Deck) -> None:
