@@ -23,6 +23,7 @@ from numba import njit
 _XI = np.array([-1.0, 1.0, 1.0, -1.0])
 _ETA = np.array([-1.0, -1.0, 1.0, 1.0])
 INSIDE_TOL = 1e-9  # natural-coordinate tolerance of "inside an element"
+TOUCH_TOL = 1e-6  # a free point within this fraction of the probe distance of the fluid touches it
 
 
 @njit(cache=True)
@@ -214,16 +215,26 @@ def coupling_forces(seg, xs, vs, ms, nquad, xa, va, ma, conn, start, items, orig
             py = n1 * xs[a, 1] + n2 * xs[b, 1]
             # A point that pushed at the last pass keeps a host: the fluid at the point, else just in
             # front of the segment, else (leakage) just behind. A free point couples only once it
-            # has entered fluid: its own element holds at least min_fraction and the point lies
-            # beyond that element's reconstructed interface (no force before contact).
+            # touches or has entered fluid (no force before contact): the element at the point,
+            # else the one just in front, holds at least min_fraction and the point lies at or
+            # beyond that element's reconstructed interface.
             pushing = depth[i] > 0.0
             e, xi, eta = locate(xa, conn, start, items, origin, cell, nbx, nby, px, py)
-            entered = 0.0  # a free point's distance inside the fluid of its element
-            if not pushing and e >= 0:
-                if frac[e] >= min_fraction:
+            if not pushing:
+                touch = -TOUCH_TOL * probe
+                entered = touch - 1.0  # the point's distance inside the fluid of its host
+                if e >= 0 and frac[e] >= min_fraction:
                     entered = fluid_side_depth(xa, conn, e, px, py, nx, ny, frac[e])
-                if entered <= 0.0:
-                    e = -1
+                if entered < touch:
+                    e, xi, eta = locate(xa, conn, start, items, origin, cell, nbx, nby,
+                                        px + probe * nx, py + probe * ny)
+                    if e >= 0 and frac[e] >= min_fraction:
+                        xi, eta = natural_coords(xa, conn, e, px, py)
+                        # the point must touch that element (its fluid ends at the element's faces)
+                        if max(abs(xi), abs(eta)) <= 1.0 + TOUCH_TOL:
+                            entered = fluid_side_depth(xa, conn, e, px, py, nx, ny, frac[e])
+                    if entered < touch:
+                        e = -1
             elif e < 0 or frac[e] < min_fraction:
                 e, xi, eta = locate(xa, conn, start, items, origin, cell, nbx, nby, px + probe * nx, py + probe * ny)
                 if e >= 0 and frac[e] >= min_fraction:
@@ -258,8 +269,6 @@ def coupling_forces(seg, xs, vs, ms, nquad, xa, va, ma, conn, start, items, orig
             msp = n1 * ms[a] + n2 * ms[b]
             rate = -((vfx - vsx) * nx + (vfy - vsy) * ny)  # closing speed of the fluid onto the segment
             d = depth[i] + dt_prev * rate  # depth is 0 where the point was not coupled
-            if not pushing:
-                d = min(d, entered)  # a point that entered during the step has not closed a whole step
             if d < 0.0:
                 d = 0.0
             depth[i] = d
