@@ -215,26 +215,17 @@ def coupling_forces(seg, xs, vs, ms, nquad, xa, va, ma, conn, start, items, orig
             py = n1 * xs[a, 1] + n2 * xs[b, 1]
             # A point that pushed at the last pass keeps a host: the fluid at the point, else just in
             # front of the segment, else (leakage) just behind. A free point couples only once it
-            # touches or has entered fluid (no force before contact): it lies at or beyond the
-            # reconstructed interface of its own element's fluid, or touches the face of the
-            # element just in front holding at least min_fraction. The host is an element holding
-            # at least min_fraction (its nodes have mass): its own, else the one in front.
+            # touches or has entered fluid (no force before contact): the element at the point,
+            # else the one just in front, holds at least min_fraction and the point lies at or
+            # beyond that element's reconstructed interface.
             pushing = depth[i] > 0.0
             e, xi, eta = locate(xa, conn, start, items, origin, cell, nbx, nby, px, py)
             if not pushing:
                 touch = -TOUCH_TOL * probe
-                entered = touch - 1.0  # the point's distance inside the fluid of its element
-                if e >= 0 and frac[e] > 0.0:
+                entered = touch - 1.0  # the point's distance inside the fluid of its host
+                if e >= 0 and frac[e] >= min_fraction:
                     entered = fluid_side_depth(xa, conn, e, px, py, nx, ny, frac[e])
-                if entered >= touch and frac[e] < min_fraction:
-                    # reached by the fluid of a thin element: the force goes to the fluid in front
-                    e, xi, eta = locate(xa, conn, start, items, origin, cell, nbx, nby,
-                                        px + probe * nx, py + probe * ny)
-                    if e >= 0 and frac[e] >= min_fraction:
-                        xi, eta = natural_coords(xa, conn, e, px, py)
-                    else:
-                        e = -1
-                elif entered < touch:
+                if entered < touch:
                     e, xi, eta = locate(xa, conn, start, items, origin, cell, nbx, nby,
                                         px + probe * nx, py + probe * ny)
                     if e >= 0 and frac[e] >= min_fraction:
