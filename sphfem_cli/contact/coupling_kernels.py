@@ -213,12 +213,12 @@ def coupling_forces(seg, xs, vs, ms, nquad, xa, va, ma, conn, start, items, orig
             n2 = 0.5 * (1.0 + r)
             px = n1 * xs[a, 0] + n2 * xs[b, 0]
             py = n1 * xs[a, 1] + n2 * xs[b, 1]
-            # A point that pushed at the last pass keeps a host: the fluid at the point, else just in
+            # A point in contact at the last pass keeps a host: the fluid at the point, else just in
             # front of the segment, else (leakage) just behind. A free point couples only once it
             # touches or has entered fluid (no force before contact): the element at the point,
             # else the one just in front, holds at least min_fraction and the point lies at or
             # beyond that element's reconstructed interface.
-            pushing = depth[i] > 0.0
+            pushing = depth[i] > 0.0 or host[i] >= 0  # in contact at the last pass
             e, xi, eta = locate(xa, conn, start, items, origin, cell, nbx, nby, px, py)
             if not pushing:
                 touch = -TOUCH_TOL * probe
