@@ -10,7 +10,7 @@ equal sub-segments. Each step, on the state n of both sides (kernels in coupling
    (penetration 0) couples only once it has entered fluid: its host is the element containing it
    if that element's coupling-fluid volume fraction is at least ``min_fraction`` and the point
    lies beyond the element's interface reconstructed parallel to the segment
-   (``fluid_side_depth``), so no force acts before contact. A pushing point keeps the element
+   (``fluid_side_depth``), so no force acts before contact. A point in contact at the last pass keeps the element
    containing it if that holds at least ``min_fraction``, else the element just in front of the
    segment (a probe at half the smallest ALE element size along the outward normal), else, with
    ``leakage_control``, the element just behind it (fluid that has crossed the surface); none:
