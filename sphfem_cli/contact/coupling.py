@@ -6,11 +6,15 @@ CTYPE 4, penalty coupling). Equations and references: docs/theory/coupling.md.
 Each outer face (segment) of the structure carries ``nquad`` coupling points at the midpoints of
 equal sub-segments. Each step, on the state n of both sides (kernels in coupling_kernels):
 
-1. every point is located in the ALE mesh (a bucket search, any quad4 mesh); its host is the
-   element containing it if that element's coupling-fluid volume fraction is at least
-   ``min_fraction``, else the element just in front of the segment (a probe at half the smallest
-   ALE element size along the outward normal), else, with ``leakage_control``, the element just
-   behind it (fluid that has crossed the surface); none: the point is free and its penetration 0;
+1. every point is located in the ALE mesh (a bucket search, any quad4 mesh). A free point
+   (penetration 0) couples only once it has entered fluid: its host is the element containing it
+   if that element's coupling-fluid volume fraction is at least ``min_fraction`` and the point
+   lies beyond the element's interface reconstructed parallel to the segment
+   (``fluid_side_depth``), so no force acts before contact. A point in contact at the last pass keeps the element
+   containing it if that holds at least ``min_fraction``, else the element just in front of the
+   segment (a probe at half the smallest ALE element size along the outward normal), else, with
+   ``leakage_control``, the element just behind it (fluid that has crossed the surface); none:
+   the point is free and its penetration 0;
 2. penetration d^n = max(0, d^{n-1} + dt^{n-1/2} (v_s - v_f) . n), with v_f the ALE velocity at
    the point from the host's shape functions and v_s the segment's, both at v^{n-1/2} (for the
    ALE, after the remap: the fluid's velocity on the fixed mesh). Tried and measured worse on the

@@ -7,6 +7,8 @@ scalars only.
   bounding box overlaps it (CSR), rebuilt each step (the mesh may move).
 - ``locate``: the element containing a point and its natural coordinates (inverse bilinear map
   by Newton's method), through the buckets.
+- ``fluid_side_depth``: how far a point lies inside the fluid of a partly filled element, the
+  fluid reconstructed as the part of the element beyond a line parallel to the segment.
 - ``coupling_forces``: for every coupling point, the host element, the incremental penetration
   and the penalty force, scattered to the ALE nodes and the segment nodes (serial: a point
   writes to nodes that other points share).
@@ -21,6 +23,7 @@ from numba import njit
 _XI = np.array([-1.0, 1.0, 1.0, -1.0])
 _ETA = np.array([-1.0, -1.0, 1.0, 1.0])
 INSIDE_TOL = 1e-9  # natural-coordinate tolerance of "inside an element"
+TOUCH_TOL = 1e-6  # a free point within this fraction of the probe distance of the fluid touches it
 
 
 @njit(cache=True)
@@ -113,6 +116,72 @@ def _clamp(a):
 
 
 @njit(cache=True)
+def _area_beyond(px4, py4, nx, ny, level):
+    """Area of the quadrilateral (px4, py4) where x . n >= level (Sutherland-Hodgman clip, shoelace)."""
+    cx = np.empty(8)
+    cy = np.empty(8)
+    m = 0
+    for k in range(4):
+        j = (k + 1) % 4
+        sk = px4[k] * nx + py4[k] * ny - level
+        sj = px4[j] * nx + py4[j] * ny - level
+        if sk >= 0.0:
+            cx[m] = px4[k]
+            cy[m] = py4[k]
+            m += 1
+        if (sk >= 0.0) != (sj >= 0.0):
+            t = sk / (sk - sj)
+            cx[m] = px4[k] + t * (px4[j] - px4[k])
+            cy[m] = py4[k] + t * (py4[j] - py4[k])
+            m += 1
+    area = 0.0
+    for k in range(m):
+        j = (k + 1) % m
+        area += cx[k] * cy[j] - cx[j] * cy[k]
+    return 0.5 * area
+
+
+@njit(cache=True)
+def fluid_side_depth(x, conn, e, px, py, nx, ny, fraction):
+    """Signed distance of point (px, py) beyond the fluid interface of element e (> 0: in the fluid).
+
+    The element's fluid (volume fraction phi = ``fraction``) is reconstructed as the part of the
+    element in front of a line normal to n (the segment's outward normal, pointing into the
+    fluid): {x : x . n >= L} with area phi A (PLIC with the normal given rather than taken from
+    the fraction gradient; Youngs 1982 for the construction), L found by bisection. Returns
+    p . n - L. A full element (phi >= 1) gives the distance from its rearmost corner, >= 0
+    inside it; an empty one a negative number.
+    """
+    px4 = np.empty(4)
+    py4 = np.empty(4)
+    lo = np.inf
+    hi = -np.inf
+    for k in range(4):
+        px4[k] = x[conn[e, k], 0]
+        py4[k] = x[conn[e, k], 1]
+        t = px4[k] * nx + py4[k] * ny
+        lo = min(lo, t)
+        hi = max(hi, t)
+    tp = px * nx + py * ny
+    if fraction >= 1.0:
+        return tp - lo
+    if fraction <= 0.0:
+        return tp - hi
+    target = fraction * _area_beyond(px4, py4, nx, ny, lo)
+    a = lo
+    b = hi
+    for _ in range(60):  # the area beyond L falls monotonically from A at lo to 0 at hi
+        mid = 0.5 * (a + b)
+        if _area_beyond(px4, py4, nx, ny, mid) > target:
+            a = mid
+        else:
+            b = mid
+        if b - a <= 1e-12 * (hi - lo):
+            break
+    return tp - 0.5 * (a + b)
+
+
+@njit(cache=True)
 def coupling_forces(seg, xs, vs, ms, nquad, xa, va, ma, conn, start, items, origin, cell, nbx, nby,
                     frac, bulk, area, min_fraction, pfac, damping, probe, leakage, dt_prev,
                     depth, host, stiff, fs, fa):
@@ -144,9 +213,29 @@ def coupling_forces(seg, xs, vs, ms, nquad, xa, va, ma, conn, start, items, orig
             n2 = 0.5 * (1.0 + r)
             px = n1 * xs[a, 0] + n2 * xs[b, 0]
             py = n1 * xs[a, 1] + n2 * xs[b, 1]
-            # the fluid at the point, else just in front of the segment, else (leakage) just behind
+            # A point in contact at the last pass keeps a host: the fluid at the point, else just in
+            # front of the segment, else (leakage) just behind. A free point couples only once it
+            # touches or has entered fluid (no force before contact): the element at the point,
+            # else the one just in front, holds at least min_fraction and the point lies at or
+            # beyond that element's reconstructed interface.
+            pushing = depth[i] > 0.0 or host[i] >= 0  # in contact at the last pass
             e, xi, eta = locate(xa, conn, start, items, origin, cell, nbx, nby, px, py)
-            if e < 0 or frac[e] < min_fraction:
+            if not pushing:
+                touch = -TOUCH_TOL * probe
+                entered = touch - 1.0  # the point's distance inside the fluid of its host
+                if e >= 0 and frac[e] >= min_fraction:
+                    entered = fluid_side_depth(xa, conn, e, px, py, nx, ny, frac[e])
+                if entered < touch:
+                    e, xi, eta = locate(xa, conn, start, items, origin, cell, nbx, nby,
+                                        px + probe * nx, py + probe * ny)
+                    if e >= 0 and frac[e] >= min_fraction:
+                        xi, eta = natural_coords(xa, conn, e, px, py)
+                        # the point must touch that element (its fluid ends at the element's faces)
+                        if max(abs(xi), abs(eta)) <= 1.0 + TOUCH_TOL:
+                            entered = fluid_side_depth(xa, conn, e, px, py, nx, ny, frac[e])
+                    if entered < touch:
+                        e = -1
+            elif e < 0 or frac[e] < min_fraction:
                 e, xi, eta = locate(xa, conn, start, items, origin, cell, nbx, nby, px + probe * nx, py + probe * ny)
                 if e >= 0 and frac[e] >= min_fraction:
                     xi, eta = natural_coords(xa, conn, e, px, py)

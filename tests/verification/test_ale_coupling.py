@@ -2,8 +2,9 @@
 
 Issue 5's acceptance: a rigid block at 10 m/s into water without gravity; total momentum of
 fluid and structure (with the impulse the slip walls gave the fluid) conserved to 1e-8 relative,
-coupling energy (glstat contact = -work of the coupling forces) >= 0 and under 5 % of the impact
-kinetic energy, little water left inside the block.
+coupling energy (glstat contact = -work of the coupling forces) under 5 % of the impact kinetic
+energy and not below -1e-3 of it, little water left inside the block. Issue 18 item 2: no force
+before contact (the block starts 5 mm above the surface: no point couples before t = 0.5 ms).
 """
 from __future__ import annotations
 
@@ -68,12 +69,16 @@ def test_rigid_block_into_ale_water(tmp_path):
         err = max(err, float(np.abs(momentum() - p0).max() / np.abs(p0).max()))
     contact = np.array(contact)
     coupling = sim.interactions[0]
-    # the block has slowed down by pushing water (it entered by about 3.6 cm)
+    # the block has slowed down by pushing water (it entered by about 3.2 cm)
     assert sim.rigid.velocity[0][1] > -9.5
-    assert coupling.work < 0.0 and np.count_nonzero(coupling.host >= 0) > 10
-    assert err < 1e-8  # measured 4e-15
-    assert contact.min() >= 0.0  # measured 0
-    assert contact.max() < 0.05 * ke0  # measured 1.4 %
+    assert np.count_nonzero(coupling.host >= 0) > 10
+    assert err < 1e-8  # measured 2e-15
+    # The spring's energy error is first order in the step: min contact / ke0 measured -9.4e-4 /
+    # -4.8e-4 / -2.5e-4 at the ALE section's timestep_scale 0.9 / 0.45 / 0.225 (-5.7e-4 here, at
+    # the default). Before the coupling waited for contact it was >= 0: the points coupled h/2
+    # above the surface and loaded from the fluid's rest, a softer (and 0.5 ms early) impact.
+    assert contact.min() > -1e-3 * ke0
+    assert contact.max() < 0.05 * ke0  # measured 1.7 %
     assert abs(sim.energy_row().ratio - 1.0) < 1e-6
     # water inside the block: volume in ALE elements whose centre is inside it, per block area
     xb = sim.state.x[model.parts[1].nodes]
@@ -89,7 +94,7 @@ def test_coupling_state_survives_a_checkpoint(tmp_path):
     from sphfem_cli.output.snapshot import capture, restore
 
     sim = _sim(tmp_path)
-    for _ in range(30):
+    while np.count_nonzero(sim.interactions[0].depth > 0.0) < 10:
         sim.step()
     fresh = _sim(tmp_path)
     restore(*capture(sim), fresh)
@@ -106,7 +111,9 @@ def test_coupling_step_bounded_when_hosts_empty(tmp_path):
     shrink the step: the stiffness scales with the host's mass fill, so k / m of the host's nodes
     does not grow (before: the reference bulk modulus over 1e-5 of the mass, 300 x smaller step).
     The step is taken against the state of now, not the stiffness of the last force pass. Fog
-    below RHO_VOID of the reference density is no fluid: such an element hosts nothing.
+    below RHO_VOID of the reference density is no fluid: such an element hosts nothing. A host
+    compressed to rho > rho0 had K at its cap (min(1, rho / rho0)) and keeps rho / rho0 of its
+    mass-fill share after thinning, so the step may shrink by at most sqrt(rho0 / rho).
     """
     from sphfem_cli.ale import kernels as K
 
@@ -116,11 +123,14 @@ def test_coupling_step_bounded_when_hosts_empty(tmp_path):
     coupling, ale = sim.interactions[0], sim.ale.system
     dt_full = coupling.stable_dt()
     hosts = np.unique(coupling.host[coupling.host >= 0])
+    fill = np.maximum(1.0, ale.mass_m[hosts, 1] / (ale.vol_m[hosts, 1] * coupling.mat_rho0[1]))  # rho / rho0
+    squeeze = float(fill.max())
+    assert squeeze < 1.01  # measured 1.00025
     ale.mass_m[hosts, 1] *= 1e-5  # no force pass since: the stored stiffness is the full hosts'
     K.nodal_mass(ale.mass_m, ale.topo["node_elem_ptr"], ale.topo["node_elem_idx"], ale.npe, ale.node_mass)
-    assert coupling.stable_dt() >= dt_full * (1.0 - 1e-9)
+    assert coupling.stable_dt() >= dt_full / np.sqrt(squeeze) * (1.0 - 1e-9)
     frac, bulk, _ = coupling._fluid_fields(ale)
-    np.testing.assert_allclose(bulk[hosts], 1e-5 * coupling.mat_bulk[1], rtol=1e-6)
+    np.testing.assert_allclose(bulk[hosts], 1e-5 * fill * coupling.mat_bulk[1], rtol=1e-6)
     assert np.all(frac[hosts] > 0.99)
     ale.mass_m[hosts, 1] *= 1e-6  # 1e-11 of the reference density: fog
     frac, bulk, _ = coupling._fluid_fields(ale)
