@@ -327,8 +327,10 @@ def wall_shear(x, v, rho, m, mat, active, params, wf_walls, acc, de):
 
     A particle i of spacing d_i = (m_i/rho_i)^(1/dim) within d_i of such a wall (distance y_i from
     it, tangential velocity u_t) carries the wall shear tau_w = rho_i u_tau^2 of the smooth-wall law
-    (``friction_velocity`` with nu = mu/rho of its material, y = y_i) over its wall area
-    d_i^(dim-1), against u_t:
+    (``friction_velocity`` with nu = mu/rho of its material at y = max(y_i, d_i/2): the particle
+    stands for the layer [0, d_i], whose mean velocity sits at its middle; a particle pressed closer
+    to the wall would otherwise get an unbounded sublayer shear nu u_t/y_i, explicitly unstable)
+    over its wall area d_i^(dim-1), against u_t:
 
       acc_i -= (u_tau^2 / d_i) u_t/|u_t|,      de_i += (u_tau^2 / d_i) |u_t|
 
@@ -356,7 +358,7 @@ def wall_shear(x, v, rho, m, mat, active, params, wf_walls, acc, de):
             u = math.sqrt(speed2)
             if u == 0.0:
                 continue
-            ut = friction_velocity(u, y, mu / rho[i])
+            ut = friction_velocity(u, max(y, 0.5 * d), mu / rho[i])
             a = ut * ut / d
             for k in range(dim):
                 if k != ax:

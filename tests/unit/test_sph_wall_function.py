@@ -2,7 +2,7 @@
 
 - friction_velocity solves the smooth-wall law: u_tau^2 = nu u / y in the viscous sublayer
   (y+ < 11.06), u/u_tau = ln(9.8 y+)/0.41 above it, to 1e-10 (Pope 2000, section 7.1);
-- wall_shear acts on the first particle layer only, against the tangential velocity, with
+- wall_shear acts on the first particle layer only (at the layer's middle y >= d/2), against the tangential velocity, with
   |a| = u_tau^2 / d, and puts the kinetic energy it takes into internal energy (a . v + de = 0);
   an inviscid fluid feels none.
 """
@@ -42,13 +42,15 @@ def _shear(x, v, mu, spacing=0.005):
 
 
 def test_first_layer_only_against_the_slip_velocity_energy_to_heat():
-    x = [[0.1, 0.0025], [0.2, 0.0075], [0.3, 0.0025]]
-    v = [[3.0, -0.2], [3.0, 0.0], [-1.0, 0.0]]
+    x = [[0.1, 0.0025], [0.2, 0.0075], [0.3, 0.0025], [0.4, 1e-9]]
+    v = [[3.0, -0.2], [3.0, 0.0], [-1.0, 0.0], [1e-3, 0.0]]
     acc, de = _shear(x, v, mu=1e-3)
     assert np.all(acc[1] == 0.0) and de[1] == 0.0  # second layer: no wall shear
     assert acc[0, 1] == 0.0 and acc[0, 0] < 0.0 < acc[2, 0]  # tangential, against the slip
     ut = friction_velocity(3.0, 0.0025, 1e-6)
     assert -acc[0, 0] == pytest.approx(ut * ut / 0.005, rel=1e-12)
+    # a particle pressed against the wall takes the shear at the layer's middle d/2, not at y -> 0
+    assert -acc[3, 0] == pytest.approx(friction_velocity(1e-3, 0.0025, 1e-6) ** 2 / 0.005, rel=1e-12)
     power = np.sum(acc * np.array(v), axis=1) + de
     assert np.allclose(power, 0.0, atol=1e-12)
     acc0, de0 = _shear(x, v, mu=0.0)
