@@ -31,7 +31,7 @@ H, G, RHO = 0.3, 9.81, 1000.0
 T_SCALE, P_SCALE = np.sqrt(H / G), RHO * G * H
 CUTOFF = 100.0  # Hz, the deck's probe filter
 IMPACT_TOL = 0.15  # in T (26 ms)
-PLATEAU_TOL = 0.40  # relative
+PLATEAU_TOL = 0.35  # relative
 
 
 def metrics(T: np.ndarray, P: np.ndarray) -> dict[str, float]:
