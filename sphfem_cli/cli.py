@@ -234,20 +234,49 @@ def plot(directory, quantities, references, outdir) -> None:
 @click.option("--name", default=None, help="Table name. Default: probe_<quantity>.")
 @click.option("-o", "--output", "path", type=click.Path(dir_okay=False), default=None,
               help="CSV to write. Default: DIRECTORY/probes/<name>.csv.")
-def probe(directory, point, quantity, part, name, path) -> None:
+@click.option("--sensor-diameter", type=click.FloatRange(min=0.0), default=0.0,
+              help="Mean over a sensor of this diameter (a face with --normal, else a disc / ball). Default 0: the point.")
+@click.option("--normal", default=None, callback=_number_list(float),
+              help="NX,NY[,NZ]: the wall normal; the sensor's face lies perpendicular to it.")
+@click.option("--filter", "filter_spec", default=None,
+              help="butterworth:CUTOFF[:ORDER] (zero phase, -3 dB at CUTOFF) or running_mean:WINDOW (causal); "
+                   "adds a <column>_filtered column after each raw one.")
+def probe(directory, point, quantity, part, name, path, sensor_diameter, normal, filter_spec) -> None:
     """Sample a saved run's field at a point over time (SPH by kernel interpolation, meshes by element)."""
     from .output.probe import ProbeError, probe as take
 
     if len(point) not in (2, 3):
         raise click.BadParameter(f"expected 2 or 3 coordinates, got {len(point)}", param_hint="--point")
+    normal = normal or None
+    if normal is not None and (len(normal) != len(point) or not any(normal)):
+        raise click.BadParameter(f"expected a nonzero vector of {len(point)} components", param_hint="--normal")
     try:
-        table = take(Path(directory), point, quantity, part)
+        table = take(Path(directory), point, quantity, part, sensor=sensor_diameter, normal=normal,
+                     filtering=_filter_spec(filter_spec))
     except ProbeError as err:
         raise click.UsageError(str(err)) from None
     name = name or f"probe_{quantity}"
     out = Path(path) if path else Path(directory) / "probes" / f"{name}.csv"
     table.write(out, f"{quantity} at {','.join(f'{c:g}' for c in point)} in part {table.part} of {directory}")
     click.echo(str(out))
+
+
+def _filter_spec(spec: str | None) -> dict | None:
+    """--filter's text as output.filters.low_pass settings."""
+    if spec is None:
+        return None
+    kind, *numbers = spec.split(":")
+    try:
+        values = [float(v) for v in numbers]
+    except ValueError:
+        values = []
+    if kind == "butterworth" and len(values) in (1, 2) and values[0] > 0 and (
+            len(values) == 1 or (values[1].is_integer() and 1 <= values[1] <= 8)):
+        return {"kind": kind, "cutoff": values[0], "order": int(values[1]) if len(values) == 2 else 2}
+    if kind == "running_mean" and len(values) == 1 and values[0] > 0:
+        return {"kind": kind, "window": values[0]}
+    raise click.BadParameter(f"{spec!r}: expected butterworth:CUTOFF[:ORDER] (CUTOFF > 0, ORDER 1 to 8) or "
+                             "running_mean:WINDOW (WINDOW > 0)", param_hint="--filter")
 
 
 @main.command()

@@ -299,6 +299,9 @@ def _execute(loaded: Loaded, out: Path, verbose: bool, restart: Path | None, dig
     wall = time.perf_counter() - start
     steps = output.sim.state.step if output else 0
     eroded = output.sim.erosion_summary() if output else ""
+    for line in output.warnings if output else ():
+        log.write(f"warning: {line}\n")
+        click.echo(f"warning: {line}", err=True)
     if eroded:
         log.write(f"erosion: {eroded}\n" + "".join(f"  t = {t:.6e}: element {e} of part '{p}' ({why})\n"
                                                    for t, e, p, why in output.sim.eroded))

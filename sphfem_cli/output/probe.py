@@ -12,6 +12,11 @@ At each saved step (results.h5, output.xdmf's layout), in the part that holds th
   particles (the deck's kernel; sph.reference.kernel_w), which needs mass, density and
   smoothing_length among the saved fields (saved by default). NaN where no particle reaches x.
 
+With a sensor diameter (``--sensor-diameter``, ``--normal``) the value is the mean over the sensor's
+face, disc or ball by the quadrature rule of model/sensors.py, as the run's pressure probes with a
+``sensor`` take it; with ``--filter`` each column is followed by its low-passed copy
+``<column>_filtered`` (output/filters.py), the raw column kept.
+
 Values are NaN at steps where the point lies outside the part (it left the mesh, or no particle is
 within 2h). Vectors give ``Q_x, Q_y[, Q_z]`` columns, symmetric tensors ``Q_xx … Q_zx`` in the code's
 order (xx, yy, zz, xy, yz, zx), scalars ``Q``.
@@ -25,6 +30,8 @@ from typing import Sequence
 import h5py
 import numpy as np
 
+from ..model.sensors import sensor_mean, sensor_points
+from .filters import low_pass
 from .xdmf import TENSOR6_XDMF_ORDER
 
 CODE_ORDER = np.argsort(TENSOR6_XDMF_ORDER)  # XDMF Tensor6 -> xx, yy, zz, xy, yz, zx
@@ -125,8 +132,28 @@ def _fields(step: h5py.Group) -> dict[str, tuple[str, h5py.Dataset]]:
     return out
 
 
-def probe(run: Path, point: Sequence[float], quantity: str, part: str | None = None) -> ProbeTable:
-    """The history of ``quantity`` at ``point`` in a saved run (see the module docstring)."""
+def probe(run: Path, point: Sequence[float], quantity: str, part: str | None = None, sensor: float = 0.0,
+          normal: Sequence[float] | None = None, filtering: dict | None = None) -> ProbeTable:
+    """The history of ``quantity`` at ``point`` in a saved run (see the module docstring); with a
+    ``sensor`` diameter the mean over the sensor (:func:`_sensor_value`), with ``filtering``
+    (output.filters.low_pass settings) a ``<column>_filtered`` column after each raw one."""
+    table = _probe(run, point, quantity, part, sensor, normal)
+    if filtering is None:
+        return table
+    raw = table.rows[:, 1:]
+    columns, rows = ["time"], [table.rows[:, 0]]
+    for j, name in enumerate(table.columns[1:]):
+        try:
+            filtered = low_pass(table.rows[:, 0], raw[:, j], **filtering)
+        except ValueError as err:
+            raise ProbeError(f"cannot filter {name}: {err}") from None
+        columns += [name, f"{name}_filtered"]
+        rows += [raw[:, j], filtered]
+    return ProbeTable(table.part, columns, np.column_stack(rows))
+
+
+def _probe(run: Path, point: Sequence[float], quantity: str, part: str | None, sensor: float,
+           normal: Sequence[float] | None) -> ProbeTable:
     run = Path(run)
     h5_path = run / "results.h5"
     if not h5_path.exists():
@@ -148,6 +175,9 @@ def probe(run: Path, point: Sequence[float], quantity: str, part: str | None = N
         x = np.zeros(3)
         x[: len(dim3)] = dim3
         kernel = _kernel(run)
+        if sensor > 0.0 and normal is not None and len(normal) != len(dim3):
+            raise ProbeError(f"the normal has {len(normal)} components, the point {len(dim3)}")
+        samples = _samples(dim3, sensor, normal)
         chosen = next((g for g in having if _value(f[g], first, quantity, x, kernel) is not None), None)
         if chosen is None:
             raise ProbeError(f"the point {tuple(point)} lies in none of the parts with '{quantity}' "
@@ -156,13 +186,53 @@ def probe(run: Path, point: Sequence[float], quantity: str, part: str | None = N
         for t, s in zip(times, steps):
             if s not in f[chosen]:
                 continue
-            value = _value(f[chosen], s, quantity, x, kernel)
+            value = (_value(f[chosen], s, quantity, x, kernel) if samples is None
+                     else _sensor_value(f[chosen], s, quantity, samples, kernel))
             if value is None:
                 names, _ = _components(quantity, _fields(f[chosen][first])[quantity][1][:1])
                 value = (names, np.full(len(names), np.nan))
             columns = columns or value[0]
             rows.append([t, *value[1]])
     return ProbeTable(chosen, ["time", *columns], np.array(rows))
+
+
+def _samples(point: np.ndarray, diameter: float, normal) -> tuple[np.ndarray, np.ndarray] | None:
+    """The sensor's sample points padded to 3 components and their weights (model.sensors), or None."""
+    if diameter <= 0.0:
+        return None
+    pts, weights = sensor_points(point, diameter, normal)
+    padded = np.zeros((len(pts), 3))
+    padded[:, : pts.shape[1]] = pts
+    return padded, weights
+
+
+def _sensor_value(grid: h5py.Group, step: str, quantity: str, samples, kernel: str):
+    """The weighted mean over the sensor's sample points (model.sensors). A point outside the part
+    reads 0 for a pressure (the dry part of a transducer's face, as the run's probes do); for other
+    quantities it is left out and the weights of the others renormalised. None if no point is inside."""
+    points, weights = samples
+    values, names, inside = [], None, []
+    for x in points:
+        v = _value(grid, step, quantity, x, kernel)
+        inside.append(v is not None)
+        if v is not None:
+            names = v[0]
+            values.append(v[1])
+        else:
+            values.append(None)
+    if names is None:
+        return None
+    width = len(names)
+    stack = np.array([v if v is not None else np.full(width, np.nan) for v in values])
+    if quantity.startswith("pressure"):
+        return names, sensor_mean_rows(stack, weights)
+    w = weights * np.array(inside)
+    return names, (w @ np.nan_to_num(stack)) / w.sum()
+
+
+def sensor_mean_rows(values: np.ndarray, weights: np.ndarray) -> np.ndarray:
+    """Column-wise :func:`model.sensors.sensor_mean` of (points, components) values."""
+    return np.array([sensor_mean(values[:, j], weights) for j in range(values.shape[1])])
 
 
 def _value(grid: h5py.Group, step: str, quantity: str, x: np.ndarray, kernel: str):

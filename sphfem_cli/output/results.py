@@ -18,6 +18,7 @@ from ..materials.slots import H_EPS
 from ..solver.domain import domain_tables
 from ..solver.explicit import EnergyRow, Simulation
 from ..solver.solid_domain import von_mises
+from .filters import low_pass
 from .history import HistoryWriter
 from .xdmf import GridStep, XdmfWriter
 
@@ -28,7 +29,8 @@ _PROBE_COLUMN = {"pressure": "pressure", "surface_height": "height", "front": "f
 def history_tables(model) -> list[str]:
     """The history tables a run of `model` writes (histories/<name>.csv), in RunOutput's order."""
     out = model.options.output
-    return ["glstat", "matsum", *domain_tables(model), *(h.name for h in out.histories), *(p.name for p in out.probes)]
+    return ["glstat", "matsum", *domain_tables(model), *(h.name for h in out.histories), *(p.name for p in out.probes),
+            *(f"{p.name}_filtered" for p in out.probes if p.filter is not None)]
 
 
 class RunOutput:
@@ -67,6 +69,7 @@ class RunOutput:
                         HistoryWriter(hist_dir, probe.name, ["time", _PROBE_COLUMN[probe.type]], h5=group,
                                       resume_rows=rows.get(probe.name)))
                        for probe in out.probes]
+        self.warnings: list[str] = []
         self._next_field = 0.0 if resume is None else resume["next_field"]
         self._next_history = 0.0 if resume is None else resume["next_history"]
         last = None if resume is None else resume["last_energy"]
@@ -136,9 +139,31 @@ class RunOutput:
         self.xdmf.write_step(sim.state.time, data)
 
     def close(self) -> None:
-        for writer in self._writers():
-            writer.close()
-        self.xdmf.close()
+        try:
+            for writer in self._writers():
+                writer.close()
+            self.write_filtered()
+        finally:
+            self.xdmf.close()
+
+    def write_filtered(self) -> None:
+        """histories/<name>_filtered.csv (and its HDF5 mirror) for each probe with a filter: the whole
+        raw series as written, low-passed (output/filters.py); the raw table stays as it is. A series
+        too short or too coarse for its filter gets no filtered table and a line in warnings."""
+        for probe, _, writer in self.probes:
+            if probe.filter is None:
+                continue
+            raw = np.loadtxt(writer.path, delimiter=",", skiprows=1, ndmin=2)
+            f = probe.filter
+            settings = {"kind": f.kind, "cutoff": f.cutoff, "order": f.order or 2, "window": f.window}
+            try:
+                values = low_pass(raw[:, 0], raw[:, 1], **settings) if len(raw) else raw[:, 1]
+            except ValueError as err:
+                self.warnings.append(f"{probe.name}: no filtered table ({err})")
+                continue
+            with HistoryWriter(writer.path.parent, f"{probe.name}_filtered", writer.columns, h5=self.xdmf.h5) as out:
+                for t, v in zip(raw[:, 0], values):
+                    out.append([t, v])
 
 
 def _due(t: float, next_time: float, interval: float) -> bool:

@@ -11,6 +11,7 @@ from ..ale.system import AleSystem
 from ..model import sets as selection
 from ..model.build import VOID, Model
 from ..model.options import AleDomainOptions
+from ..model.sensors import probe_sensor_points, sensor_mean
 from .domain import Domain, Energies, stable_or_nan
 from .solid_domain import TOPOLOGY
 
@@ -137,7 +138,8 @@ class AleDomain(Domain):
     def probe(self, probe) -> float:
         """A deck probe in the ALE part.
 
-        pressure: the mixture pressure of the element whose centroid is nearest `probe.point`.
+        pressure: the mixture pressure of the element whose centroid is nearest `probe.point`; with a
+        sensor, the weighted mean over the sensor's sample points of the nearest element's pressure.
         front: the furthest reach of `probe.material` along `probe.axis`, each element's material
         volume packed against its face on the -axis side: max over the elements holding a fraction
         phi > 1e-3 of x_min + phi (x_max - x_min) (a full element reaches its far face).
@@ -152,6 +154,11 @@ class AleDomain(Domain):
             coord = ale.x[ale.conn[held], axis]
             lo, hi = coord.min(axis=1), coord.max(axis=1)
             return float(np.max(lo + phi[held] * (hi - lo)))
-        k = int(np.argmin(np.sum((ale.centroids() - np.array(probe.point)) ** 2, axis=1)))
-        return float(ale.pressure(mixture=True)[k])
+        centroids, pressure = ale.centroids(), ale.pressure(mixture=True)
+        if probe.sensor is None:
+            k = int(np.argmin(np.sum((centroids - np.array(probe.point)) ** 2, axis=1)))
+            return float(pressure[k])
+        points, weights = probe_sensor_points(probe)
+        k = np.argmin(np.sum((centroids[None, :, :] - points[:, None, :]) ** 2, axis=2), axis=1)
+        return sensor_mean(pressure[k], weights)
 

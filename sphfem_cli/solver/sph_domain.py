@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.build import Model
+from ..model.sensors import probe_sensor_points, sensor_mean
 from ..model.options import ControlOptions, SphDomainOptions
 from ..sph.system import SphOptions, SphSystem, WallParticles, box_walls
 from .domain import Domain, Energies, stable_or_nan
@@ -139,11 +140,15 @@ class SphDomain(Domain):
         return probe.part is None or self.model.parts[self.model.part_index(probe.part)].kind == "sph"
 
     def probe(self, probe) -> float:
-        """The value of one deck probe (output.probes) at the current state."""
+        """The value of one deck probe (output.probes) at the current state; a pressure probe with a
+        sensor the mean over its face (model/sensors.py) of the interpolated pressure."""
         ps = self.system
         axis = AXES[probe.axis]
         if probe.type == "pressure":
-            return float(ps.interpolate(np.array([probe.point]), "pressure")[0])
+            if probe.sensor is None:
+                return float(ps.interpolate(np.array([probe.point]), "pressure")[0])
+            points, weights = probe_sensor_points(probe)
+            return sensor_mean(ps.interpolate(points, "pressure"), weights)
         if probe.type == "surface_height":
             up = 1 if axis != 1 else (2 if self.model.dim == 3 else 0)
             return ps.surface_height(probe.gauge, axis=axis, up=up)

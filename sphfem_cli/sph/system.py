@@ -39,7 +39,8 @@ class Wall:
 
     ``side`` = +1 when the fluid lies on x[axis] > position (e.g. a floor or a left wall),
     -1 when it lies below (a right wall, a ceiling). ``condition``: "slip" mirrors the normal
-    velocity only; "no_slip" reverses the whole velocity (wall at rest).
+    velocity only; "no_slip" reverses the whole velocity (wall at rest); "wall_function" has slip
+    ghosts and the smooth-wall law's shear on the first particle layer (``walls.wall_shear``).
     """
 
     axis: int
@@ -50,8 +51,8 @@ class Wall:
     def __post_init__(self):
         if self.side not in (1, -1):
             raise ValueError(f"wall side must be +1 or -1, got {self.side}")
-        if self.condition not in ("slip", "no_slip"):
-            raise ValueError(f"wall condition must be 'slip' or 'no_slip', got {self.condition!r}")
+        if self.condition not in ("slip", "no_slip", "wall_function"):
+            raise ValueError(f"wall condition must be 'slip', 'no_slip' or 'wall_function', got {self.condition!r}")
 
 
 def box_walls(lo: Sequence[float], hi: Sequence[float], sides: Sequence[str], condition: str = "slip") -> list[Wall]:
@@ -199,6 +200,8 @@ class SphSystem:
                                for w in opt.walls], dtype=np.float64).reshape(-1, 4)
         if np.any(self.walls[:, 0] >= dim):
             raise ValueError("wall axis beyond the dimension")
+        self.wall_function_walls = np.array([[w.axis, w.position, w.side] for w in opt.walls
+                                             if w.condition == "wall_function"], dtype=np.float64).reshape(-1, 3)
         nsub = 1 << len(self.walls)
         self._valid = np.zeros(nsub, dtype=np.bool_)
         for s in range(1, nsub):
@@ -371,6 +374,9 @@ class SphSystem:
         if pts["friction_slots"].size and (self.options.alpha or self.options.beta):
             walls.ghost_friction(sx, sd, pts["svf"], pts["friction_slots"], perm, cs, sf, si, gf, gi, self.acc,
                                  self.de)
+        if len(self.wall_function_walls):
+            walls.wall_shear(self.x, self.v, self.rho, self.m, self.mat, self.active, self.params,
+                             self.wall_function_walls, self.acc, self.de)
         self._sorted = pts
         self._evaluations += 1
         self._rates_valid = True

@@ -1,10 +1,11 @@
-"""SPH walls: ghost (mirror) particles of planar walls, the pressure of dummy wall particles and
-the no-slip friction of the ghosts.
+"""SPH walls: ghost (mirror) particles of planar walls, the pressure of dummy wall particles, the
+no-slip friction of the ghosts and the wall-function shear of slip walls.
 
 Ghosts (``count_ghosts``, ``fill_ghosts``, ``make_ghosts``): one mirror image of a particle per
 valid subset of the walls it is near (Marrone et al. 2011, fixed ghost particles). Dummy walls
 (``wall_pressure``): Adami et al. (2012). ``ghost_friction``: the no-slip correction of the
-artificial viscosity. Point layout and cell search: ``sph/search.py``; equations:
+artificial viscosity. ``wall_shear``: the log-law wall shear on the first particle layer of a
+``wall_function`` wall. Point layout and cell search: ``sph/search.py``; equations:
 docs/theory/sph.md ("Boundaries").
 """
 from __future__ import annotations
@@ -15,7 +16,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0
-from ..materials.slots import Q_E0
+from ..materials.slots import P_VISCOSITY, Q_E0
 from .eos import density_from_pressure, sound_speed
 from .kernel_functions import inv_pow, kernel_shape, kernel_f, kernel_sigma
 from .rates import _FM
@@ -294,3 +295,72 @@ def ghost_friction(sx, sd, svf, slots, perm, cell_start, settings_f, settings_i,
         if dim > 2:
             acc[i, 2] += az
         de[i] += power
+
+
+KAPPA = 0.41  # von Karman constant
+LOG_E = 9.8   # smooth-wall log-law constant E (u+ = ln(E y+) / kappa, i.e. B = 5.56)
+Y_PLUS_LAMINAR = 11.06  # where u+ = y+ meets the log law
+
+
+@njit(cache=True)
+def friction_velocity(u, y, nu):
+    """u_tau of the smooth-wall law of the wall at distance ``y`` where the tangential speed is ``u``:
+    u/u_tau = y u_tau/nu in the viscous sublayer (y+ < 11.06), else u/u_tau = ln(E y u_tau/nu)/kappa
+    (Spalding's two-layer form; Pope, Turbulent Flows, 2000, section 7.1), solved by Newton's method."""
+    if u <= 0.0 or nu <= 0.0:
+        return 0.0
+    ut = math.sqrt(nu * u / y)
+    if ut * y / nu <= Y_PLUS_LAMINAR:
+        return ut
+    for _ in range(50):  # f(ut) = ut ln(E y ut/nu) - kappa u, f' = ln(E y ut/nu) + 1; from the sublayer guess
+        g = math.log(LOG_E * y * ut / nu)
+        step = (ut * g - KAPPA * u) / (g + 1.0)
+        ut -= step
+        if abs(step) < 1e-12 * ut:
+            break
+    return ut
+
+
+@njit(cache=True, error_model="numpy")
+def wall_shear(x, v, rho, m, mat, active, params, wf_walls, acc, de):
+    """Wall-function friction of slip-ghost walls (``condition: wall_function``) on the first layer.
+
+    A particle i of spacing d_i = (m_i/rho_i)^(1/dim) within d_i of such a wall (distance y_i from
+    it, tangential velocity u_t) carries the wall shear tau_w = rho_i u_tau^2 of the smooth-wall law
+    (``friction_velocity`` with nu = mu/rho of its material at y = max(y_i, d_i/2): the particle
+    stands for the layer [0, d_i], whose mean velocity sits at its middle; a particle pressed closer
+    to the wall would otherwise get an unbounded sublayer shear nu u_t/y_i, explicitly unstable)
+    over its wall area d_i^(dim-1), against u_t:
+
+      acc_i -= (u_tau^2 / d_i) u_t/|u_t|,      de_i += (u_tau^2 / d_i) |u_t|
+
+    (the wall is at rest: the kinetic energy the friction takes goes into internal energy). The drag
+    depends on the wall distance and the fluid's viscosity, not on the kernel support; an inviscid
+    material (mu = 0) feels none. ``wf_walls`` (K, 3): axis, position, side (+1 fluid above).
+    """
+    dim = x.shape[1]
+    for i in range(x.shape[0]):
+        if not active[i]:
+            continue
+        mu = params[mat[i], P_VISCOSITY]
+        if mu <= 0.0:
+            continue
+        d = (m[i] / rho[i]) ** (1.0 / dim)
+        for w in range(wf_walls.shape[0]):
+            ax = int(wf_walls[w, 0])
+            y = wf_walls[w, 2] * (x[i, ax] - wf_walls[w, 1])
+            if y <= 0.0 or y >= d:
+                continue
+            speed2 = 0.0
+            for k in range(dim):
+                if k != ax:
+                    speed2 += v[i, k] * v[i, k]
+            u = math.sqrt(speed2)
+            if u == 0.0:
+                continue
+            ut = friction_velocity(u, max(y, 0.5 * d), mu / rho[i])
+            a = ut * ut / d
+            for k in range(dim):
+                if k != ax:
+                    acc[i, k] -= a * v[i, k] / u
+            de[i] += a * u

@@ -125,11 +125,29 @@ def _check_names(deck: Deck) -> None:
             if why is not None:
                 raise ValueError(f"@output.{family}.{i}.name: {why}")
     tables = {*RESERVED_HISTORIES, *(r.name for r in deck.output.histories), *(p.name for p in deck.output.probes)}
+    for i, probe in enumerate(deck.output.probes):
+        if probe.filter is not None:
+            if f"{probe.name}_filtered" in tables:
+                raise ValueError(f"@output.probes.{i}.filter: the filtered table '{probe.name}_filtered' is another "
+                                 "history's name")
+            tables.add(f"{probe.name}_filtered")
     for i, ref in enumerate(deck.output.references):
         table = ref.quantity.partition(".")[0]
         if table not in tables:
             raise ValueError(f"@output.references.{i}.quantity: no history table '{table}' (tables: "
                              f"{', '.join(sorted(tables))})")
+
+
+def _check_filter(deck: Deck, filt, at: str) -> None:
+    """A probe's filter must be resolvable by its history sampling (rows every history_interval)."""
+    if filt is None:
+        return
+    interval = deck.output.history_interval or deck.control.end_time / 1000.0
+    if filt.cutoff is not None and filt.cutoff * interval >= 0.5:
+        raise ValueError(f"@{at}.cutoff: {filt.cutoff:g} is not below the Nyquist frequency "
+                         f"{0.5 / interval:g} of the history rows (history_interval {interval:g})")
+    if filt.window is not None and filt.window < interval:
+        raise ValueError(f"@{at}.window: {filt.window:g} is shorter than the history_interval {interval:g}")
 
 
 def _file_set(deck: Deck, name: str | None) -> bool:
@@ -309,6 +327,7 @@ def _check_references(deck: Deck) -> None:
             raise ValueError(f"@output.probes.{i}.part: '{probe.part}' is not an SPH part "
                              f"(SPH parts: {', '.join(sorted(sph_parts))}"
                              + (f"; pressure and front probes may name the ALE part" if ale_parts else "") + ")")
+        _check_filter(deck, probe.filter, f"output.probes.{i}.filter")
         if probe.name in names:
             raise ValueError(f"@output.probes.{i}.name: duplicate history name '{probe.name}'")
         names.add(probe.name)

@@ -87,7 +87,11 @@ class WallBoundary(DeckModel):
     sides: list[Literal["left", "right", "bottom", "top", "back", "front"]] = Field(
         min_length=1, description="Which sides are walls: left/right (x), bottom/top (y), back/front (z)."
     )
-    condition: Literal["slip", "no_slip"] = Field("slip", description="Tangential condition. Default slip.")
+    condition: Literal["slip", "no_slip", "wall_function"] = Field(
+        "slip", description="Tangential condition: slip (mirror of the normal velocity), no_slip (the whole "
+        "velocity mirrored: the artificial viscosity acts on the wall over the kernel support), wall_function "
+        "(slip ghosts plus the smooth-wall law's shear rho u_tau^2 on the first particle layer, from the "
+        "material's viscosity; none for an inviscid one). Default slip.")
 
     @model_validator(mode="after")
     def _volume(self) -> "WallBoundary":

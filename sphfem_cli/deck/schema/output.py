@@ -15,6 +15,8 @@ __all__ = [
     "HISTORY_ONLY",
     "HistoryRequest",
     "Probe",
+    "ProbeSensor",
+    "ProbeFilter",
     "ReferenceCurve",
     "Output",
 ]
@@ -47,6 +49,52 @@ class HistoryRequest(DeckModel):
         return self
 
 
+class ProbeSensor(DeckModel):
+    """The size of a pressure transducer: the probe reports the mean pressure over its face (a
+    segment of length `diameter` in 2D, a disc in 3D, perpendicular to `normal`), or without a
+    normal over a disc (2D) / ball (3D) of that diameter, by a fixed quadrature rule
+    (sphfem_cli/model/sensors.py; exact for quadratic fields). Points no fluid reaches read 0 (dry)."""
+
+    diameter: PositiveFloat = Field(description="Diameter of the sensing face (or disc / ball) [length].")
+    normal: Vector | None = Field(None, description="The wall's normal at the sensor: the face lies in the plane "
+                                  "perpendicular to it (a transducer mounted flush in a wall). Default none: a disc / ball.")
+
+    @model_validator(mode="after")
+    def _normal(self) -> "ProbeSensor":
+        if self.normal is not None and not any(c != 0.0 for c in self.normal):
+            raise ValueError("@normal: the normal is the zero vector")
+        return self
+
+
+class ProbeFilter(DeckModel):
+    """A low-pass filter applied after the run to a copy of the probe's raw series, written as
+    histories/<name>_filtered.csv beside the raw histories/<name>.csv (sphfem_cli/output/filters.py).
+    butterworth: zero phase (forward and backward), the stated cutoff is the -3 dB point of the whole
+    filter; running_mean: causal, the mean over the trailing window."""
+
+    kind: Literal["butterworth", "running_mean"] = Field(description="butterworth (zero-phase) or running_mean (causal).")
+    cutoff: PositiveFloat | None = Field(None, description="butterworth: the -3 dB frequency [1/time], below the "
+                                         "Nyquist frequency 1/(2 history_interval).")
+    order: int | None = Field(None, ge=1, le=8, description="butterworth: order of the filter, 1 to 8. Default 2.")
+    window: PositiveFloat | None = Field(None, description="running_mean: length of the trailing window [time], at "
+                                         "least history_interval.")
+
+    @model_validator(mode="after")
+    def _settings(self) -> "ProbeFilter":
+        if self.kind == "butterworth":
+            if self.cutoff is None:
+                raise ValueError("@cutoff: a butterworth filter needs 'cutoff' (its -3 dB frequency)")
+            if self.window is not None:
+                raise ValueError("@window: 'window' is for running_mean; a butterworth filter takes 'cutoff'")
+        else:
+            if self.window is None:
+                raise ValueError("@window: a running_mean filter needs 'window' (its length in time)")
+            for key in ("cutoff", "order"):
+                if getattr(self, key) is not None:
+                    raise ValueError(f"@{key}: '{key}' is for butterworth; a running_mean filter takes 'window'")
+        return self
+
+
 class Probe(DeckModel):
     """A fluid measurement written as a history (histories/<name>.csv): SPH particles, or pressure in an ALE part."""
 
@@ -65,6 +113,10 @@ class Probe(DeckModel):
                              "at `point`; the default in a deck whose only fluid is ALE).")
     material: str | None = Field(None, description="front in an ALE part: the material whose front is measured "
                                  "(required there).")
+    sensor: ProbeSensor | None = Field(None, description="pressure: the transducer's size; the probe reports the mean "
+                                       "over it. Default none: the value at `point`.")
+    filter: ProbeFilter | None = Field(None, description="A low-pass filter of the series, written after the run as "
+                                       "histories/<name>_filtered.csv; the raw table is kept. Default none.")
 
     @model_validator(mode="after")
     def _needs(self) -> "Probe":
@@ -72,6 +124,8 @@ class Probe(DeckModel):
             raise ValueError("@point: a pressure probe needs 'point'")
         if self.type == "surface_height" and self.gauge is None:
             raise ValueError("@gauge: a surface_height probe needs 'gauge'")
+        if self.sensor is not None and self.type != "pressure":
+            raise ValueError(f"@sensor: only a pressure probe takes a sensor size (this is a {self.type} probe)")
         return self
 
 
