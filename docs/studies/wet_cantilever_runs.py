@@ -2,6 +2,7 @@
 plate meshes (and the plate alone, in vacuum), each run's wet frequency from its tip history.
 
     python docs/studies/wet_cantilever_runs.py OUT CASE [CASE ...]
+    python docs/studies/wet_cantilever_runs.py OUT --gci CASE_FINE CASE_MEDIUM CASE_COARSE
 
 CASE is METHOD:FLUID_SIZE_MM:PLATE_THROUGH[:ALPHA] (e.g. ale:10:2, sph:5:4, dry:0:8, sph:5:4:0.02: the
 SPH artificial viscosity's alpha); the plate has
@@ -84,8 +85,28 @@ def run(out: Path, case: str) -> dict:
     return row
 
 
+def gci(f1: float, f2: float, f3: float, r: float = 2.0) -> dict:
+    """Observed order, Richardson extrapolation and fine-grid GCI (safety factor 1.25) of a
+    fine / medium / coarse series with refinement ratio r (Celik et al. 2008, J. Fluids Eng. 130)."""
+    e21, e32 = f2 - f1, f3 - f2
+    if e21 * e32 <= 0:
+        return {"monotone": False}
+    p = np.log(e32 / e21) / np.log(r)
+    ext = f1 + (f1 - f2) / (r ** p - 1)
+    return {"monotone": True, "order": round(float(p), 3), "extrapolated": round(float(ext), 4),
+            "gci_fine": round(float(1.25 * abs(f1 - f2) / (r ** p - 1) / abs(f1)), 5)}
+
+
 def main(argv: list[str]) -> None:
     out = Path(argv[0])
+    if len(argv) > 1 and argv[1] == "--gci":
+        rows = {}
+        for line in (out / "results.jsonl").read_text().splitlines():
+            row = json.loads(line)
+            rows[row["case"]] = row
+        f = [rows[c]["frequency"] for c in argv[2:5]]
+        print(json.dumps({"cases": argv[2:5], "frequency": f, **gci(*f)}))
+        return
     out.mkdir(parents=True, exist_ok=True)
     for case in argv[1:]:
         row = run(out, case)
