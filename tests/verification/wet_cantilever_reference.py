@@ -44,6 +44,8 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 import scipy.sparse.linalg as spla
 
+from wet_plate_reference import Beam, dry_frequency, hats  # shared with the closed-tank reference
+
 BETA_CANTILEVER = 1.8751040687  # first root of cos(bL) cosh(bL) = -1
 
 
@@ -76,16 +78,6 @@ class Scene:
 
 # ------------------------------------------------------------------------------------------ beam
 
-@dataclass
-class Beam:
-    """Timoshenko beam of the plate: nodes y, stiffness K (geometric part included), mass M, free dofs."""
-
-    y: np.ndarray
-    K: np.ndarray
-    M: np.ndarray
-    free: np.ndarray
-
-
 def beam(sc: Scene, n_el: int = 96, shear: bool = True, weight: bool = True) -> Beam:
     """Plane-strain Timoshenko beam y = 0 (clamped) .. L (free); dofs (w, theta) per node.
 
@@ -114,13 +106,6 @@ def beam(sc: Scene, n_el: int = 96, shear: bool = True, weight: bool = True) -> 
         K[np.ix_(dofs, dofs)] += kb + ks + kg
         M[np.ix_(dofs, dofs)] += me
     return Beam(y, K, M, np.arange(2, ndof))
-
-
-def dry_frequency(bm: Beam) -> float:
-    """First natural frequency [Hz] of the beam in vacuum."""
-    f = bm.free
-    lam = sla.eigh(bm.K[np.ix_(f, f)], bm.M[np.ix_(f, f)], eigvals_only=True, subset_by_index=[0, 0])
-    return float(np.sqrt(lam[0]) / (2 * np.pi))
 
 
 def euler_bernoulli_frequency(sc: Scene) -> float:
@@ -215,15 +200,6 @@ def _surface_dirichlet(sc: Scene, fl: Fluid) -> np.ndarray:
     return np.flatnonzero(~np.isclose(fl.xy[:, 1], sc.depth))
 
 
-def _hats(nodes: np.ndarray, y: float) -> np.ndarray:
-    """Values at y of the piecewise-linear hat functions on ``nodes``."""
-    v = np.zeros(len(nodes))
-    k = int(np.clip(np.searchsorted(nodes, y) - 1, 0, len(nodes) - 2))
-    s = (y - nodes[k]) / (nodes[k + 1] - nodes[k])
-    v[k], v[k + 1] = 1.0 - s, s
-    return v
-
-
 def coupling(sc: Scene, bm: Beam, fl: Fluid) -> np.ndarray:
     """Q (fluid nodes x beam dofs): int N_k phi_i (n_f . e_x) ds over the wetted faces, on the w dofs."""
     Q = np.zeros((len(fl.xy), bm.K.shape[0]))
@@ -235,7 +211,7 @@ def coupling(sc: Scene, bm: Beam, fl: Fluid) -> np.ndarray:
             for s in g:
                 yq = 0.5 * (a + b) + 0.5 * (b - a) * s
                 Q[np.ix_(rows, np.arange(0, bm.K.shape[0], 2))] += sign * 0.5 * (b - a) * np.outer(
-                    _hats(yf, yq), _hats(bm.y, yq))
+                    hats(yf, yq), hats(bm.y, yq))
     return Q
 
 

@@ -222,14 +222,14 @@ def coupling(bm: Beam, fl: Fluid) -> dict:
             for s in g:
                 yq = 0.5 * (a + b) + 0.5 * (b - a) * s
                 wq = 0.5 * (b - a)
-                Qt += sign * wq * np.outer(_hats(yf, yq), _hats(bm.y, yq))
+                Qt += sign * wq * np.outer(hats(yf, yq), hats(bm.y, yq))
         block = np.zeros((len(fl.cols[ix]), 2 * nb))
         block[_rows, 0::2] = Qt
         out[ix] = block
     return out
 
 
-def _hats(nodes: np.ndarray, y: float) -> np.ndarray:
+def hats(nodes: np.ndarray, y: float) -> np.ndarray:
     """Values at y of the piecewise-linear hat functions on ``nodes``."""
     v = np.zeros(len(nodes))
     k = int(np.clip(np.searchsorted(nodes, y) - 1, 0, len(nodes) - 2))
