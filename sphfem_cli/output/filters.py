@@ -28,6 +28,8 @@ from __future__ import annotations
 
 import numpy as np
 
+FILTERED = "_filtered"  # a probe's low-passed table is <probe>_filtered.csv, beside its raw table
+
 KINDS = ("butterworth", "running_mean")
 MAX_ORDER = 8
 

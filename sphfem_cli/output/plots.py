@@ -24,6 +24,7 @@ import yaml
 
 from ..study.metrics import VECTOR_AXES, quantity_series, read_history
 from ..study.units import label, unit_of
+from .filters import FILTERED
 
 ENERGIES = ("kinetic", "internal", "hourglass", "contact", "external_work", "total")
 RUN_TABLES = ("glstat", "matsum", "ale_materials")  # written by every run, not requested
@@ -160,6 +161,19 @@ def _within(ref: ReferenceCurve, t_end: float) -> tuple[np.ndarray, np.ndarray]:
     return ref.time[keep], ref.value[keep]
 
 
+def _draw_reference(ax, ref: ReferenceCurve, t_end: float) -> None:
+    """A reference as open circles, or as a thin grey line where it is a dense record (more points
+    than circles can show apart)."""
+    t, v = _within(ref, t_end)
+    if len(t) > _MARKED_POINTS:
+        ax.plot(t, v, "-", color="0.45", lw=0.8, label=ref.label)
+    else:
+        ax.plot(t, v, "ko", ms=4, mfc="none", label=ref.label)
+
+
+_MARKED_POINTS = 80
+
+
 def _save(fig, path: Path, plt) -> Path:
     for ax in fig.axes:
         if ax.get_yscale() == "linear":
@@ -204,10 +218,13 @@ def glstat_plot(table: Path, path: Path, units: dict, dimension: int, band: Sequ
     return _save(fig, path, plt)
 
 
-def table_plot(table: Path, path: Path, units: dict, dimension: int, references: Sequence[ReferenceCurve] = ()) -> Path:
-    """One panel per quantity of a history table, with the references that compare with its columns."""
+def table_plot(table: Path, path: Path, units: dict, dimension: int, references: Sequence[ReferenceCurve] = (),
+               filtered: Path | None = None) -> Path:
+    """One panel per quantity of a history table, with the references that compare with its columns
+    and, drawn over the raw columns, the probe's low-passed table ``filtered`` (``<name>_filtered.csv``)."""
     plt = _pyplot()
     columns, data = read_history(table)
+    fcolumns, fdata = read_history(filtered) if filtered is not None else ([], None)
     panels: dict[str, list[int]] = {}
     for i, c in enumerate(columns[1:], start=1):
         panels.setdefault(_family(c), []).append(i)
@@ -216,10 +233,13 @@ def table_plot(table: Path, path: Path, units: dict, dimension: int, references:
     for ax, (family, idx) in zip(axes[:, 0], panels.items()):
         for i in idx:
             ax.plot(data[:, 0], data[:, i], "o-" if len(data) < 3 else "-", lw=1.2, label=columns[i])
+            if columns[i] in fcolumns[1:]:
+                ax.plot(fdata[:, 0], fdata[:, fcolumns.index(columns[i])], "-", color="C3", lw=1.2,
+                        label=f"{columns[i]}, filtered")
         for ref in references:
             tab, _, col = ref.quantity.partition(".")
             if tab == table.stem and (col == family or col in (columns[i] for i in idx)):
-                ax.plot(*_within(ref, data[-1, 0] if len(data) else 0.0), "ko", ms=4, mfc="none", label=ref.label)
+                _draw_reference(ax, ref, data[-1, 0] if len(data) else 0.0)
         ax.set_ylabel(label(columns[idx[0]] if len(idx) == 1 else family, units, dimension))
         ax.set_title(family, fontsize=9)
         ax.grid(True, alpha=0.3)
@@ -238,7 +258,7 @@ def quantity_plot(histories: Path, quantity: str, path: Path, units: dict, dimen
     ax.plot(t, v, "o-" if len(t) < 3 else "-", lw=1.4, label=f"{_run_name(histories.parent)}")
     drawn = [r for r in references if r.quantity == quantity]
     for ref in drawn:
-        ax.plot(*_within(ref, t[-1] if len(t) else 0.0), "ko", ms=4, mfc="none", label=ref.label)
+        _draw_reference(ax, ref, t[-1] if len(t) else 0.0)
     ax.set_xlabel(label("time", units, dimension))
     ax.set_ylabel(label(quantity, units, dimension))
     ax.set_title(f"{quantity} of {_run_name(histories.parent)}" + (" against the reference" if drawn else ""))
@@ -274,10 +294,12 @@ def plot_run(run: Path, quantities: Sequence[str] = (), outdir: Path | None = No
         return [quantity_plot(histories, q, out / f"{_safe(q)}.png", units, dimension, refs) for q in names]
     band = (data.get("control") or {}).get("energy_band")
     written = []
+    stems = {t.stem for t in tables}
     for table in tables:
         path = out / f"{_safe(table.stem)}.png"
         if table.stem == "glstat":
             written.append(glstat_plot(table, path, units, dimension, band))
-        else:
-            written.append(table_plot(table, path, units, dimension, refs))
+        elif not (table.stem.endswith(FILTERED) and table.stem[:-len(FILTERED)] in stems):  # drawn with its raw table
+            filtered = histories / f"{table.stem}{FILTERED}.csv"
+            written.append(table_plot(table, path, units, dimension, refs, filtered if filtered.is_file() else None))
     return written

@@ -18,7 +18,7 @@ from ..materials.slots import H_EPS
 from ..solver.domain import domain_tables
 from ..solver.explicit import EnergyRow, Simulation
 from ..solver.solid_domain import von_mises
-from .filters import low_pass
+from .filters import FILTERED, low_pass
 from .history import HistoryWriter
 from .xdmf import GridStep, XdmfWriter
 
@@ -30,7 +30,7 @@ def history_tables(model) -> list[str]:
     """The history tables a run of `model` writes (histories/<name>.csv), in RunOutput's order."""
     out = model.options.output
     return ["glstat", "matsum", *domain_tables(model), *(h.name for h in out.histories), *(p.name for p in out.probes),
-            *(f"{p.name}_filtered" for p in out.probes if p.filter is not None)]
+            *(f"{p.name}{FILTERED}" for p in out.probes if p.filter is not None)]
 
 
 class RunOutput:
@@ -161,7 +161,7 @@ class RunOutput:
             except ValueError as err:
                 self.warnings.append(f"{probe.name}: no filtered table ({err})")
                 continue
-            with HistoryWriter(writer.path.parent, f"{probe.name}_filtered", writer.columns, h5=self.xdmf.h5) as out:
+            with HistoryWriter(writer.path.parent, f"{probe.name}{FILTERED}", writer.columns, h5=self.xdmf.h5) as out:
                 for t, v in zip(raw[:, 0], values):
                     out.append([t, v])
 

@@ -116,3 +116,28 @@ def test_a_deck_reference_names_a_history_table(tmp_path):
         api.load(deck, {"output.references": bad})
     with pytest.raises(api.DeckProblem, match="TABLE.COLUMN"):
         api.load(deck, {"output.references": [{"file": "x.csv", "quantity": "front"}]})
+
+
+def test_a_filtered_probe_is_drawn_over_its_raw_table_and_a_dense_reference_as_a_line(tmp_path, monkeypatch):
+    deck_dir = tmp_path / "decks"
+    deck_dir.mkdir()
+    t = np.linspace(0.0, 1e-3, 201)
+    np.savetxt(deck_dir / "record.csv", np.column_stack([t, np.sin(2e4 * t)]), delimiter=",")
+    run = _run(tmp_path, deck_dir, "output:\n  references:\n    - {file: record.csv, quantity: wall.pressure, "
+                                   "label: record}\n")
+    raw = np.column_stack([t, np.sin(2e4 * t) + 0.3 * np.sin(3e5 * t)])
+    for name, rows in (("wall", raw), ("wall_filtered", np.column_stack([t, np.sin(2e4 * t)]))):
+        np.savetxt(run / "histories" / f"{name}.csv", rows, delimiter=",", comments="", header="time,pressure")
+    lines = []
+    save = plots._save
+
+    def keep(fig, path, plt):
+        lines.append({ln.get_label(): (ln.get_linestyle(), ln.get_marker()) for ax in fig.axes for ln in ax.get_lines()})
+        return save(fig, path, plt)
+
+    monkeypatch.setattr(plots, "_save", keep)
+    written = plots.plot_run(run)
+    assert [p.name for p in written] == ["glstat.png", "matsum.png", "tip.png", "wall.png"]  # no wall_filtered.png
+    wall = lines[-1]
+    assert set(wall) == {"pressure", "pressure, filtered", "record"}
+    assert wall["record"] == ("-", "None")  # 201 points: a line, not 201 circles
