@@ -294,16 +294,22 @@ def swept_volumes_3d(faces, face_nodes, x_lag, x_new, out):
 # as in FEM solid_element_forces) measured 15-30 % (2D) slower per call (benchmarks/ale_throughput.py cases,
 # 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
 @njit(parallel=True, cache=True)
-def finish_remap_nodes(mnode, pnode, knode, m_floor, bc_type, bc_normal, v, impulse, dissip):
-    """Velocity from the remapped momentum, velocity conditions, kinetic energy lost (DeBar).
+def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal,
+                       v, impulse, dissip):
+    """Velocity from the remapped momentum, bounded by its neighbours', velocity conditions, kinetic
+    energy lost (DeBar).
 
-    v = p / m; the velocity conditions (reaction impulse into ``impulse``); dissip[n] = the
-    kinetic energy carried into the node minus 1/2 m |v|^2 afterwards. A node whose remapped mass
-    is at or below m_floor[n] gets v = 0 (its momentum p into ``impulse``, its kinetic energy into
-    dissip): p and m come from different flux stencils, so p / m of a near-empty node is noise
-    (a fog node of 2e-58 kg was measured at 8.6e6 m/s).
+    w = p / m, each component then held within the range of the velocities before the remap,
+    v_old, of the node and of every node of its elements (``velocity_bounds``); the velocity
+    conditions (reaction and bound impulse m (u - w) into ``impulse``); dissip[n] = the kinetic
+    energy carried into the node minus 1/2 m |u|^2 afterwards. A node whose remapped mass is at or
+    below m_floor[n] gets u = 0 (its momentum p into ``impulse``, its kinetic energy into dissip).
+    Why the bound: p and m come from different flux stencils, so p / m of a near-empty node is
+    noise (fog nodes of 2e-58 kg were measured at 8.6e6 m/s, of 2.4e-11 kg, ten times the floor,
+    at 2.4e4 m/s beside a water-entry jet where no node moved faster than 11 m/s).
     """
     n_nodes = mnode.shape[0]
+    npe = conn.shape[1]
     for n in prange(n_nodes):
         m = mnode[n]
         if m > 0.0:
@@ -313,7 +319,10 @@ def finish_remap_nodes(mnode, pnode, knode, m_floor, bc_type, bc_normal, v, impu
             w0 = 0.0
             w1 = 0.0
         if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
-            u0, u1 = apply_bc_2d(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
+            lo0, hi0 = velocity_bounds(n, 0, v_old, conn, node_elem_ptr, node_elem_idx, npe)
+            lo1, hi1 = velocity_bounds(n, 1, v_old, conn, node_elem_ptr, node_elem_idx, npe)
+            u0, u1 = apply_bc_2d(bc_type[n], bc_normal[n, 0], bc_normal[n, 1],
+                                 min(max(w0, lo0), hi0), min(max(w1, lo1), hi1))
         else:
             u0, u1 = 0.0, 0.0
         impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
@@ -323,10 +332,33 @@ def finish_remap_nodes(mnode, pnode, knode, m_floor, bc_type, bc_normal, v, impu
         dissip[n] = knode[n] - 0.5 * m * (u0 * u0 + u1 * u1) if m > 0.0 else knode[n]
 
 
+@njit(cache=True, inline="always")
+def velocity_bounds(n, k, v_old, conn, node_elem_ptr, node_elem_idx, npe):
+    """(min, max) of component k of v_old over node n and the nodes of its elements.
+
+    One remap sweep moves nodal momentum between neighbours along a node line, so after the sweeps
+    (one per direction) a node's velocity is a mean of those of its element-sharing neighbours: a
+    monotone remap keeps it in their range (the local bound of Shashkov & Wendroff 2004, J. Comput.
+    Phys. 198, 265-277, "the repair paradigm"; here the excess is booked as impulse, not spread).
+    """
+    lo = v_old[n, k]
+    hi = lo
+    for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+        e = node_elem_idx[r] // npe
+        for a in range(npe):
+            q = v_old[conn[e, a], k]
+            lo = min(lo, q)
+            hi = max(hi, q)
+    return lo, hi
+
+
 @njit(parallel=True, cache=True)
-def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, bc_type, bc_normal, v, impulse, dissip):
-    """``finish_remap_nodes`` in 3D: v = p / m, velocity conditions, kinetic energy lost (DeBar)."""
+def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type,
+                          bc_normal, v, impulse, dissip):
+    """``finish_remap_nodes`` in 3D: v = p / m bounded by its neighbours', velocity conditions,
+    kinetic energy lost (DeBar)."""
     n_nodes = mnode.shape[0]
+    npe = conn.shape[1]
     n_chunks = min(n_nodes, 512)
     for chunk in prange(n_chunks):
         w = np.empty(3)
@@ -337,6 +369,9 @@ def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, bc_type, bc_normal, v, i
                 w[k] = pnode[n, k] / m if m > 0.0 else 0.0
                 u[k] = w[k]
             if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
+                for k in range(3):
+                    lo, hi = velocity_bounds(n, k, v_old, conn, node_elem_ptr, node_elem_idx, npe)
+                    u[k] = min(max(w[k], lo), hi)
                 apply_bc(bc_type[n], bc_normal[n], u, 3)
             else:
                 u[0] = 0.0

@@ -438,7 +438,8 @@ class AleSystem:
                                 topo["node_elem_idx"], any_open, self._gm, self._gp, self._gk,
                                 self._bm, self._bp, self._bk, mnode, pnode, knode)
         dissip = np.empty_like(mnode)
-        self._k_finish(mnode, pnode, knode, self.m_floor, self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)
+        self._k_finish(mnode, pnode, knode, self.m_floor, self.v_lag, self.conn, topo["node_elem_ptr"],
+                       topo["node_elem_idx"], self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)
         self.wall_impulse += self._impulse.sum(axis=0)
         K.nodal_mass(self.mass_m, topo["node_elem_ptr"], topo["node_elem_idx"], self.npe, self.node_mass)
         K.finish_remap_elements(self.conn, self.mass_m, self.ener_m, self.node_mass, dissip, self.options.ke_fix)

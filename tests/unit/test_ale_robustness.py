@@ -25,16 +25,23 @@ def water_row() -> np.ndarray:
     return pack_material(sm.Fluid(type="fluid", density=1000.0, eos="water"), eos)[1]
 
 
+def _one_quad(v_old):
+    """finish_remap_nodes' topology arguments for one quad of nodes 0-3 and its velocities."""
+    conn = np.array([[0, 1, 2, 3]])
+    return np.asarray(v_old, dtype=float), conn, np.arange(5), np.arange(4)
+
+
 def test_finish_remap_nodes_mass_floor():
-    mnode = np.array([1e-58, 2.0, 0.0])
-    pnode = np.array([[1e-51, -3e-52], [4.0, 2.0], [1e-30, 0.0]])
-    knode = np.array([1e-44, 5.0, 0.0])
-    floor = np.full(3, 1e-6)
-    v = np.zeros((3, 2))
-    impulse = np.zeros((3, 2))
-    dissip = np.zeros(3)
-    bc = np.zeros(3, dtype=np.int64)
-    K.finish_remap_nodes(mnode, pnode, knode, floor, bc, np.zeros((3, 2)), v, impulse, dissip)
+    mnode = np.array([1e-58, 2.0, 0.0, 1.0])
+    pnode = np.array([[1e-51, -3e-52], [4.0, 2.0], [1e-30, 0.0], [0.0, 0.0]])
+    knode = np.array([1e-44, 5.0, 0.0, 0.0])
+    floor = np.full(4, 1e-6)
+    v = np.zeros((4, 2))
+    impulse = np.zeros((4, 2))
+    dissip = np.zeros(4)
+    bc = np.zeros(4, dtype=np.int64)
+    v_old, conn, ptr, idx = _one_quad([[0.0, 0.0], [2.0, 1.0], [0.0, 0.0], [0.0, 0.0]])
+    K.finish_remap_nodes(mnode, pnode, knode, floor, v_old, conn, ptr, idx, bc, np.zeros((4, 2)), v, impulse, dissip)
     np.testing.assert_array_equal(v[0], 0.0)  # would be 1e7 m/s from p / m
     np.testing.assert_allclose(impulse[0], -pnode[0], rtol=1e-12)  # its momentum booked
     np.testing.assert_array_equal(impulse[2], -pnode[2])
@@ -42,6 +49,26 @@ def test_finish_remap_nodes_mass_floor():
     np.testing.assert_allclose(v[1], [2.0, 1.0])
     np.testing.assert_array_equal(impulse[1], 0.0)
     assert dissip[1] == pytest.approx(0.0, abs=1e-15)
+
+
+def test_finish_remap_nodes_bounds_a_light_node_by_its_neighbours():
+    # node 0 holds 1e-9 of its neighbours' mass, above the floor, and a momentum from another
+    # stencil: p / m = 2.4e4 m/s where no neighbour moved faster than 10 m/s (the measured fog node)
+    mnode = np.array([2.4e-11, 1.0, 1.0, 1.0])
+    pnode = np.array([[-5.7e-7, 1.0e-7], [10.0, 1.0], [-3.0, 2.0], [1.0, -1.0]])
+    knode = np.array([1.2e-9, 50.5, 6.5, 1.0])
+    floor = np.full(4, 1e-12)
+    v = np.zeros((4, 2))
+    impulse = np.zeros((4, 2))
+    dissip = np.zeros(4)
+    bc = np.zeros(4, dtype=np.int64)
+    v_old, conn, ptr, idx = _one_quad([[0.5, 0.5], [10.0, 1.0], [-3.0, 2.0], [1.0, -1.0]])
+    K.finish_remap_nodes(mnode, pnode, knode, floor, v_old, conn, ptr, idx, bc, np.zeros((4, 2)), v, impulse, dissip)
+    np.testing.assert_allclose(v[0], [-3.0, 2.0])  # p / m = (-23750, 4167), held to [-3, 10] x [-1, 2]
+    np.testing.assert_allclose(impulse[0], mnode[0] * (v[0] - pnode[0] / mnode[0]), rtol=1e-12)
+    assert dissip[0] == pytest.approx(knode[0] - 0.5 * mnode[0] * 13.0)  # no kinetic energy made
+    np.testing.assert_allclose(v[1:], pnode[1:])  # within the bounds: p / m unchanged
+    np.testing.assert_array_equal(impulse[1:], 0.0)
 
 
 def _water_elements(rho, **kw):

@@ -18,8 +18,9 @@ Eulerian mesh of 5 mm squares, void above it; the cylinder is coupled by lagrang
    contact, s/D < 0 (before the fix the water was looked for h/2 ahead and the force began at
    s/D = -0.018).
 2. decks/cylinder_free_fall_ale.yaml (density 500) and
-   decks/cylinder_free_fall_rho1000_ale.yaml (density 1000), to T = 0.74 (0.08 s, the SPH
-   twins' end) and T = 0.31 (0.035 s: at c0 = 60 it stops at 38.95 ms on the time-step guard, its header); van Leer advection, since the ALE nodal mass floor): Greenhow & Lin (1983) setup (README above), no measured curve in the reference
+   decks/cylinder_free_fall_rho1000_ale.yaml (density 1000), both to T = 0.74 (0.08 s, the SPH
+   twins' end; the heavier deck stopped at 38.95 ms on the time-step guard until the remapped
+   nodal velocity was bounded by its neighbours', its header); van Leer advection: Greenhow & Lin (1983) setup (README above), no measured curve in the reference
    folder, so the checks are the SPH twin's physics bounds: at T = 0.02 and 0.05 the penetration
    lies between V t - a_W t^2/2 (a_W = Wagner's first-contact deceleration 2 pi (1/2 rho D V^2)/m)
    and V t + g t^2/2; both bodies slow down; the heavier one is deeper at every T > 0.05 that
@@ -85,8 +86,8 @@ def test_free_fall_entry_ale(tmp_path):
             pen = np.interp(q, T, p)
             assert (V * t - 0.5 * a_wagner * t * t) / D <= pen <= (V * t + 0.5 * G * t * t) / D, (rho, q, pen)
         assert np.all(np.diff(p[T > 0.0]) > 0.0)  # the penetration grows
-    assert T5[-1] > 0.73 and T10[-1] > 0.30  # to 0.08 s and 0.035 s (the heavier deck's header)
-    assert -h5["velocity_y"][-1] < 0.6 * V and -h10["velocity_y"][-1] < V  # both slowed (1.02, 1.9 m/s)
+    assert T5[-1] > 0.73 and T10[-1] > 0.73  # both to 0.08 s
+    assert -h5["velocity_y"][-1] < 0.6 * V and -h10["velocity_y"][-1] < V  # both slowed (1.02, 1.51 m/s)
     both = (T5 > 0.05) & (T5 <= T10[-1])
     assert np.count_nonzero(both) > 10
     assert np.all(np.interp(T5[both], T10, p10) > p5[both])  # heavier deeper at equal T
