@@ -300,7 +300,7 @@ def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr,
     energy lost (DeBar).
 
     w = p / m, each component then held within the range of the velocities before the remap,
-    v_old, of the node and of every node of its elements (``velocity_bounds``); the velocity
+    v_old, of the node and of every node of its elements (``bounded_velocity``); the velocity
     conditions (reaction and bound impulse m (u - w) into ``impulse``); dissip[n] = the kinetic
     energy carried into the node minus 1/2 m |u|^2 afterwards. A node whose remapped mass is at or
     below m_floor[n] gets u = 0 (its momentum p into ``impulse``, its kinetic energy into dissip).
@@ -309,47 +309,71 @@ def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr,
     at 2.4e4 m/s beside a water-entry jet where no node moved faster than 11 m/s).
     """
     n_nodes = mnode.shape[0]
-    npe = conn.shape[1]
-    for n in prange(n_nodes):
-        m = mnode[n]
-        if m > 0.0:
-            w0 = pnode[n, 0] / m
-            w1 = pnode[n, 1] / m
-        else:
-            w0 = 0.0
-            w1 = 0.0
-        if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
-            lo0, hi0 = velocity_bounds(n, 0, v_old, conn, node_elem_ptr, node_elem_idx, npe)
-            lo1, hi1 = velocity_bounds(n, 1, v_old, conn, node_elem_ptr, node_elem_idx, npe)
-            u0, u1 = apply_bc_2d(bc_type[n], bc_normal[n, 0], bc_normal[n, 1],
-                                 min(max(w0, lo0), hi0), min(max(w1, lo1), hi1))
-        else:
-            u0, u1 = 0.0, 0.0
-        impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
-        impulse[n, 1] = -pnode[n, 1] if m <= 0.0 else m * (u1 - w1)
-        v[n, 0] = u0
-        v[n, 1] = u1
-        dissip[n] = knode[n] - 0.5 * m * (u0 * u0 + u1 * u1) if m > 0.0 else knode[n]
+    n_chunks = min(n_nodes, 512)
+    for chunk in prange(n_chunks):
+        w = np.empty(2)
+        lo = np.empty(2)
+        hi = np.empty(2)
+        for n in range(chunk * n_nodes // n_chunks, (chunk + 1) * n_nodes // n_chunks):
+            m = mnode[n]
+            if m > 0.0:
+                w[0] = pnode[n, 0] / m
+                w[1] = pnode[n, 1] / m
+            else:
+                w[0] = 0.0
+                w[1] = 0.0
+            w0 = w[0]
+            w1 = w[1]
+            if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
+                bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, w)
+                u0, u1 = apply_bc_2d(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w[0], w[1])
+            else:
+                u0, u1 = 0.0, 0.0
+            impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
+            impulse[n, 1] = -pnode[n, 1] if m <= 0.0 else m * (u1 - w1)
+            v[n, 0] = u0
+            v[n, 1] = u1
+            dissip[n] = knode[n] - 0.5 * m * (u0 * u0 + u1 * u1) if m > 0.0 else knode[n]
 
 
 @njit(cache=True, inline="always")
-def velocity_bounds(n, k, v_old, conn, node_elem_ptr, node_elem_idx, npe):
-    """(min, max) of component k of v_old over node n and the nodes of its elements.
+def bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, u):
+    """u = w with each component held within the range of v_old over node n and the nodes of its
+    elements (w, u, lo, hi: (dim,) scratch; u may be w).
 
     One remap sweep moves nodal momentum between neighbours along a node line, so after the sweeps
     (one per direction) a node's velocity is a mean of those of its element-sharing neighbours: a
     monotone remap keeps it in their range (the local bound of Shashkov & Wendroff 2004, J. Comput.
     Phys. 198, 265-277, "the repair paradigm"; here the excess is booked as impulse, not spread).
+    The neighbours are visited element by element until w lies within the range found so far, which
+    in smooth flow is after one or two elements.
     """
-    lo = v_old[n, k]
-    hi = lo
+    dim = w.shape[0]
+    npe = conn.shape[1]
+    inside = True
+    for k in range(dim):
+        u[k] = w[k]
+        if w[k] != v_old[n, k]:
+            inside = False
+    if inside:
+        return
+    for k in range(dim):
+        lo[k] = v_old[n, k]
+        hi[k] = v_old[n, k]
     for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
         e = node_elem_idx[r] // npe
-        for a in range(npe):
-            q = v_old[conn[e, a], k]
-            lo = min(lo, q)
-            hi = max(hi, q)
-    return lo, hi
+        inside = True
+        for k in range(dim):
+            for a in range(npe):
+                q = v_old[conn[e, a], k]
+                lo[k] = min(lo[k], q)
+                hi[k] = max(hi[k], q)
+            if w[k] < lo[k] or w[k] > hi[k]:
+                inside = False
+        if inside:
+            return
+    for k in range(dim):
+        u[k] = min(max(w[k], lo[k]), hi[k])
 
 
 @njit(parallel=True, cache=True)
@@ -358,20 +382,19 @@ def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, v_old, conn, node_elem_p
     """``finish_remap_nodes`` in 3D: v = p / m bounded by its neighbours', velocity conditions,
     kinetic energy lost (DeBar)."""
     n_nodes = mnode.shape[0]
-    npe = conn.shape[1]
     n_chunks = min(n_nodes, 512)
     for chunk in prange(n_chunks):
         w = np.empty(3)
         u = np.empty(3)
+        lo = np.empty(3)
+        hi = np.empty(3)
         for n in range(chunk * n_nodes // n_chunks, (chunk + 1) * n_nodes // n_chunks):
             m = mnode[n]
             for k in range(3):
                 w[k] = pnode[n, k] / m if m > 0.0 else 0.0
                 u[k] = w[k]
             if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
-                for k in range(3):
-                    lo, hi = velocity_bounds(n, k, v_old, conn, node_elem_ptr, node_elem_idx, npe)
-                    u[k] = min(max(w[k], lo), hi)
+                bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, u)
                 apply_bc(bc_type[n], bc_normal[n], u, 3)
             else:
                 u[0] = 0.0
