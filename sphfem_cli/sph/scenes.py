@@ -111,3 +111,24 @@ def sod_tube(n_left: int = 400, gamma: float = 1.4, **options) -> SphSystem:
 SOD_STAR = {"p": 0.303130, "u": 0.927453, "rho_left": 0.426319, "rho_right": 0.265574,
             "head": 0.26336, "tail": 0.48595, "contact": 0.68549, "shock": 0.85043}
 """Exact Sod solution at t = 0.2 (../shared/reference/README.md)."""
+
+
+def ring_particles(x: np.ndarray, dx: float, rho: np.ndarray) -> np.ndarray:
+    """Ring masses of lattice particles in the meridian plane (axisymmetric): m = 2 pi r rho dx^2, full 2 pi."""
+    return 2.0 * math.pi * x[:, 0] * np.asarray(rho, dtype=np.float64) * dx * dx
+
+
+def still_water_cylinder(depth: float = 1.0, radius: float = 0.5, dx: float = 0.025, g: float = 9.81,
+                         c0: float | None = None, **options) -> SphSystem:
+    """Axisymmetric water column at rest in a cylinder: meridian plane [0, radius] x [0, depth]
+    (x = r, y = z, gravity along -z), hydrostatic density, slip ghost walls at r = radius and on the
+    floor, the axis r = 0 a reflecting ghost line (``SphOptions.axisymmetric``); c0 = 10 sqrt(g depth)."""
+    c0 = 10.0 * math.sqrt(g * depth) if c0 is None else c0
+    mats = water(c0)
+    x = lattice.box([0.0, 0.0], [radius, depth], dx)
+    mat = np.zeros(len(x), dtype=np.int64)
+    rho = lattice.hydrostatic_density(x, mats[1], mat, [0.0, -g], [0.0, depth])
+    walls = box_walls([0.0, 0.0], [radius, depth], ["right", "bottom"])
+    opt = _options({"alpha": 0.02, "delta": 0.1, "gravity": [0.0, -g], "walls": walls, "axisymmetric": True},
+                   options)
+    return SphSystem(x, np.zeros_like(x), ring_particles(x, dx, rho), rho, mat, mats, opt)

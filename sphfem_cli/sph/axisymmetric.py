@@ -1,0 +1,196 @@
+"""Axisymmetric SPH rates (``dimension: axisymmetric``): the fluid in the meridian plane x = r >= 0, y = z.
+
+Imported only by an axisymmetric ``SphSystem`` (``SphOptions.axisymmetric``), so a plane or 3D deck
+compiles no kernel of this module. Equations and their derivation: docs/theory/sph.md ("Axisymmetric
+SPH").
+
+Formulation: the areal ("eta") form of Garcia-Senz, Relano, Cabezon & Bravo (2009), MNRAS 392, 346,
+"Axisymmetric smoothed particle hydrodynamics with self-gravity" (sect. 2; also Brookshaw 2003, ANZIAM
+J. 44, C114). A particle is the ring swept by its point about the axis; its mass m is the ring's, for
+the full 2 pi, m = 2 pi r rho A (A the particle's area in the meridian plane). With the areal density
+eta = 2 pi r rho, the plane 2D kernel W (normalised in r-z) and Q = p / (rho eta) = p / (2 pi r rho^2):
+
+  continuity   drho_i/dt = rho_i sum_j A_j v_ij . grad_i W_ij  -  rho_i v_r,i / r_i
+                           - 2 delta sum_j h_ij c_ij psi_ij F_ij A_j           (delta-SPH, as in 2D)
+  momentum     dv_i/dt   = - sum_j m_j (Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) grad_i W_ij
+                           - sum_j m_j (s_j - 1) Q_i dW_ij/dr_i e_r  +  p_i / (rho_i r_i) e_r
+  energy       de_i/dt   = 1/2 sum_j m_j (Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) v_ij . grad_i W_ij
+                           + sum_j m_j (s_j - 1) Q_i dW_ij/dr_i v_r,i  -  p_i v_r,i / (rho_i r_i)
+
+(Garcia-Senz et al. 2009, eqs. 9, 21-23 in the notation above: the hoop terms p/(rho r) in the
+momentum and -p v_r/(rho r) in the energy, -rho v_r/r in the continuity; the pair term
+m_j (Q_i + Q_j) grad W is their 2 pi (r_i P_i / eta_i^2 + r_j P_j / eta_j^2) m_j grad W.) Pi_ij is the
+Monaghan viscosity of the plane code (``rates._pair_terms``) with rho_ij, divided by 2 pi rbar_ij,
+rbar_ij = (r_i + r_j)/2, so that m_j Pi_ij / (2 pi rbar_ij) ~ (plane mass) Pi_ij: the 2D dissipation.
+
+The axis r = 0 is a slip ghost wall (reflected ghosts r -> -r, v_r -> -v_r; ``SphSystem`` adds it).
+Every ghost j carries its source particle's ring mass m_j, density, pressure and radius r_j (so Q_j and
+A_j are the source's), at its mirrored position x_j. s_j = x_j / r_j is the ratio of the ghost's
+coordinate to its source's radius: 1 for a particle and for ghosts of walls along r (floors, lids),
+-1 for an image across the axis, (2R - r_j)/r_j for an image across a wall at r = R. The pair term
+(Q_i + Q_j) is symmetric in i and j, so in the radial direction the images alone would extend the
+areal density eta = 2 pi r rho evenly across the axis, whose kernel gradient then misses 2 pi rho
+near the axis, and the hoop term p/(rho r) would push the first rows off it; the term with
+(s_j - 1) Q_i gives the i-part of the radial sum the images' signed radii (eta extended linearly,
+the odd extension across the axis: Garcia-Senz et al. 2009, sect. 3, reflective ghosts with the sign
+of r), so that for a uniform state the radial pair sum is -p/(rho r) and cancels the hoop term at
+every distance from the axis. Its work goes wholly into particle i's internal energy (the walls and
+the axis do no work), so the semi-discrete total energy (kinetic + internal) is conserved exactly;
+the axial components of all pair terms are symmetric in i and j (the axial force of an image of j
+on i is minus that of the image of i on j), so the axial momentum sum m_i v_z,i is conserved to
+round-off when no wall normal to the axis is present. Masses never change: mass is exact.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_sigma
+from .search import cell_range
+from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GI_NX,
+                    GI_NY, KIND_FLUID, KIND_WALL, SF_ALPHA, SF_BETA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
+                    SI_DELTA_HYDROSTATIC, SI_KERNEL)
+
+TWO_PI = 2.0 * math.pi
+INV_TWO_PI = 1.0 / TWO_PI
+
+# the fast-math flags of rates._FM (no contract, no reassoc: see there why)
+_FM = {"nsz", "arcp"}
+
+
+@njit(cache=True)
+def ring_smoothing_lengths(x, rho, m, active, eta, h):
+    """h_i = eta sqrt(A_i), A_i = m_i / (2 pi r_i rho_i) the particle's area in the meridian plane
+    (the plane h = eta (m/rho)^(1/2) with the ring mass m = 2 pi r rho A). Returns the largest h."""
+    hmax = 0.0
+    for i in range(x.shape[0]):
+        if not active[i]:
+            continue
+        hi = eta * math.sqrt(m[i] / (TWO_PI * x[i, 0] * rho[i]))
+        h[i] = hi
+        hmax = max(hmax, hi)
+    return hmax
+
+
+def axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph):
+    """Continuity, momentum, energy, delta-SPH and XSPH rates of every fluid point (module docstring).
+
+    ``sd[k, D_VZ]`` of a ghost slot holds its source particle's radius r_j (``SphSystem`` writes it
+    into the ghost velocities' third column, unused in 2D); of a particle it is 0 and r_j = x_j.
+    Plain Python that picks the kernel's specialisation (as ``rates.fluid_rates``).
+    """
+    kshape = _SHAPES[2 if int(settings_i[SI_KERNEL]) == WENDLAND_C2 else 1]
+    _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph, kshape)
+
+
+_SHAPES = {1: np.empty(0), 2: np.empty((0, 0))}
+
+
+@njit(cache=True, parallel=True, fastmath=_FM, error_model="numpy")
+def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
+                        kshape):
+    """``axisymmetric_rates`` for one kernel (``kshape.ndim``: 1 cubic spline, 2 Wendland C2)."""
+    wend = kshape.ndim == 2
+    kernel = WENDLAND_C2 if wend else CUBIC_SPLINE
+    nx, ny = grid_i[GI_NX], grid_i[GI_NY]
+    dhydro = settings_i[SI_DELTA_HYDROSTATIC] != 0
+    alpha, beta, eps = settings_f[SF_ALPHA], settings_f[SF_BETA], settings_f[SF_EPS]
+    delta, exsph = settings_f[SF_DELTA], settings_f[SF_XSPH]
+    gx, gy = settings_f[SF_GX], settings_f[SF_GY]
+    hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
+    ox, oy = grid_f[GF_OX], grid_f[GF_OY]
+    inv_cell = 1.0 / cell
+    sig = kernel_sigma(kernel, 2)
+    npts = cell_start[-1]
+    for k in prange(npts):
+        mki = int(sd[k, D_MK])
+        if (mki & 3) != KIND_FLUID:
+            continue
+        fmati = float(mki >> 2)
+        xi, yi, hi = sx[k, 0], sx[k, 1], sx[k, 3]
+        ui, vi = sd[k, D_VX], sd[k, D_VY]
+        rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]  # pri = p_i / rho_i^2
+        qi = pri * INV_TWO_PI / xi  # Q_i = p_i / (2 pi r_i rho_i^2)
+        reach = hi + hmax
+        x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
+        y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
+        ax = ay = cont = work = diff = sxu = sxv = kap = 0.0
+        for cy in range(y0, y1 + 1):
+            base = cy * nx
+            for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
+                dx = xi - sx[j, 0]
+                dy = yi - sx[j, 1]
+                r2 = dx * dx + dy * dy
+                hs = hi + sx[j, 3]  # 2 h_ij
+                if r2 >= hs * hs or j == k:
+                    continue
+                mk = sd[j, D_MK]
+                matj = np.floor(0.25 * mk)
+                kindj = int(mk - 4.0 * matj)
+                if kindj == KIND_WALL:
+                    continue
+                hij = 0.5 * hs
+                r = math.sqrt(r2)
+                inv = 1.0 / hij
+                q = r * inv
+                if wend:
+                    tw = max(1.0 - 0.5 * q, 0.0)
+                    tw2 = tw * tw
+                    th = tw2 * tw2 * (2.0 * q + 1.0)
+                    dth = -5.0 * tw2 * tw
+                else:
+                    tc = max(2.0 - q, 0.0)
+                    if q < 1.0:
+                        th = 1.0 - q * q * (1.5 - 0.75 * q)
+                        dth = -3.0 + 2.25 * q
+                    else:
+                        th = 0.25 * tc * tc * tc
+                        dth = -0.75 * tc * tc / q
+                norm = sig * inv * inv
+                f = norm * inv * inv * dth  # F_ij = (1/r) dW/dr
+                wgx = f * dx
+                wgy = f * dy
+                xj = sx[j, 0]
+                rj = xj if kindj == KIND_FLUID else sd[j, D_VZ]  # the source's radius
+                rhoj = sd[j, D_RHO]
+                vol = sd[j, D_VOL]  # ring volume m_j / rho_j
+                mj = vol * rhoj
+                area = vol * INV_TWO_PI / rj  # A_j
+                qj = sd[j, D_PR] * INV_TWO_PI / rj
+                du = ui - sd[j, D_VX]
+                dv = vi - sd[j, D_VY]
+                vdotg = du * wgx + dv * wgy
+                vdotr = min(du * dx + dv * dy, 0.0)
+                cj = sd[j, D_C]
+                cij = 0.5 * (ci + cj)
+                rij = 0.5 * (rhoi + rhoj)
+                dd = r2 + eps * hij * hij
+                hv = hij * vdotr
+                # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
+                pi_ij = hv * (beta * hv - alpha * cij * dd) / (dd * dd * rij)
+                coef = mj * (qi + qj + pi_ij * INV_TWO_PI * 2.0 / (xi + rj))
+                odd = mj * (xj / rj - 1.0) * qi  # the images' signed radii (0 for particles and floor ghosts)
+                ax -= (coef + odd) * wgx
+                ay -= (coef + odd) * wgy
+                work += 0.5 * coef * vdotg + odd * (ui * wgx + vi * wgy)
+                cont += area * vdotg
+                kap -= area * f * dx * dx  # kappa_i = -sum_j A_j F_ij (r_i - x_j)^2
+                if matj == fmati:
+                    psi = rhoj - rhoi
+                    if dhydro and cij > 0.0:  # c_ij = 0: no diffusion, no correction (0/0)
+                        psi += rij * (gx * dx + gy * dy) / (cij * cij)
+                    diff += hij * cij * psi * f * area
+                if exsph != 0.0:
+                    wr = norm * th * area * rhoj / rij
+                    sxu -= wr * du
+                    sxv -= wr * dv
+        i = perm[k]
+        hoop = pri * rhoi * kap / xi  # kappa_i p_i / (rho_i r_i)
+        acc[i, 0] = ax + hoop
+        acc[i, 1] = ay
+        drho[i] = rhoi * cont - rhoi * ui / xi - 2.0 * delta * diff
+        de[i] = work - hoop * ui
+        xsph[i, 0] = exsph * sxu
+        xsph[i, 1] = exsph * sxv
