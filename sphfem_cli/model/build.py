@@ -488,6 +488,14 @@ def _particles(model: Model, deck: Deck) -> SphParticles:
     spacing = np.concatenate(dx_of)
     density = np.concatenate(rho)
     volume = spacing ** model.dim
+    if deck.axisymmetric:  # ring volumes 2 pi r dx^2 for the full 2 pi (sph/axisymmetric.py)
+        off = np.flatnonzero(~(x[:, 0] > 0.0))
+        if off.size:
+            k = int(off[0])
+            raise ModelError(f"parts.{model.parts[np.concatenate(owner)[k]].name}.geometry",
+                             f"particle at r = x = {x[k, 0]:g}: an axisymmetric SPH part lies in x = r > 0 "
+                             "(the axis is x = 0)")
+        volume = 2.0 * np.pi * x[:, 0] * volume
     mass = model.material_param[np.array(used)[np.concatenate(mat)], P_RHO0] * volume
     owners = np.concatenate(owner)
     tiny = np.finfo(np.float64).tiny

@@ -4,41 +4,51 @@ Imported only by an axisymmetric ``SphSystem`` (``SphOptions.axisymmetric``), so
 compiles no kernel of this module. Equations and their derivation: docs/theory/sph.md ("Axisymmetric
 SPH").
 
-Formulation: the areal ("eta") form of Garcia-Senz, Relano, Cabezon & Bravo (2009), MNRAS 392, 346,
-"Axisymmetric smoothed particle hydrodynamics with self-gravity" (sect. 2; also Brookshaw 2003, ANZIAM
-J. 44, C114). A particle is the ring swept by its point about the axis; its mass m is the ring's, for
-the full 2 pi, m = 2 pi r rho A (A the particle's area in the meridian plane). With the areal density
-eta = 2 pi r rho, the plane 2D kernel W (normalised in r-z) and Q = p / (rho eta) = p / (2 pi r rho^2):
+Formulation: the areal ("eta") form of axisymmetric SPH of Garcia-Senz, Relano, Cabezon & Bravo (2009),
+MNRAS 392, 346, "Axisymmetric smoothed particle hydrodynamics with self-gravity" (also Brookshaw 2003,
+ANZIAM J. 44, C114; the axis singularity: Omang, Borve & Trulsen 2006, J. Comput. Phys. 213, 391). A
+particle is the ring swept by its point about the axis; its mass m is the ring's, for the full 2 pi,
+m = 2 pi r rho A (A the particle's area in the meridian plane). With the areal density eta = 2 pi r rho,
+the plane 2D kernel W (normalised in r-z) and Q = p / (rho eta) = p / (2 pi r rho^2):
 
   continuity   drho_i/dt = rho_i sum_j A_j v_ij . grad_i W_ij  -  rho_i v_r,i / r_i
-                           - 2 delta sum_j h_ij c_ij psi_ij F_ij A_j           (delta-SPH, as in 2D)
-  momentum     dv_i/dt   = - sum_j m_j (Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) grad_i W_ij
-                           - sum_j m_j (s_j - 1) Q_i dW_ij/dr_i e_r  +  p_i / (rho_i r_i) e_r
+                           - 2 delta sum_j h_ij c_ij psi_ij F_ij A_j             (delta-SPH, as in 2D)
+  momentum     dv_i/dt   = - sum_j m_j (s_j Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) grad_i W_ij
+                           + kappa_i p_i / (rho_i r_i) e_r
   energy       de_i/dt   = 1/2 sum_j m_j (Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) v_ij . grad_i W_ij
-                           + sum_j m_j (s_j - 1) Q_i dW_ij/dr_i v_r,i  -  p_i v_r,i / (rho_i r_i)
+                           + sum_j m_j (s_j - 1) Q_i v_i . grad_i W_ij  -  kappa_i p_i v_r,i / (rho_i r_i)
 
-(Garcia-Senz et al. 2009, eqs. 9, 21-23 in the notation above: the hoop terms p/(rho r) in the
-momentum and -p v_r/(rho r) in the energy, -rho v_r/r in the continuity; the pair term
-m_j (Q_i + Q_j) grad W is their 2 pi (r_i P_i / eta_i^2 + r_j P_j / eta_j^2) m_j grad W.) Pi_ij is the
-Monaghan viscosity of the plane code (``rates._pair_terms``) with rho_ij, divided by 2 pi rbar_ij,
-rbar_ij = (r_i + r_j)/2, so that m_j Pi_ij / (2 pi rbar_ij) ~ (plane mass) Pi_ij: the 2D dissipation.
+The pair term m_j (Q_i + Q_j) grad W is the areal form's 2 pi (r_i p_i / eta_i^2 + r_j p_j / eta_j^2)
+m_j grad W; p/(rho r) is the hoop term of the momentum equation, -p v_r/(rho r) that of the energy
+equation, -rho v_r/r that of the continuity equation (the 2D divergence misses v_r/r). Pi_ij is the
+Monaghan viscosity of the plane code (``rates._pair_terms``, with rho_ij), divided by 2 pi rbar_ij with
+rbar_ij = (r_i + r_j)/2, so that m_j Pi_ij / (2 pi rbar_ij) is about the plane mass times Pi_ij: the
+plane code's dissipation.
 
 The axis r = 0 is a slip ghost wall (reflected ghosts r -> -r, v_r -> -v_r; ``SphSystem`` adds it).
 Every ghost j carries its source particle's ring mass m_j, density, pressure and radius r_j (so Q_j and
-A_j are the source's), at its mirrored position x_j. s_j = x_j / r_j is the ratio of the ghost's
-coordinate to its source's radius: 1 for a particle and for ghosts of walls along r (floors, lids),
--1 for an image across the axis, (2R - r_j)/r_j for an image across a wall at r = R. The pair term
-(Q_i + Q_j) is symmetric in i and j, so in the radial direction the images alone would extend the
-areal density eta = 2 pi r rho evenly across the axis, whose kernel gradient then misses 2 pi rho
-near the axis, and the hoop term p/(rho r) would push the first rows off it; the term with
-(s_j - 1) Q_i gives the i-part of the radial sum the images' signed radii (eta extended linearly,
-the odd extension across the axis: Garcia-Senz et al. 2009, sect. 3, reflective ghosts with the sign
-of r), so that for a uniform state the radial pair sum is -p/(rho r) and cancels the hoop term at
-every distance from the axis. Its work goes wholly into particle i's internal energy (the walls and
-the axis do no work), so the semi-discrete total energy (kinetic + internal) is conserved exactly;
-the axial components of all pair terms are symmetric in i and j (the axial force of an image of j
-on i is minus that of the image of i on j), so the axial momentum sum m_i v_z,i is conserved to
-round-off when no wall normal to the axis is present. Masses never change: mass is exact.
+A_j are the source's) at its mirrored position x_j. s_j = x_j / r_j is the ghost's coordinate over its
+source's radius: 1 for a particle and for the ghosts of walls across z (floors, lids), -1 for an image
+across the axis, (2R - r_j)/r_j for an image across a wall at r = R. With s_j the i-part of the pair sum
+sees the images' signed radii: eta = 2 pi r rho is extended linearly (oddly across the axis), the
+consistent continuation of a field that vanishes on the axis, so that sum_j m_j s_j grad W estimates
+grad eta at every distance from the axis; with the plain mirror (s_j = 1) it misses 2 pi rho near the
+axis and the first rows are pushed off it and the column near the free surface goes unstable (seen
+in the hydrostatic test). kappa_i = -sum_j A_j F_ij (r_i - x_j)^2 (1 in the bulk for an exact
+quadrature, 1/2 at a free surface) is the kernel's estimate of dr/dr, so that for a uniform pressure
+the hoop term cancels the radial pair sum exactly, in the bulk and at a free surface (with the exact
+p/(rho r) the kernel's truncation at the free surface pushes the top rows next to the axis outwards) -- this
+renormalisation is this implementation's, in the spirit of the axis corrections of Garcia-Senz et al.
+
+Conservation: masses never change (mass exact). The part of the pair term with s_j - 1 (images only)
+does its work on particle i alone (the axis and the walls are at rest), and the hoop work goes into
+e_i, so the semi-discrete kinetic + internal energy is conserved exactly. Particle-particle pairs and
+the ghosts of walls across z are symmetric in i and j, so they conserve the axial momentum sum m v_z
+to round-off; the images across the axis do not quite (their axial force on i, m_j (Q_j - Q_i), and
+that of the image of i on j are equal, not opposite): the axial force they leave is of the order of
+the kernel's truncation error (5e-4 of sum m |a_z| on a jittered lattice with an axial pressure
+gradient; 6e-14 drift of the axial momentum over 800 steps in the closed-cylinder test) -- the price
+of the consistent (odd) extension; the symmetric (even) mirror conserves it exactly but is unstable.
 """
 from __future__ import annotations
 

@@ -533,7 +533,10 @@ class SphSystem:
         if not sel.any():
             return float("nan")
         top = np.argmax(np.where(sel, self.x[:, up], -np.inf))
-        return float(self.x[top, up] + 0.5 * (self.m[top] / self.rho[top]) ** (1.0 / self.dim))
+        vol = self.m[top] / self.rho[top]
+        if self.axisymmetric:  # the particle's area in the meridian plane
+            vol /= 2.0 * np.pi * self.x[top, 0]
+        return float(self.x[top, up] + 0.5 * vol ** (1.0 / self.dim))
 
     def neighbour_lists(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Neighbour lists of the last evaluation: ``(offsets, neighbours, point_ids)`` in slot
