@@ -118,7 +118,7 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f
         mki = int(sd[k, D_MK])
         if (mki & 3) != KIND_FLUID:
             continue
-        fmati = float(mki >> 2)
+        mati = mki >> 2
         xi, yi, hi = sx[k, 0], sx[k, 1], sx[k, 3]
         ui, vi = sd[k, D_VX], sd[k, D_VY]
         rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]  # pri = p_i / rho_i^2
@@ -136,9 +136,8 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f
                 hs = hi + sx[j, 3]  # 2 h_ij
                 if r2 >= hs * hs or j == k:
                     continue
-                mk = sd[j, D_MK]
-                matj = np.floor(0.25 * mk)
-                kindj = int(mk - 4.0 * matj)
+                mkj = int(sd[j, D_MK])
+                kindj = mkj & 3
                 if kindj == KIND_WALL:
                     continue
                 hij = 0.5 * hs
@@ -150,25 +149,23 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f
                     tw2 = tw * tw
                     th = tw2 * tw2 * (2.0 * q + 1.0)
                     dth = -5.0 * tw2 * tw
-                else:
+                else:  # both branches computed, then selected (no misprediction)
                     tc = max(2.0 - q, 0.0)
-                    if q < 1.0:
-                        th = 1.0 - q * q * (1.5 - 0.75 * q)
-                        dth = -3.0 + 2.25 * q
-                    else:
-                        th = 0.25 * tc * tc * tc
-                        dth = -0.75 * tc * tc / q
+                    inner = q < 1.0
+                    th = 1.0 - q * q * (1.5 - 0.75 * q) if inner else 0.25 * tc * tc * tc
+                    dth = -3.0 + 2.25 * q if inner else -0.75 * tc * tc / q
                 norm = sig * inv * inv
                 f = norm * inv * inv * dth  # F_ij = (1/r) dW/dr
                 wgx = f * dx
                 wgy = f * dy
                 xj = sx[j, 0]
                 rj = xj if kindj == KIND_FLUID else sd[j, D_VZ]  # the source's radius
+                irj = INV_TWO_PI / rj
                 rhoj = sd[j, D_RHO]
                 vol = sd[j, D_VOL]  # ring volume m_j / rho_j
                 mj = vol * rhoj
-                area = vol * INV_TWO_PI / rj  # A_j
-                qj = sd[j, D_PR] * INV_TWO_PI / rj
+                area = vol * irj  # A_j
+                qj = sd[j, D_PR] * irj
                 du = ui - sd[j, D_VX]
                 dv = vi - sd[j, D_VY]
                 vdotg = du * wgx + dv * wgy
@@ -187,7 +184,7 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f
                 work += 0.5 * coef * vdotg + odd * (ui * wgx + vi * wgy)
                 cont += area * vdotg
                 kap -= area * f * dx * dx  # kappa_i = -sum_j A_j F_ij (r_i - x_j)^2
-                if matj == fmati:
+                if (mkj >> 2) == mati:
                     psi = rhoj - rhoi
                     if dhydro and cij > 0.0:  # c_ij = 0: no diffusion, no correction (0/0)
                         psi += rij * (gx * dx + gy * dy) / (cij * cij)
