@@ -60,7 +60,7 @@ from numba import njit, prange
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_sigma
 from .search import cell_range
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GI_NX,
-                    GI_NY, KIND_FLUID, KIND_WALL, SF_ALPHA, SF_BETA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
+                    GI_NY, KIND_FLUID, KIND_GHOST, KIND_WALL, ND, SF_ALPHA, SF_BETA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
                     SI_DELTA_HYDROSTATIC, SI_KERNEL)
 
 TWO_PI = 2.0 * math.pi
@@ -89,21 +89,116 @@ def axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f,
 
     ``sd[k, D_VZ]`` of a ghost slot holds its source particle's radius r_j (``SphSystem`` writes it
     into the ghost velocities' third column, unused in 2D); of a particle it is 0 and r_j = x_j.
-    Plain Python that picks the kernel's specialisation (as ``rates.fluid_rates``).
+    The loop is the plane code's (``rates._fluid_rates``): per particle a branch-free neighbour list,
+    padded with the sentinel slot, summed by ``_pair_sums`` (which LLVM vectorises). Plain Python
+    that picks the kernel's and the term set's specialisation (as ``rates.fluid_rates``).
     """
     kshape = _SHAPES[2 if int(settings_i[SI_KERNEL]) == WENDLAND_C2 else 1]
-    _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph, kshape)
+    tshape = _SHAPES[2 if settings_f[SF_XSPH] == 0.0 else 1]
+    _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
+                        kshape, tshape)
 
 
 _SHAPES = {1: np.empty(0), 2: np.empty((0, 0))}
+_BLOCK = 32
+_PAD = 4
+_FMV = {"nsz", "arcp", "reassoc"}  # for the neighbour sums only (as rates._FMV)
 
 
-@njit(cache=True, parallel=True, fastmath=_FM, error_model="numpy")
-def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
-                        kshape):
-    """``axisymmetric_rates`` for one kernel (``kshape.ndim``: 1 cubic spline, 2 Wendland C2)."""
+@njit(cache=True, fastmath=_FM, forceinline=True, error_model="numpy")
+def _pair_terms(j, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
+                gx, gy, dhydro):
+    """The terms of neighbour slot ``j`` in the sums of ``_pair_sums`` (module docstring); exactly 0 for a
+    wall point or the sentinel. Always inlined, without "reassoc" (see ``rates._pair_terms``)."""
     wend = kshape.ndim == 2
-    kernel = WENDLAND_C2 if wend else CUBIC_SPLINE
+    full = tshape.ndim == 1
+    jx = j * np.uint64(4)
+    jd = j * np.uint64(ND)
+    xj = sxf[jx]
+    dx = xi - xj
+    dy = yi - sxf[jx + 1]
+    hij = 0.5 * (hi + sxf[jx + 3])
+    r2 = dx * dx + dy * dy
+    r = math.sqrt(r2)
+    a = 1.0 / (hij * r)
+    inv = r * a  # 1/h_ij
+    q = r2 * a  # r/h_ij
+    if wend:
+        tw = max(1.0 - 0.5 * q, 0.0)
+        tw2 = tw * tw
+        th = tw2 * tw2 * (2.0 * q + 1.0)
+        dth = -5.0 * tw2 * tw
+    else:  # both branches computed, then selected
+        tc = max(2.0 - q, 0.0)
+        inner = q < 1.0
+        th = 1.0 - q * q * (1.5 - 0.75 * q) if inner else 0.25 * tc * tc * tc
+        dth = -3.0 + 2.25 * q if inner else -0.75 * tc * tc * hij * hij * a  # -0.75 (2-q)^2 / q
+    norm = sig * inv * inv
+    f = norm * inv * inv * dth  # F_ij = (1/r) dW/dr
+    wgx = f * dx
+    wgy = f * dy
+    mk = sdf[jd + D_MK]  # mat * 4 + kind, decoded in floating point (exact for these integers)
+    matj = np.floor(0.25 * mk)
+    kind = mk - 4.0 * matj
+    notwall = 1.0 if kind != KIND_WALL else 0.0
+    rj = xj if kind == KIND_FLUID else (sdf[jd + D_VZ] if kind == KIND_GHOST else 1.0)  # the source's radius
+    irj = INV_TWO_PI / rj
+    rhoj = sdf[jd + D_RHO]
+    vol = sdf[jd + D_VOL] * notwall  # ring volume m_j / rho_j (0 for walls and the sentinel)
+    mj = vol * rhoj
+    area = vol * irj  # A_j
+    qj = sdf[jd + D_PR] * irj
+    du = ui - sdf[jd + D_VX]
+    dv = vi - sdf[jd + D_VY]
+    vdotg = du * wgx + dv * wgy
+    vdotr = min(du * dx + dv * dy, 0.0)
+    cij = 0.5 * (ci + sdf[jd + D_C])
+    rij = 0.5 * (rhoi + rhoj)
+    dd = r2 + eps * hij * hij
+    hv = hij * vdotr
+    # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
+    pi_ij = hv * (beta * hv - alpha * cij * dd) / (dd * dd * rij)
+    coef = mj * (qi + qj + pi_ij * (2.0 * INV_TWO_PI) / (xi + rj))
+    odd = mj * (xj * (1.0 / rj) - 1.0) * qi  # the images' signed radii (0 for particles and floor ghosts)
+    ct = coef + odd
+    work = 0.5 * coef * vdotg + odd * (ui * wgx + vi * wgy)
+    psi = rhoj - rhoi
+    if dhydro:
+        psi += rij * (gx * dx + gy * dy) / (cij * cij) if cij > 0.0 else 0.0  # c_ij = 0: no correction (0/0)
+    same = 1.0 if matj == mati else 0.0
+    diff = same * hij * cij * psi * f * area
+    wr = norm * th * area * rhoj / rij if full else 0.0
+    return ct * wgx, ct * wgy, work, area * vdotg, -area * f * dx * dx, diff, wr * du, wr * dv
+
+
+@njit(cache=True, fastmath=_FMV, error_model="numpy")
+def _pair_sums(nbj, cnt, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
+               gx, gy, dhydro):
+    """Branch-free sums over ``nbj[:cnt]`` of ``_pair_terms``: (ax, ay, work, cont, kappa, diff, sxu, sxv)."""
+    full = tshape.ndim == 1
+    fmati = float(mati)
+    ax = ay = work = cont = kap = diff = sxu = sxv = 0.0
+    for t in range(cnt):
+        tx, ty, tw, tc, tk, td, tu, tv = _pair_terms(nbj[t], sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi,
+                                                     rhoi, ci, qi, fmati, alpha, beta, eps, gx, gy, dhydro)
+        ax -= tx
+        ay -= ty
+        work += tw
+        cont += tc
+        kap += tk
+        diff += td
+        if full:
+            sxu -= tu
+            sxv -= tv
+    return ax, ay, work, cont, kap, diff, sxu, sxv
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
+                        kshape, tshape):
+    """``axisymmetric_rates`` for one kernel (``kshape.ndim``: 1 cubic spline, 2 Wendland C2) and term set
+    (``tshape.ndim``: 1 with XSPH, 2 without)."""
+    kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
     nx, ny = grid_i[GI_NX], grid_i[GI_NY]
     dhydro = settings_i[SI_DELTA_HYDROSTATIC] != 0
     alpha, beta, eps = settings_f[SF_ALPHA], settings_f[SF_BETA], settings_f[SF_EPS]
@@ -114,90 +209,49 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f
     inv_cell = 1.0 / cell
     sig = kernel_sigma(kernel, 2)
     npts = cell_start[-1]
-    for k in prange(npts):
-        mki = int(sd[k, D_MK])
-        if (mki & 3) != KIND_FLUID:
-            continue
-        mati = mki >> 2
-        xi, yi, hi = sx[k, 0], sx[k, 1], sx[k, 3]
-        ui, vi = sd[k, D_VX], sd[k, D_VY]
-        rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]  # pri = p_i / rho_i^2
-        qi = pri * INV_TWO_PI / xi  # Q_i = p_i / (2 pi r_i rho_i^2)
-        reach = hi + hmax
-        x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
-        y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
-        ax = ay = cont = work = diff = sxu = sxv = kap = 0.0
-        for cy in range(y0, y1 + 1):
-            base = cy * nx
-            for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
-                dx = xi - sx[j, 0]
-                dy = yi - sx[j, 1]
-                r2 = dx * dx + dy * dy
-                hs = hi + sx[j, 3]  # 2 h_ij
-                if r2 >= hs * hs or j == k:
-                    continue
-                mkj = int(sd[j, D_MK])
-                kindj = mkj & 3
-                if kindj == KIND_WALL:
-                    continue
-                hij = 0.5 * hs
-                r = math.sqrt(r2)
-                inv = 1.0 / hij
-                q = r * inv
-                if wend:
-                    tw = max(1.0 - 0.5 * q, 0.0)
-                    tw2 = tw * tw
-                    th = tw2 * tw2 * (2.0 * q + 1.0)
-                    dth = -5.0 * tw2 * tw
-                else:  # both branches computed, then selected (no misprediction)
-                    tc = max(2.0 - q, 0.0)
-                    inner = q < 1.0
-                    th = 1.0 - q * q * (1.5 - 0.75 * q) if inner else 0.25 * tc * tc * tc
-                    dth = -3.0 + 2.25 * q if inner else -0.75 * tc * tc / q
-                norm = sig * inv * inv
-                f = norm * inv * inv * dth  # F_ij = (1/r) dW/dr
-                wgx = f * dx
-                wgy = f * dy
-                xj = sx[j, 0]
-                rj = xj if kindj == KIND_FLUID else sd[j, D_VZ]  # the source's radius
-                irj = INV_TWO_PI / rj
-                rhoj = sd[j, D_RHO]
-                vol = sd[j, D_VOL]  # ring volume m_j / rho_j
-                mj = vol * rhoj
-                area = vol * irj  # A_j
-                qj = sd[j, D_PR] * irj
-                du = ui - sd[j, D_VX]
-                dv = vi - sd[j, D_VY]
-                vdotg = du * wgx + dv * wgy
-                vdotr = min(du * dx + dv * dy, 0.0)
-                cj = sd[j, D_C]
-                cij = 0.5 * (ci + cj)
-                rij = 0.5 * (rhoi + rhoj)
-                dd = r2 + eps * hij * hij
-                hv = hij * vdotr
-                # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
-                pi_ij = hv * (beta * hv - alpha * cij * dd) / (dd * dd * rij)
-                coef = mj * (qi + qj + pi_ij * INV_TWO_PI * 2.0 / (xi + rj))
-                odd = mj * (xj / rj - 1.0) * qi  # the images' signed radii (0 for particles and floor ghosts)
-                ax -= (coef + odd) * wgx
-                ay -= (coef + odd) * wgy
-                work += 0.5 * coef * vdotg + odd * (ui * wgx + vi * wgy)
-                cont += area * vdotg
-                kap -= area * f * dx * dx  # kappa_i = -sum_j A_j F_ij (r_i - x_j)^2
-                if (mkj >> 2) == mati:
-                    psi = rhoj - rhoi
-                    if dhydro and cij > 0.0:  # c_ij = 0: no diffusion, no correction (0/0)
-                        psi += rij * (gx * dx + gy * dy) / (cij * cij)
-                    diff += hij * cij * psi * f * area
-                if exsph != 0.0:
-                    wr = norm * th * area * rhoj / rij
-                    sxu -= wr * du
-                    sxv -= wr * dv
-        i = perm[k]
-        hoop = pri * rhoi * kap / xi  # kappa_i p_i / (rho_i r_i)
-        acc[i, 0] = ax + hoop
-        acc[i, 1] = ay
-        drho[i] = rhoi * cont - rhoi * ui / xi - 2.0 * delta * diff
-        de[i] = work - hoop * ui
-        xsph[i, 0] = exsph * sxu
-        xsph[i, 1] = exsph * sxv
+    sentinel = sx.shape[0] - 1
+    sxf = sx.reshape(-1)
+    sdf = sd.reshape(-1)
+    for b in prange((npts + _BLOCK - 1) // _BLOCK):
+        nbj = np.empty(512, dtype=np.uint64)
+        for k in range(b * _BLOCK, min(npts, (b + 1) * _BLOCK)):
+            mki = int(sd[k, D_MK])
+            if (mki & 3) != KIND_FLUID:
+                continue
+            xi, yi, hi = sx[k, 0], sx[k, 1], sx[k, 3]
+            reach = hi + hmax
+            x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
+            y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
+            cnt = 0
+            for cy in range(y0, y1 + 1):
+                base = cy * nx
+                j0 = cell_start[base + x0]
+                j1 = cell_start[base + x1 + 1]
+                if cnt + (j1 - j0) + _PAD > nbj.shape[0]:
+                    grown = np.empty(2 * (cnt + (j1 - j0) + _PAD), dtype=np.uint64)
+                    for t in range(cnt):
+                        grown[t] = nbj[t]
+                    nbj = grown
+                for j in range(j0, j1):
+                    dx = xi - sx[j, 0]
+                    dy = yi - sx[j, 1]
+                    hs = hi + sx[j, 3]  # 2 h_ij
+                    nbj[cnt] = j
+                    cnt += (dx * dx + dy * dy < hs * hs) & (j != k)
+            npad = (cnt + _PAD - 1) // _PAD * _PAD
+            for t in range(cnt, npad):
+                nbj[t] = sentinel
+            ui, vi = sd[k, D_VX], sd[k, D_VY]
+            rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]  # pri = p_i / rho_i^2
+            qi = pri * INV_TWO_PI / xi  # Q_i = p_i / (2 pi r_i rho_i^2)
+            ax, ay, work, cont, kap, diff, sxu, sxv = _pair_sums(
+                nbj, npad, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mki >> 2,
+                alpha, beta, eps, gx, gy, dhydro)
+            i = perm[k]
+            hoop = pri * rhoi * kap / xi  # kappa_i p_i / (rho_i r_i), kappa_i = -sum_j A_j F_ij (r_i - x_j)^2
+            acc[i, 0] = ax + hoop
+            acc[i, 1] = ay
+            drho[i] = rhoi * cont - rhoi * ui / xi - 2.0 * delta * diff
+            de[i] = work - hoop * ui
+            xsph[i, 0] = exsph * sxu
+            xsph[i, 1] = exsph * sxv
