@@ -132,3 +132,20 @@ def still_water_cylinder(depth: float = 1.0, radius: float = 0.5, dx: float = 0.
     opt = _options({"alpha": 0.02, "delta": 0.1, "gravity": [0.0, -g], "walls": walls, "axisymmetric": True},
                    options)
     return SphSystem(x, np.zeros_like(x), ring_particles(x, dx, rho), rho, mat, mats, opt)
+
+
+def noh_sphere_axisymmetric(dx: float = 0.02, radius: float = 1.2, gamma: float = 5.0 / 3.0, **options) -> SphSystem:
+    """Noh's (1987) spherical implosion as an axisymmetric SPH system: the ball of ``radius`` about the
+    origin in the meridian plane (x = r > 0, y = z), an ideal gas of density 1, specific energy 1e-6
+    (p ~ 0) and velocity -x/|x| (unit speed towards the centre), lattice spacing dx, no walls (the axis
+    is the ghost line). Exact (gamma 5/3): a shock at R = t/3, density 64 behind it, (1 + t/R)^2 ahead.
+    Monaghan alpha = 1, beta = 2 (a strong shock), no density diffusion."""
+    mats = ideal_gas(gamma=gamma, rho0=1.0)
+    x = lattice.box([0.0, -radius], [radius, radius], dx)
+    dist = np.linalg.norm(x, axis=1)
+    x = x[dist < radius]
+    dist = dist[dist < radius]
+    rho = np.ones(len(x))
+    opt = _options({"alpha": 1.0, "beta": 2.0, "eps": 0.01, "delta": 0.0, "axisymmetric": True}, options)
+    return SphSystem(x, -x / dist[:, None], ring_particles(x, dx, rho), rho, np.zeros(len(x), dtype=np.int64), mats,
+                     opt, energy=np.full(len(x), 1e-6))
