@@ -156,8 +156,10 @@ Flanagan-Belytschko hourglass control; the hoop strain rate v_r/r at the element
 stress's `zz` component (docs/theory/fem.md, `sphfem_cli/fem/axisymmetric.py`).
 
 An **SPH part** in an axisymmetric deck is a set of rings: its geometry (a box, ball or polygon in
-x = r >= 0, y = z) is filled at `spacing` as in 2D, and each particle carries the mass of the ring its
-cell sweeps, 2 pi r rho dx^2 (the part's mass in `sphfem check` is the whole body's). The rates are the
+x = r >= 0, y = z; a deck error if it reaches x < 0) is filled at `spacing` as in 2D, and each particle
+carries the mass of the ring its cell sweeps, 2 pi r rho dx^2 (the part's mass in `sphfem check` is the
+whole body's). A `ball` centred on the axis (center x = 0) is a sphere: its meridian half-disc is filled
+on the lattice x = (i + 1/2) dx. The rates are the
 areal form of Garcia-Senz et al. (2009) with the hoop terms (`sphfem_cli/sph/axisymmetric.py`,
 docs/theory/sph.md "Axisymmetric SPH"). The **axis is automatic** here too: r = 0 is a line of
 reflected ghost particles (r -> -r, v_r -> -v_r), so no `wall` is needed on the `left` side (one
@@ -165,8 +167,7 @@ there is the same line). Ghost `wall`s on the other sides carry over from 2D (a 
 cylinder wall r = R, `bottom`/`top` are planes z = const), slip only; the equations of state, the
 density diffusion, the artificial viscosity, XSPH, `hydrostatic` starts, `domain` and pressure probes
 are those of 2D. Deck errors name what stays 2D/3D only: viscous fluids (`viscosity` > 0), high
-explosives, `dummy_wall` boundaries and `no_slip`/`wall_function` walls. A particle at x <= 0 is a
-model error.
+explosives, `dummy_wall` boundaries and `no_slip`/`wall_function` walls.
 
 ### How to read the tables
 

@@ -452,6 +452,11 @@ def _particles(model: Model, deck: Deck) -> SphParticles:
         dx, g = part.spacing, part.geometry
         if g.box is not None:
             pts = lattice.box(g.box.min, g.box.max, dx)
+        elif g.ball is not None and deck.axisymmetric and g.ball.center[0] == 0.0:
+            # a sphere on the axis: its meridian half-disc, on the lattice x = (i + 1/2) dx from the axis
+            cz, rad = g.ball.center[1], g.ball.radius
+            pts = lattice.box([0.0, cz - rad], [rad, cz + rad], dx)
+            pts = pts[np.hypot(pts[:, 0], pts[:, 1] - cz) < rad]
         elif g.ball is not None:
             pts = (lattice.circle if model.dim == 2 else lattice.sphere)(g.ball.center, g.ball.radius, dx)
         elif g.polygon is not None:

@@ -106,6 +106,7 @@ def _check_axisymmetric(deck: Deck) -> None:
             raise ValueError(f"@parts.{pname}.section: {AXISYMMETRIC_ONLY_SOLIDS}; '{part.section}' is {kind}")
         if kind == "sph":
             sph = True
+            _check_meridian_half_plane(pname, part)
             if getattr(material, "viscosity", 0.0) or getattr(material, "type", "") == "high_explosive":
                 why = "a viscous fluid" if getattr(material, "viscosity", 0.0) else "a high explosive"
                 raise ValueError(f"@parts.{pname}.material: {AXISYMMETRIC_SPH}; '{part.material}' is {why}")
@@ -124,6 +125,22 @@ def _check_axisymmetric(deck: Deck) -> None:
         raise ValueError(f"@contacts.0: {AXISYMMETRIC_ONLY_SOLIDS}")
     if deck.couplings:
         raise ValueError(f"@couplings.0: {AXISYMMETRIC_ONLY_SOLIDS}")
+
+
+def _check_meridian_half_plane(pname: str, part) -> None:
+    """An axisymmetric SPH part's geometry lies in x = r >= 0; a ball may be centred on the axis (its
+    meridian half-disc is filled), not straddle it off-centre."""
+    g = part.geometry
+    where, bad = None, ""
+    if g.box is not None and g.box.min[0] < 0.0:
+        where, bad = "box.min", f"the box reaches x = {g.box.min[0]:g}"
+    elif g.polygon is not None and min(v[0] for v in g.polygon.vertices) < 0.0:
+        where, bad = "polygon.vertices", f"a vertex lies at x = {min(v[0] for v in g.polygon.vertices):g}"
+    elif g.ball is not None and g.ball.center[0] != 0.0 and g.ball.center[0] - g.ball.radius < 0.0:
+        where, bad = "ball.center", "the ball crosses the axis off its centre (centre it on x = 0 or keep it in x >= 0)"
+    if where is not None:
+        raise ValueError(f"@parts.{pname}.geometry.{where}: an axisymmetric SPH part lies in x = r >= 0 "
+                         f"(the axis is x = 0); {bad}")
 
 
 def _check_names(deck: Deck) -> None:
