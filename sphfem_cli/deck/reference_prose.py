@@ -150,10 +150,24 @@ node at x >= 0) and `y` the axis, so vectors have 2 components (r, z) as in 2D. 
 (loads, reactions, histories), energies and the glstat table are for the **full 2 pi** (the whole
 body), not per radian; a pressure acts on the ring an edge sweeps (area 2 pi r L). The **axis
 condition is automatic**: nodes at x = 0 (within 1e-12 of the part's size) keep u_r = 0, with no
-boundary keyword. Solid parts only so far: SPH and ALE parts, rigid parts, contacts and couplings
-are deck errors (issue 15). The element is the one-point volume-weighted ring quad4 with
+boundary keyword. Solid and SPH parts so far: ALE parts, rigid parts, contacts and couplings are
+deck errors (issue 15). The element is the one-point volume-weighted ring quad4 with
 Flanagan-Belytschko hourglass control; the hoop strain rate v_r/r at the element centre is the
 stress's `zz` component (docs/theory/fem.md, `sphfem_cli/fem/axisymmetric.py`).
+
+An **SPH part** in an axisymmetric deck is a set of rings: its geometry (a box, ball or polygon in
+x = r >= 0, y = z; a deck error if it reaches x < 0) is filled at `spacing` as in 2D, and each particle
+carries the mass of the ring its cell sweeps, 2 pi r rho dx^2 (the part's mass in `sphfem check` is the
+whole body's). A `ball` centred on the axis (center x = 0) is a sphere: its meridian half-disc is filled
+on the lattice x = (i + 1/2) dx. The rates are the
+areal form of Garcia-Senz et al. (2009) with the hoop terms (`sphfem_cli/sph/axisymmetric.py`,
+docs/theory/sph.md "Axisymmetric SPH"). The **axis is automatic** here too: r = 0 is a line of
+reflected ghost particles (r -> -r, v_r -> -v_r), so no `wall` is needed on the `left` side (one
+there is the same line). Ghost `wall`s on the other sides carry over from 2D (a `right` wall is the
+cylinder wall r = R, `bottom`/`top` are planes z = const), slip only; the equations of state, the
+density diffusion, the artificial viscosity, XSPH, `hydrostatic` starts, `domain` and pressure probes
+are those of 2D. Deck errors name what stays 2D/3D only: viscous fluids (`viscosity` > 0), high
+explosives, `dummy_wall` boundaries and `no_slip`/`wall_function` walls.
 
 ### How to read the tables
 

@@ -452,6 +452,11 @@ def _particles(model: Model, deck: Deck) -> SphParticles:
         dx, g = part.spacing, part.geometry
         if g.box is not None:
             pts = lattice.box(g.box.min, g.box.max, dx)
+        elif g.ball is not None and deck.axisymmetric and g.ball.center[0] == 0.0:
+            # a sphere on the axis: its meridian half-disc, on the lattice x = (i + 1/2) dx from the axis
+            cz, rad = g.ball.center[1], g.ball.radius
+            pts = lattice.box([0.0, cz - rad], [rad, cz + rad], dx)
+            pts = pts[np.hypot(pts[:, 0], pts[:, 1] - cz) < rad]
         elif g.ball is not None:
             pts = (lattice.circle if model.dim == 2 else lattice.sphere)(g.ball.center, g.ball.radius, dx)
         elif g.polygon is not None:
@@ -488,6 +493,14 @@ def _particles(model: Model, deck: Deck) -> SphParticles:
     spacing = np.concatenate(dx_of)
     density = np.concatenate(rho)
     volume = spacing ** model.dim
+    if deck.axisymmetric:  # ring volumes 2 pi r dx^2 for the full 2 pi (sph/axisymmetric.py)
+        off = np.flatnonzero(~(x[:, 0] > 0.0))
+        if off.size:
+            k = int(off[0])
+            raise ModelError(f"parts.{model.parts[np.concatenate(owner)[k]].name}.geometry",
+                             f"particle at r = x = {x[k, 0]:g}: an axisymmetric SPH part lies in x = r > 0 "
+                             "(the axis is x = 0)")
+        volume = 2.0 * np.pi * x[:, 0] * volume
     mass = model.material_param[np.array(used)[np.concatenate(mat)], P_RHO0] * volume
     owners = np.concatenate(owner)
     tiny = np.finfo(np.float64).tiny

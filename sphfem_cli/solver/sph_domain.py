@@ -38,6 +38,7 @@ class SphDomain(Domain):
             ghost_hydrostatic=options.ghost_hydrostatic,
             pressure_cutoff=-np.inf if options.pressure_cutoff is None else options.pressure_cutoff,
             walls=tuple(walls), gravity=options.gravity.copy(), domain=options.domain,
+            axisymmetric=model.axisymmetric,  # ring masses (model.build), the axis a ghost line
         )
         velocity = np.zeros_like(ps_model.x)
         for part, v in options.initial_velocity:

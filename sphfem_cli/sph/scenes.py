@@ -111,3 +111,41 @@ def sod_tube(n_left: int = 400, gamma: float = 1.4, **options) -> SphSystem:
 SOD_STAR = {"p": 0.303130, "u": 0.927453, "rho_left": 0.426319, "rho_right": 0.265574,
             "head": 0.26336, "tail": 0.48595, "contact": 0.68549, "shock": 0.85043}
 """Exact Sod solution at t = 0.2 (../shared/reference/README.md)."""
+
+
+def ring_particles(x: np.ndarray, dx: float, rho: np.ndarray) -> np.ndarray:
+    """Ring masses of lattice particles in the meridian plane (axisymmetric): m = 2 pi r rho dx^2, full 2 pi."""
+    return 2.0 * math.pi * x[:, 0] * np.asarray(rho, dtype=np.float64) * dx * dx
+
+
+def still_water_cylinder(depth: float = 1.0, radius: float = 0.5, dx: float = 0.025, g: float = 9.81,
+                         c0: float | None = None, **options) -> SphSystem:
+    """Axisymmetric water column at rest in a cylinder: meridian plane [0, radius] x [0, depth]
+    (x = r, y = z, gravity along -z), hydrostatic density, slip ghost walls at r = radius and on the
+    floor, the axis r = 0 a reflecting ghost line (``SphOptions.axisymmetric``); c0 = 10 sqrt(g depth)."""
+    c0 = 10.0 * math.sqrt(g * depth) if c0 is None else c0
+    mats = water(c0)
+    x = lattice.box([0.0, 0.0], [radius, depth], dx)
+    mat = np.zeros(len(x), dtype=np.int64)
+    rho = lattice.hydrostatic_density(x, mats[1], mat, [0.0, -g], [0.0, depth])
+    walls = box_walls([0.0, 0.0], [radius, depth], ["right", "bottom"])
+    opt = _options({"alpha": 0.02, "delta": 0.1, "gravity": [0.0, -g], "walls": walls, "axisymmetric": True},
+                   options)
+    return SphSystem(x, np.zeros_like(x), ring_particles(x, dx, rho), rho, mat, mats, opt)
+
+
+def noh_sphere_axisymmetric(dx: float = 0.02, radius: float = 1.2, gamma: float = 5.0 / 3.0, **options) -> SphSystem:
+    """Noh's (1987) spherical implosion as an axisymmetric SPH system: the ball of ``radius`` about the
+    origin in the meridian plane (x = r > 0, y = z), an ideal gas of density 1, specific energy 1e-6
+    (p ~ 0) and velocity -x/|x| (unit speed towards the centre), lattice spacing dx, no walls (the axis
+    is the ghost line). Exact (gamma 5/3): a shock at R = t/3, density 64 behind it, (1 + t/R)^2 ahead.
+    Monaghan alpha = 1, beta = 2 (a strong shock), no density diffusion."""
+    mats = ideal_gas(gamma=gamma, rho0=1.0)
+    x = lattice.box([0.0, -radius], [radius, radius], dx)
+    dist = np.linalg.norm(x, axis=1)
+    x = x[dist < radius]
+    dist = dist[dist < radius]
+    rho = np.ones(len(x))
+    opt = _options({"alpha": 1.0, "beta": 2.0, "eps": 0.01, "delta": 0.0, "axisymmetric": True}, options)
+    return SphSystem(x, -x / dist[:, None], ring_particles(x, dx, rho), rho, np.zeros(len(x), dtype=np.int64), mats,
+                     opt, energy=np.full(len(x), 1e-6))

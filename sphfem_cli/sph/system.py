@@ -19,7 +19,7 @@ slot's original particle number; ``reorder_every=0`` keeps the order fixed). Cou
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable, Sequence
 
 import numpy as np
@@ -81,7 +81,11 @@ class SphOptions:
     paper's plain mirror]; domain: (lo, hi) box outside which particles are
     deactivated [None]; gravity: body acceleration [zero]; cfl, force_factor, viscous_factor:
     time-step constants [0.25, 0.25, 0.125]; reorder_every: evaluations between reorderings of
-    the particle arrays, 0 = never [20]; max_cells_per_point: cell-grid size limit [4].
+    the particle arrays, 0 = never [20]; max_cells_per_point: cell-grid size limit [4];
+    axisymmetric: the 2D points are the meridian plane x = r > 0, y = the axis, masses are ring masses
+    for the full 2 pi, the axis r = 0 is a slip ghost wall added here, and the rates are
+    ``sph.axisymmetric``'s [False] (slip ghost walls only: no dummy wall particles, no viscous
+    material, no no-slip or wall-function walls).
     """
 
     kernel: str = "cubic_spline"
@@ -103,6 +107,7 @@ class SphOptions:
     viscous_factor: float = 0.125
     reorder_every: int = 20
     max_cells_per_point: int = 4
+    axisymmetric: bool = False
 
 
 @dataclass
@@ -192,6 +197,12 @@ class SphSystem:
         self.rho_half = self.rho.copy()
         self.e_half = self.e.copy()
 
+        self.axisymmetric = bool(opt.axisymmetric)
+        if self.axisymmetric:
+            self._check_axisymmetric(wall_particles)
+            if not any(w.axis == 0 and w.position == 0.0 and w.side == 1 for w in opt.walls):
+                # the axis: reflected ghosts r -> -r (a copy of the options: the caller's stay as given)
+                self.options = opt = replace(opt, walls=(Wall(0, 0.0, 1, "slip"), *opt.walls))
         self.gravity = np.zeros(3)
         if opt.gravity is not None:
             g = np.asarray(opt.gravity, dtype=np.float64).reshape(-1)
@@ -265,6 +276,22 @@ class SphSystem:
         self._sorted = None  # last evaluation's point set (layout in the sph/search.py docstring)
         self._update_state()
 
+    def _check_axisymmetric(self, wall_particles) -> None:
+        """What the axisymmetric rates (``sph.axisymmetric``) do not model; particles must lie at r > 0."""
+        opt = self.options
+        if self.dim != 2:
+            raise ValueError("axisymmetric SPH needs 2D points (r, z)")
+        if self.n and not np.all(self.x[:, 0] > 0.0):
+            raise ValueError("axisymmetric SPH particles must lie at r = x > 0")
+        if wall_particles is not None:
+            raise ValueError("axisymmetric SPH has no dummy wall particles (use ghost walls)")
+        if np.any(self.params[:, ms.P_VISCOSITY] > 0.0) or opt.dilatational_viscosity > 0.0:
+            raise ValueError("axisymmetric SPH has no physical viscosity yet (inviscid fluids only)")
+        if any(w.condition != "slip" for w in opt.walls):
+            raise ValueError("axisymmetric SPH supports slip ghost walls only")
+        if np.any(self.params[:, ms.P_DETONATION_VELOCITY] > 0.0):
+            raise ValueError("axisymmetric SPH has no programmed burn yet")
+
     # ------------------------------------------------------------------ evaluation
 
     def set_burn(self, detonations) -> None:
@@ -294,6 +321,11 @@ class SphSystem:
         hmax = eos.update_particle_state(self.rho, self.e, self.m, self.mat, self.active, self.params,
                                          float(self.options.smoothing_ratio), self.dim,
                                          float(self.options.pressure_cutoff), self.p, self.c, self.h)
+        if self.axisymmetric:  # the plane h of the ring's area, not of its volume
+            from .axisymmetric import ring_smoothing_lengths
+
+            hmax = ring_smoothing_lengths(self.x, self.rho, self.m, self.active,
+                                          float(self.options.smoothing_ratio), self.h)
         if getattr(self, "burn_light", None) is not None:
             from ..materials.burn import burn_fraction
 
@@ -328,6 +360,8 @@ class SphSystem:
                 bool(opt.ghost_hydrostatic))
         else:
             gpos, gvel, gflip, gsrc, gdp, gdr = self._no_ghosts
+        if self.axisymmetric:  # the ghosts' source radius, read by sph.axisymmetric (third column unused in 2D)
+            gvel[:, 2] = self.x[gsrc, 0]
         perm, cell_start, sx, sd = search.sort_points(
             self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat, self.active, gpos, gvel, gsrc,
             gdp, gdr, self.wall_x, self.wall_v, self.wall_rho, self.wall_m, self.wall_h, self.wall_mat,
@@ -369,8 +403,13 @@ class SphSystem:
             stau = self._no_stress
         pts["stau"] = stau
         self.wall_power[:] = 0.0
-        rates.fluid_rates(sx, sd, stau, perm, cs, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph,
-                          self.wall_power)
+        if self.axisymmetric:
+            from .axisymmetric import axisymmetric_rates  # compiled only for axisymmetric systems
+
+            axisymmetric_rates(sx, sd, perm, cs, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph)
+        else:
+            rates.fluid_rates(sx, sd, stau, perm, cs, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph,
+                              self.wall_power)
         if pts["friction_slots"].size and (self.options.alpha or self.options.beta):
             walls.ghost_friction(sx, sd, pts["svf"], pts["friction_slots"], perm, cs, sf, si, gf, gi, self.acc,
                                  self.de)
@@ -494,7 +533,10 @@ class SphSystem:
         if not sel.any():
             return float("nan")
         top = np.argmax(np.where(sel, self.x[:, up], -np.inf))
-        return float(self.x[top, up] + 0.5 * (self.m[top] / self.rho[top]) ** (1.0 / self.dim))
+        vol = self.m[top] / self.rho[top]
+        if self.axisymmetric:  # the particle's area in the meridian plane
+            vol /= 2.0 * np.pi * self.x[top, 0]
+        return float(self.x[top, up] + 0.5 * vol ** (1.0 / self.dim))
 
     def neighbour_lists(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Neighbour lists of the last evaluation: ``(offsets, neighbours, point_ids)`` in slot

@@ -87,3 +87,15 @@ def test_only_an_axisymmetric_deck_compiles_the_axisymmetric_element(deck, axisy
         assert _AXISYMMETRIC <= compiled and "solid_element_forces" not in compiled, sorted(compiled)
     else:
         assert not (compiled & _AXISYMMETRIC), f"{deck} compiled axisymmetric kernels {sorted(compiled & _AXISYMMETRIC)}"
+
+
+_AXISYMMETRIC_SPH = {"axisymmetric_rates", "_axisymmetric_rates", "ring_smoothing_lengths"}  # sph/axisymmetric.py
+
+
+@pytest.mark.parametrize("deck, axisymmetric", [("dam_break_2d.yaml", False), ("water_column_axisymmetric_sph.yaml", True)])
+def test_only_an_axisymmetric_deck_compiles_the_axisymmetric_sph(deck, axisymmetric):
+    compiled = set(_compiled(DECKS / deck)["sph"]["compiled"])
+    if axisymmetric:
+        assert {"_axisymmetric_rates", "ring_smoothing_lengths"} <= compiled and "_fluid_rates" not in compiled, sorted(compiled)
+    else:
+        assert not (compiled & _AXISYMMETRIC_SPH), f"{deck} compiled axisymmetric kernels {sorted(compiled & _AXISYMMETRIC_SPH)}"

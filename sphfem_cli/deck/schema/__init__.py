@@ -45,7 +45,7 @@ class Deck(DeckModel):
     units: Units = Field(default_factory=Units, description="Consistent unit system. Default m-kg-s.")
     dimension: Literal[2, 3, "axisymmetric"] = Field(
         description="2 = plane strain in x-y, 3 = solid, axisymmetric = the meridian plane of a body of revolution "
-        "(x = radius r >= 0, y = the axis; solid parts only so far; forces, masses and energies for the full 2 pi)."
+        "(x = radius r >= 0, y = the axis; solid and SPH parts so far; forces, masses and energies for the full 2 pi)."
     )
     control: Control = Field(description="End time and time-step control.")
     curves: dict[str, Curve] = Field(default_factory=dict, description="Named time curves.")
@@ -90,25 +90,57 @@ RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")
 """Tables the solver writes itself (histories/<name>.csv); a history or probe cannot take these names."""
 
 
-AXISYMMETRIC_ONLY_SOLIDS = "axisymmetric models support solid parts only for now (SPH, ALE, contact: issue 15)"
+AXISYMMETRIC_ONLY_SOLIDS = "axisymmetric models support solid and SPH parts only for now (ALE, contact: issue 15)"
+AXISYMMETRIC_SPH = "axisymmetric SPH supports inviscid fluids with slip ghost walls only for now (issue 15)"
 
 
 def _check_axisymmetric(deck: Deck) -> None:
-    """What an axisymmetric deck cannot hold yet: fluid parts, rigid parts, contacts and couplings."""
+    """What an axisymmetric deck cannot hold yet: ALE parts, rigid parts, contacts and couplings; SPH
+    parts only of inviscid non-explosive fluids, with slip ghost walls (sph/axisymmetric.py)."""
+    sph = False
     for pname, part in deck.parts.items():
         section = deck.sections.get(part.section)
         kind = getattr(section, "type", "solid")
-        if kind in ("sph", "ale_multi_material"):
-            raise ValueError(f"@parts.{pname}.section: {AXISYMMETRIC_ONLY_SOLIDS}; '{part.section}' is {kind}")
         material = deck.materials.get(part.material)
+        if kind == "ale_multi_material":
+            raise ValueError(f"@parts.{pname}.section: {AXISYMMETRIC_ONLY_SOLIDS}; '{part.section}' is {kind}")
+        if kind == "sph":
+            sph = True
+            _check_meridian_half_plane(pname, part)
+            if getattr(material, "viscosity", 0.0) or getattr(material, "type", "") == "high_explosive":
+                why = "a viscous fluid" if getattr(material, "viscosity", 0.0) else "a high explosive"
+                raise ValueError(f"@parts.{pname}.material: {AXISYMMETRIC_SPH}; '{part.material}' is {why}")
         if part.rigid or getattr(material, "type", "") == "rigid":
             where = "rigid" if part.rigid else "material"
             raise ValueError(f"@parts.{pname}.{where}: {AXISYMMETRIC_ONLY_SOLIDS}; rigid parts are not yet "
                              "axisymmetric (use a symmetry or velocity boundary)")
+    if sph:
+        for i, bc in enumerate(deck.boundaries):
+            kind = getattr(bc, "type", "")
+            if kind == "dummy_wall":
+                raise ValueError(f"@boundaries.{i}: {AXISYMMETRIC_SPH}; use a wall (ghost particles)")
+            if kind == "wall" and bc.condition != "slip":
+                raise ValueError(f"@boundaries.{i}.condition: {AXISYMMETRIC_SPH}; '{bc.condition}' walls are 2D/3D only")
     if deck.contacts:
         raise ValueError(f"@contacts.0: {AXISYMMETRIC_ONLY_SOLIDS}")
     if deck.couplings:
         raise ValueError(f"@couplings.0: {AXISYMMETRIC_ONLY_SOLIDS}")
+
+
+def _check_meridian_half_plane(pname: str, part) -> None:
+    """An axisymmetric SPH part's geometry lies in x = r >= 0; a ball may be centred on the axis (its
+    meridian half-disc is filled), not straddle it off-centre."""
+    g = part.geometry
+    where, bad = None, ""
+    if g.box is not None and g.box.min[0] < 0.0:
+        where, bad = "box.min", f"the box reaches x = {g.box.min[0]:g}"
+    elif g.polygon is not None and min(v[0] for v in g.polygon.vertices) < 0.0:
+        where, bad = "polygon.vertices", f"a vertex lies at x = {min(v[0] for v in g.polygon.vertices):g}"
+    elif g.ball is not None and g.ball.center[0] != 0.0 and g.ball.center[0] - g.ball.radius < 0.0:
+        where, bad = "ball.center", "the ball crosses the axis off its centre (centre it on x = 0 or keep it in x >= 0)"
+    if where is not None:
+        raise ValueError(f"@parts.{pname}.geometry.{where}: an axisymmetric SPH part lies in x = r >= 0 "
+                         f"(the axis is x = 0); {bad}")
 
 
 def _check_names(deck: Deck) -> None:

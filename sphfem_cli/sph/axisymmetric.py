@@ -1,0 +1,258 @@
+"""Axisymmetric SPH rates (``dimension: axisymmetric``): the fluid in the meridian plane x = r >= 0, y = z.
+
+Imported only by an axisymmetric ``SphSystem`` (``SphOptions.axisymmetric``), so a plane or 3D deck
+compiles no kernel of this module. Equations and their derivation: docs/theory/sph.md ("Axisymmetric
+SPH").
+
+Formulation: the areal ("eta") form of axisymmetric SPH of Garcia-Senz, Relano, Cabezon & Bravo (2009),
+MNRAS 392, 346, "Axisymmetric smoothed particle hydrodynamics with self-gravity" (also Brookshaw 2003,
+ANZIAM J. 44 (E); the axis singularity: Omang, Borve & Trulsen 2006, J. Comput. Phys. 213, 391). A
+particle is the ring swept by its point about the axis; its mass m is the ring's, for the full 2 pi,
+m = 2 pi r rho A (A the particle's area in the meridian plane). With the areal density eta = 2 pi r rho,
+the plane 2D kernel W (normalised in r-z) and Q = p / (rho eta) = p / (2 pi r rho^2):
+
+  continuity   drho_i/dt = rho_i sum_j A_j v_ij . grad_i W_ij  -  rho_i v_r,i / r_i
+                           - 2 delta sum_j h_ij c_ij psi_ij F_ij A_j             (delta-SPH, as in 2D)
+  momentum     dv_i/dt   = - sum_j m_j (s_j Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) grad_i W_ij
+                           + kappa_i p_i / (rho_i r_i) e_r
+  energy       de_i/dt   = 1/2 sum_j m_j (Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) v_ij . grad_i W_ij
+                           + sum_j m_j (s_j - 1) Q_i v_i . grad_i W_ij  -  kappa_i p_i v_r,i / (rho_i r_i)
+
+The pair term m_j (Q_i + Q_j) grad W is the areal form's 2 pi (r_i p_i / eta_i^2 + r_j p_j / eta_j^2)
+m_j grad W; p/(rho r) is the hoop term of the momentum equation, -p v_r/(rho r) that of the energy
+equation, -rho v_r/r that of the continuity equation (the 2D divergence misses v_r/r). Pi_ij is the
+Monaghan viscosity of the plane code (``rates._pair_terms``, with rho_ij), divided by 2 pi rbar_ij with
+rbar_ij = (r_i + r_j)/2, so that m_j Pi_ij / (2 pi rbar_ij) is about the plane mass times Pi_ij: the
+plane code's dissipation.
+
+The axis r = 0 is a slip ghost wall (reflected ghosts r -> -r, v_r -> -v_r; ``SphSystem`` adds it).
+Every ghost j carries its source particle's ring mass m_j, density, pressure and radius r_j (so Q_j and
+A_j are the source's) at its mirrored position x_j. s_j = x_j / r_j is the ghost's coordinate over its
+source's radius: 1 for a particle and for the ghosts of walls across z (floors, lids), -1 for an image
+across the axis, (2R - r_j)/r_j for an image across a wall at r = R. With s_j the i-part of the pair sum
+sees the images' signed radii: eta = 2 pi r rho is extended linearly (oddly across the axis), the
+consistent continuation of a field that vanishes on the axis, so that sum_j m_j s_j grad W estimates
+grad eta at every distance from the axis; with the plain mirror (s_j = 1) it misses 2 pi rho near the
+axis and the first rows are pushed off it and the column near the free surface goes unstable (seen
+in the hydrostatic test). kappa_i = -sum_j A_j F_ij (r_i - x_j)^2 (1 in the bulk for an exact
+quadrature, 1/2 at a free surface) is the kernel's estimate of dr/dr, so that for a uniform pressure
+the hoop term cancels the radial pair sum exactly, in the bulk and at a free surface (with the exact
+p/(rho r) the kernel's truncation at the free surface pushes the top rows next to the axis outwards) -- this
+renormalisation is this implementation's, in the spirit of the axis corrections of Garcia-Senz et al.
+
+Conservation: masses never change (mass exact). The part of the pair term with s_j - 1 (images only)
+does its work on particle i alone (the axis and the walls are at rest), and the hoop work goes into
+e_i, so the semi-discrete kinetic + internal energy is conserved exactly. Particle-particle pairs and
+the ghosts of walls across z are symmetric in i and j, so they conserve the axial momentum sum m v_z
+to round-off; the images across the axis do not quite (their axial force on i, m_j (Q_j - Q_i), and
+that of the image of i on j are equal, not opposite): the axial force they leave is of the order of
+the kernel's truncation error (5e-4 of sum m |a_z| on a jittered lattice with an axial pressure
+gradient; 4e-14 drift of the axial momentum over 800 steps in the closed-cylinder test, 2.4e-10 in
+Noh's implosion at dx = 0.01) -- the price
+of the consistent (odd) extension; the symmetric (even) mirror conserves it exactly but is unstable.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_sigma
+from .search import cell_range
+from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GI_NX,
+                    GI_NY, KIND_FLUID, KIND_GHOST, KIND_WALL, ND, SF_ALPHA, SF_BETA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
+                    SI_DELTA_HYDROSTATIC, SI_KERNEL)
+
+TWO_PI = 2.0 * math.pi
+INV_TWO_PI = 1.0 / TWO_PI
+
+# the fast-math flags of rates._FM (no contract, no reassoc: see there why)
+_FM = {"nsz", "arcp"}
+
+
+@njit(cache=True)
+def ring_smoothing_lengths(x, rho, m, active, eta, h):
+    """h_i = eta sqrt(A_i), A_i = m_i / (2 pi r_i rho_i) the particle's area in the meridian plane
+    (the plane h = eta (m/rho)^(1/2) with the ring mass m = 2 pi r rho A). Returns the largest h."""
+    hmax = 0.0
+    for i in range(x.shape[0]):
+        if not active[i]:
+            continue
+        hi = eta * math.sqrt(m[i] / (TWO_PI * x[i, 0] * rho[i]))
+        h[i] = hi
+        hmax = max(hmax, hi)
+    return hmax
+
+
+def axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph):
+    """Continuity, momentum, energy, delta-SPH and XSPH rates of every fluid point (module docstring).
+
+    ``sd[k, D_VZ]`` of a ghost slot holds its source particle's radius r_j (``SphSystem`` writes it
+    into the ghost velocities' third column, unused in 2D); of a particle it is 0 and r_j = x_j.
+    The loop is the plane code's (``rates._fluid_rates``): per particle a branch-free neighbour list,
+    padded with the sentinel slot, summed by ``_pair_sums`` (which LLVM vectorises). Plain Python
+    that picks the kernel's and the term set's specialisation (as ``rates.fluid_rates``).
+    """
+    kshape = _SHAPES[2 if int(settings_i[SI_KERNEL]) == WENDLAND_C2 else 1]
+    tshape = _SHAPES[2 if settings_f[SF_XSPH] == 0.0 else 1]
+    _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
+                        kshape, tshape)
+
+
+_SHAPES = {1: np.empty(0), 2: np.empty((0, 0))}
+_BLOCK = 32
+_PAD = 4
+_FMV = {"nsz", "arcp", "reassoc"}  # for the neighbour sums only (as rates._FMV)
+
+
+@njit(cache=True, fastmath=_FM, forceinline=True, error_model="numpy")
+def _pair_terms(j, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
+                gx, gy, dhydro):
+    """The terms of neighbour slot ``j`` in the sums of ``_pair_sums`` (module docstring); exactly 0 for a
+    wall point or the sentinel. Always inlined, without "reassoc" (see ``rates._pair_terms``)."""
+    wend = kshape.ndim == 2
+    full = tshape.ndim == 1
+    jx = j * np.uint64(4)
+    jd = j * np.uint64(ND)
+    xj = sxf[jx]
+    dx = xi - xj
+    dy = yi - sxf[jx + 1]
+    hij = 0.5 * (hi + sxf[jx + 3])
+    r2 = dx * dx + dy * dy
+    r = math.sqrt(r2)
+    a = 1.0 / (hij * r)
+    inv = r * a  # 1/h_ij
+    q = r2 * a  # r/h_ij
+    if wend:
+        tw = max(1.0 - 0.5 * q, 0.0)
+        tw2 = tw * tw
+        th = tw2 * tw2 * (2.0 * q + 1.0)
+        dth = -5.0 * tw2 * tw
+    else:  # both branches computed, then selected
+        tc = max(2.0 - q, 0.0)
+        inner = q < 1.0
+        th = 1.0 - q * q * (1.5 - 0.75 * q) if inner else 0.25 * tc * tc * tc
+        dth = -3.0 + 2.25 * q if inner else -0.75 * tc * tc * hij * hij * a  # -0.75 (2-q)^2 / q
+    norm = sig * inv * inv
+    f = norm * inv * inv * dth  # F_ij = (1/r) dW/dr
+    wgx = f * dx
+    wgy = f * dy
+    mk = sdf[jd + D_MK]  # mat * 4 + kind, decoded in floating point (exact for these integers)
+    matj = np.floor(0.25 * mk)
+    kind = mk - 4.0 * matj
+    notwall = 1.0 if kind != KIND_WALL else 0.0
+    rj = xj if kind == KIND_FLUID else (sdf[jd + D_VZ] if kind == KIND_GHOST else 1.0)  # the source's radius
+    irj = INV_TWO_PI / rj
+    rhoj = sdf[jd + D_RHO]
+    vol = sdf[jd + D_VOL] * notwall  # ring volume m_j / rho_j (0 for walls and the sentinel)
+    mj = vol * rhoj
+    area = vol * irj  # A_j
+    qj = sdf[jd + D_PR] * irj
+    du = ui - sdf[jd + D_VX]
+    dv = vi - sdf[jd + D_VY]
+    vdotg = du * wgx + dv * wgy
+    vdotr = min(du * dx + dv * dy, 0.0)
+    cij = 0.5 * (ci + sdf[jd + D_C])
+    rij = 0.5 * (rhoi + rhoj)
+    dd = r2 + eps * hij * hij
+    hv = hij * vdotr
+    # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
+    pi_ij = hv * (beta * hv - alpha * cij * dd) / (dd * dd * rij)
+    coef = mj * (qi + qj + pi_ij * (2.0 * INV_TWO_PI) / (xi + rj))
+    odd = mj * (xj * (1.0 / rj) - 1.0) * qi  # the images' signed radii (0 for particles and floor ghosts)
+    ct = coef + odd
+    work = 0.5 * coef * vdotg + odd * (ui * wgx + vi * wgy)
+    psi = rhoj - rhoi
+    if dhydro:
+        psi += rij * (gx * dx + gy * dy) / (cij * cij) if cij > 0.0 else 0.0  # c_ij = 0: no correction (0/0)
+    same = 1.0 if matj == mati else 0.0
+    diff = same * hij * cij * psi * f * area
+    wr = norm * th * area * rhoj / rij if full else 0.0
+    return ct * wgx, ct * wgy, work, area * vdotg, -area * f * dx * dx, diff, wr * du, wr * dv
+
+
+@njit(cache=True, fastmath=_FMV, error_model="numpy")
+def _pair_sums(nbj, cnt, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
+               gx, gy, dhydro):
+    """Branch-free sums over ``nbj[:cnt]`` of ``_pair_terms``: (ax, ay, work, cont, kappa, diff, sxu, sxv)."""
+    full = tshape.ndim == 1
+    fmati = float(mati)
+    ax = ay = work = cont = kap = diff = sxu = sxv = 0.0
+    for t in range(cnt):
+        tx, ty, tw, tc, tk, td, tu, tv = _pair_terms(nbj[t], sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi,
+                                                     rhoi, ci, qi, fmati, alpha, beta, eps, gx, gy, dhydro)
+        ax -= tx
+        ay -= ty
+        work += tw
+        cont += tc
+        kap += tk
+        diff += td
+        if full:
+            sxu -= tu
+            sxv -= tv
+    return ax, ay, work, cont, kap, diff, sxu, sxv
+
+
+@njit(cache=True, parallel=True, error_model="numpy")
+def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
+                        kshape, tshape):
+    """``axisymmetric_rates`` for one kernel (``kshape.ndim``: 1 cubic spline, 2 Wendland C2) and term set
+    (``tshape.ndim``: 1 with XSPH, 2 without)."""
+    kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
+    nx, ny = grid_i[GI_NX], grid_i[GI_NY]
+    dhydro = settings_i[SI_DELTA_HYDROSTATIC] != 0
+    alpha, beta, eps = settings_f[SF_ALPHA], settings_f[SF_BETA], settings_f[SF_EPS]
+    delta, exsph = settings_f[SF_DELTA], settings_f[SF_XSPH]
+    gx, gy = settings_f[SF_GX], settings_f[SF_GY]
+    hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
+    ox, oy = grid_f[GF_OX], grid_f[GF_OY]
+    inv_cell = 1.0 / cell
+    sig = kernel_sigma(kernel, 2)
+    npts = cell_start[-1]
+    sentinel = sx.shape[0] - 1
+    sxf = sx.reshape(-1)
+    sdf = sd.reshape(-1)
+    for b in prange((npts + _BLOCK - 1) // _BLOCK):
+        nbj = np.empty(512, dtype=np.uint64)
+        for k in range(b * _BLOCK, min(npts, (b + 1) * _BLOCK)):
+            mki = int(sd[k, D_MK])
+            if (mki & 3) != KIND_FLUID:
+                continue
+            xi, yi, hi = sx[k, 0], sx[k, 1], sx[k, 3]
+            reach = hi + hmax
+            x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
+            y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
+            cnt = 0
+            for cy in range(y0, y1 + 1):
+                base = cy * nx
+                j0 = cell_start[base + x0]
+                j1 = cell_start[base + x1 + 1]
+                if cnt + (j1 - j0) + _PAD > nbj.shape[0]:
+                    grown = np.empty(2 * (cnt + (j1 - j0) + _PAD), dtype=np.uint64)
+                    for t in range(cnt):
+                        grown[t] = nbj[t]
+                    nbj = grown
+                for j in range(j0, j1):
+                    dx = xi - sx[j, 0]
+                    dy = yi - sx[j, 1]
+                    hs = hi + sx[j, 3]  # 2 h_ij
+                    nbj[cnt] = j
+                    cnt += (dx * dx + dy * dy < hs * hs) & (j != k)
+            npad = (cnt + _PAD - 1) // _PAD * _PAD
+            for t in range(cnt, npad):
+                nbj[t] = sentinel
+            ui, vi = sd[k, D_VX], sd[k, D_VY]
+            rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]  # pri = p_i / rho_i^2
+            qi = pri * INV_TWO_PI / xi  # Q_i = p_i / (2 pi r_i rho_i^2)
+            ax, ay, work, cont, kap, diff, sxu, sxv = _pair_sums(
+                nbj, npad, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mki >> 2,
+                alpha, beta, eps, gx, gy, dhydro)
+            i = perm[k]
+            hoop = pri * rhoi * kap / xi  # kappa_i p_i / (rho_i r_i), kappa_i = -sum_j A_j F_ij (r_i - x_j)^2
+            acc[i, 0] = ax + hoop
+            acc[i, 1] = ay
+            drho[i] = rhoi * cont - rhoi * ui / xi - 2.0 * delta * diff
+            de[i] = work - hoop * ui
+            xsph[i, 0] = exsph * sxu
+            xsph[i, 1] = exsph * sxv

@@ -1,0 +1,152 @@
+"""Axisymmetric SPH (sph/axisymmetric.py): water at rest in a cylinder, conservation in a closed cylinder,
+and the semi-discrete energy balance of the rates.
+
+* Hydrostatic column: meridian plane [0, R] x [0, H], R = 0.5 m, H = 1 m, dx = 0.05 (200 rings), slip
+  ghost walls at r = R and the floor, the axis a ghost line, Tait water c0 = 10 sqrt(g H), alpha 0.02,
+  delta-SPH 0.1 with the hydrostatic correction, hydrostatic ghosts. Each particle's pressure,
+  averaged over 1.0-1.5 s (the start-up excites the column's acoustic mode, period 4H/c0 = 0.13 s,
+  which alpha = 0.02 damps slowly), against rho g (H - z). Measured (sphfem 0.1.0): mean error
+  +0.65 % of rho g H, largest 1.35 % (at the floor), the first column next to the axis the same; the
+  plane tank of the same size and resolution (scenes.still_water, 0.5 m wide) gives +0.65 % and 1.35 %
+  too (the cubic spline's pressure-gradient bias at h/dx = 1.2, see test_sph_still_water.py). No particle
+  crosses or approaches the axis (the first column stays at r = dx/2: closest 0.4998 dx).
+* Closed cylinder without gravity: a ring vortex (v_r, v_z of one cell) in [0, R] x [0.2, 0.8]
+  inside a slip wall at r = R, no wall across the axis: mass is exact (no particle leaves), the axial
+  momentum sum m v_z stays at round-off (measured 4.8e-14 of sum m |v_z| over 800 steps; see the module
+  docstring of sph/axisymmetric.py for why the axis images conserve it only to truncation error in
+  general), the kinetic + internal energy changes by the leapfrog's error only (measured 2.6e-3 of the
+  initial kinetic energy over 0.25 s: the time discretisation's).
+* The rates alone: sum_i m_i (v_i . a_i + de_i/dt) = 0 to round-off at a jittered state with random
+  velocities, the axis images and a wall at r = R included (the exactness the docstring claims; measured
+  0 against 1.1e5 for sum |m v . a|).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from sphfem_cli.sph import lattice, scenes
+from sphfem_cli.sph.system import SphOptions, SphSystem, box_walls
+
+G, H, R = 9.81, 1.0, 0.5
+
+
+def test_hydrostatic_column_in_a_cylinder():
+    dx = 0.05
+    ps = scenes.still_water_cylinder(depth=H, radius=R, dx=dx, delta_hydrostatic=True, ghost_hydrostatic=True)
+    ps.run(1.0)
+    p_sum, k = np.zeros(ps.n), 0
+    closest = ps.x[:, 0].min()
+    for t in np.arange(1.05, 1.5001, 0.05):
+        ps.run(t)
+        closest = min(closest, ps.x[:, 0].min())
+        order = np.argsort(ps.ids)
+        p_sum += ps.p[order]
+        k += 1
+    order = np.argsort(ps.ids)
+    p = p_sum / k
+    z = ps.x[order, 1]
+    err = (p - 1000.0 * G * (H - z)) / (1000.0 * G * H)
+    axis = ps.x[order, 0] < dx
+    print(f"mean {err.mean():+.4f} max {np.abs(err).max():.4f} first column {err[axis].mean():+.4f} "
+          f"max {np.abs(err[axis]).max():.4f} closest r/dx {closest / dx:.4f}")
+    assert abs(err.mean()) < 0.01, err.mean()
+    assert np.abs(err).max() < 0.02, np.abs(err).max()
+    assert np.abs(err[axis]).max() < 0.02
+    assert ps.wall_crossings == 0 and ps.lost == 0
+    assert closest > 0.45 * dx, closest  # the first column stays at r = dx/2
+
+
+def _ring_vortex(dx=0.025):
+    mats = scenes.water(20.0)
+    x = lattice.box([0.0, 0.2], [R, 0.8], dx)
+    rho = np.full(len(x), 1000.0)
+    v = np.zeros_like(x)
+    v[:, 1] = np.sin(math.pi * x[:, 0] / R) * np.cos(math.pi * (x[:, 1] - 0.2) / 0.6)
+    v[:, 0] = 0.5 * np.sin(math.pi * x[:, 0] / R) * np.sin(math.pi * (x[:, 1] - 0.2) / 0.6)
+    opt = SphOptions(alpha=0.05, delta=0.1, walls=box_walls([0, 0], [R, 1], ["right"]), axisymmetric=True)
+    return SphSystem(x, v, scenes.ring_particles(x, dx, rho), rho, np.zeros(len(x), dtype=np.int64), mats, opt)
+
+
+def test_closed_cylinder_conserves_mass_axial_momentum_and_energy():
+    ps = _ring_vortex()
+    m0, pz0, e0 = np.sort(ps.m), ps.momentum()[1], ps.energies()
+    scale = float(np.sum(ps.m * np.abs(ps.v[:, 1])))
+    ps.run(0.25)
+    assert ps.lost == 0 and ps.active.all() and np.array_equal(np.sort(ps.m), m0)  # the same masses
+    e = ps.energies()
+    print(f"axial momentum {(ps.momentum()[1] - pz0) / scale:.2e}, energy {(e['total'] - e0['total']) / e0['kinetic']:.2e}")
+    assert abs(ps.momentum()[1] - pz0) < 1e-12 * scale
+    assert abs(e["total"] - e0["total"]) < 5e-3 * e0["kinetic"]
+    assert ps.wall_crossings == 0
+
+
+def test_rates_balance_energy_exactly():
+    rng = np.random.default_rng(3)
+    dx = 0.05
+    mats = scenes.water(20.0)
+    x = lattice.box([0.0, 0.0], [R, 0.6], dx)
+    x += rng.uniform(-0.2, 0.2, x.shape) * dx
+    x[:, 0] = np.abs(x[:, 0])
+    rho = 1000.0 * (1.0 + 0.01 * rng.uniform(-1, 1, len(x)))
+    v = rng.normal(size=x.shape)
+    opt = SphOptions(alpha=0.5, beta=1.0, delta=0.0, walls=box_walls([0, 0], [R, 1], ["right"]), axisymmetric=True)
+    ps = SphSystem(x, v, scenes.ring_particles(x, dx, rho), rho, np.zeros(len(x), dtype=np.int64), mats, opt)
+    ps.compute_rates()
+    power = ps.m * np.sum(ps.v * ps.acc, axis=1)
+    heating = ps.m * ps.de
+    print(f"energy balance {(power.sum() + heating.sum()) / np.abs(power).sum():.2e}")
+    assert abs(power.sum() + heating.sum()) < 1e-12 * np.abs(power).sum()
+
+
+def _noh(dx):
+    ps = scenes.noh_sphere_axisymmetric(dx=dx)
+    e0, pz0, scale = ps.energies()["total"], ps.momentum()[1], float(np.sum(ps.m * np.abs(ps.v[:, 1])))
+    ps.run(0.6)
+    dist = np.linalg.norm(ps.x, axis=1)
+    order = np.argsort(dist)
+    shock = dist[order][np.flatnonzero((dist[order] > 0.1) & (ps.rho[order] < 40.0))[0]]
+    post = (dist > 0.05) & (dist < 0.15)
+    return ps, e0, pz0, scale, shock, float(ps.rho[post].mean())
+
+
+def test_noh_implosion_is_robust_on_the_axis():
+    """Noh's spherical implosion (scenes.noh_sphere_axisymmetric, dx = 0.04, t = 0.6): the flow converges
+    on a point of the axis. Measured: no particle crosses the axis (closest r = 4.3e-3), energy 1.6e-4
+    of the initial kinetic, axial momentum 1e-16 of sum m |v_z|, shock at R = 0.21 (exact 0.2)."""
+    ps, e0, pz0, scale, shock, _ = _noh(0.04)
+    assert ps.wall_crossings == 0 and ps.x[:, 0].min() > 0.0
+    assert abs(ps.energies()["total"] - e0) < 1e-3 * e0
+    assert abs(ps.momentum()[1] - pz0) < 1e-10 * scale
+    assert 0.18 < shock < 0.23, shock
+
+
+@pytest.mark.validation
+@pytest.mark.xfail(strict=True, reason="the SPH continuity density over-compresses strong convergent shocks: "
+                   "post-shock 76 and 89 at dx = 0.02, 0.01 (exact 64); the plane 2D cylindrical Noh does the "
+                   "same (21.6 for 16), docs/theory/sph.md 'Axisymmetric SPH'")
+@pytest.mark.parametrize("dx", [0.02, 0.01])
+def test_noh_post_shock_density(dx):
+    *_, post = _noh(dx)
+    assert abs(post - 64.0) < 0.1 * 64.0, post
+
+
+def test_deck_particles_carry_ring_masses():
+    """decks/water_column_axisymmetric_sph.yaml: the SPH rings of a cylinder R = 0.1 m, H = 0.2 m weigh
+    pi R^2 H rho (the midpoint lattice sums 2 pi r dx^2 exactly to pi R^2 per layer), and the model's
+    SPH system is axisymmetric with the axis as its first ghost wall."""
+    from pathlib import Path
+
+    from sphfem_cli.driver import load_model
+    from sphfem_cli.solver.sph_domain import SphDomain
+
+    deck = Path(__file__).resolve().parents[2] / "decks" / "water_column_axisymmetric_sph.yaml"
+    model = load_model(deck).model
+    assert model.axisymmetric
+    mass = model.particles.mass.sum()
+    assert abs(mass - math.pi * 0.1**2 * 0.2 * 1000.0) < 1e-9 * mass
+    dom = SphDomain(model, model.options.sph, model.options.control)
+    w = dom.system.options.walls[0]
+    assert dom.system.axisymmetric and (w.axis, w.position, w.side, w.condition) == (0, 0.0, 1, "slip")
