@@ -328,6 +328,14 @@ def drive_state(t: float) -> tuple[float, float, float]:
     return u, v, a
 
 
+# Strain gauges on the plate's faces (y_a, y_b), m: the mean face strain over the gauge is
+# (u_y(y_b) - u_y(y_a)) / (y_b - y_a), a difference of two nodal displacements, defined alike on every
+# mesh and bounded at the clamp (where the point stress of the 2D solid is singular). Beam: u_y = -z theta
+# at the face z = +-c, c = t/2, so the mean bending stress is E' c |theta(y_a) - theta(y_b)| / (y_b - y_a)
+# (plane strain, sigma_xx = 0 at the free face). The solvers' decks record u_y at these face nodes.
+GAUGES = ((0.175, 0.2), (0.15, 0.175))
+
+
 @dataclass
 class Response:
     t: np.ndarray
@@ -335,6 +343,7 @@ class Response:
     v_mid: np.ndarray      # m/s
     vm_clamp: np.ndarray   # Pa, von Mises at the solvers' clamp point (x = 0.2025, y = 0.1975)
     p_range: np.ndarray    # Pa, (min, max) of the water's dynamic pressure over the run
+    gauges: dict = None    # Pa, {(y_a, y_b): bending stress E' c (theta_a - theta_b) / (y_b - y_a)}: GAUGES
 
 
 def driven_response(n_el: int = 60, hf: float = 0.005, far: str = "rigid", c: float = C_F,
@@ -407,6 +416,19 @@ def driven_response(n_el: int = 60, hf: float = 0.005, far: str = "rigid", c: fl
         vm_fac = E / (1.0 - NU * NU) * 0.0025 * np.sqrt(1.0 - NU + NU * NU)
         p_lo, p_hi = 0.0, 0.0
         out_t, out_w, out_v, out_s = [0.0], [0.0], [0.0], [0.0]
+        # theta dofs at the gauges' ends (None: the clamp, theta = 0)
+        g_dofs = []
+        for ya, yb in GAUGES:
+            ends = []
+            for yy in (ya, yb):
+                j = int(np.argmin(np.abs(bm.y - yy)))
+                if abs(bm.y[j] - yy) > 1e-9:
+                    raise ValueError(f"gauge end y = {yy} is not a beam node (n_el {n_el})")
+                hit = np.flatnonzero(f == 2 * j + 1)
+                ends.append(int(hit[0]) if len(hit) else None)
+            g_dofs.append(ends)
+        g_fac = E / (1.0 - NU * NU) * 0.5 * (PLATE[1] - PLATE[0])
+        out_g = [[0.0] for _ in GAUGES]
         for k in range(1, steps + 1):
             t = k * dt
             ub, vb, ab = drive_state(t)
@@ -422,7 +444,11 @@ def driven_response(n_el: int = 60, hf: float = 0.005, far: str = "rigid", c: fl
             th_a = x[th[0][0]] if len(th[0]) else 0.0
             th_b = x[th[1][0]] if len(th[1]) else 0.0
             out_s.append(vm_fac * abs(th_b - th_a) / le)
+            for (ya, yb), (da, db), og in zip(GAUGES, g_dofs, out_g):
+                ta = x[da] if da is not None else 0.0
+                tb = x[db] if db is not None else 0.0
+                og.append(g_fac * abs(ta - tb) / (yb - ya))
             if wet:
                 p_lo, p_hi = min(p_lo, float(x[ns:].min())), max(p_hi, float(x[ns:].max()))
         return Response(np.array(out_t), np.array(out_w), np.array(out_v), np.array(out_s),
-                        np.array([p_lo, p_hi]))
+                        np.array([p_lo, p_hi]), {g: np.array(og) for g, og in zip(GAUGES, out_g)})
