@@ -179,10 +179,14 @@ def _ale_sizes(ctx, param, value):
               help="Run every case to this time instead of the deck's end_time.")
 @click.option("--verify", is_flag=True,
               help="Run the recommended ratio and report its predicted against its measured error and cost.")
+@click.option("--filter", "filters", multiple=True, callback=lambda c, p, v: _study_filters(v),
+              help="Compare low-passed series: [QUANTITY=]butterworth:CUTOFF[:ORDER] (zero phase, -3 dB at CUTOFF) "
+                   "or [QUANTITY=]running_mean:WINDOW (causal), the same filter on every case and the reference; "
+                   "without QUANTITY= for every quantity (repeatable). Default: raw samples.")
 @click.option("-o", "--output", "outdir", type=click.Path(file_okay=False), default=None,
               help="Study folder. Default: <deck name>_study in the current directory.")
 def mesh_study(deck, ratios, reference, quantities, tolerance, workers, scheduler, ale_sizes, threads, end_time,
-               verify, outdir) -> None:
+               verify, filters, outdir) -> None:
     """Run DECK's ALE scene and its SPH variants at several ratios; report error, convergence and cost."""
     from rich.console import Console
 
@@ -192,7 +196,7 @@ def mesh_study(deck, ratios, reference, quantities, tolerance, workers, schedule
     config = StudyConfig(deck=Path(deck), ratios=ratios, reference=reference, quantities=quantities or None,
                          tolerance=tolerance, workers=workers, scheduler=scheduler,
                          outdir=Path(outdir) if outdir else None, ale_sizes=ale_sizes, threads=threads,
-                         end_time=end_time, verify=verify)
+                         end_time=end_time, verify=verify, filters=filters or None)
     try:
         out, result = run_study(config, echo=lambda line: click.echo(line, err=True))
     except StudyError as err:
@@ -277,6 +281,19 @@ def _filter_spec(spec: str | None) -> dict | None:
         return {"kind": kind, "window": values[0]}
     raise click.BadParameter(f"{spec!r}: expected butterworth:CUTOFF[:ORDER] (CUTOFF > 0, ORDER 1 to 8) or "
                              "running_mean:WINDOW (WINDOW > 0)", param_hint="--filter")
+
+
+def _study_filters(specs) -> dict:
+    """mesh-study --filter: {QUANTITY or "*": low_pass settings} from [QUANTITY=]SPEC entries."""
+    out = {}
+    for spec in specs or ():
+        name, _, text = spec.rpartition("=")
+        key = name.strip() or "*"
+        if key in out:
+            raise click.BadParameter(f"{spec!r}: a second filter for {'every quantity' if key == '*' else key}",
+                                     param_hint="--filter")
+        out[key] = _filter_spec(text.strip())
+    return out
 
 
 @main.command()

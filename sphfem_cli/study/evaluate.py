@@ -14,6 +14,10 @@ of the reference's kind, the reference the finest; Roache 1998, Celik et al. 200
 An error is *below the reference's uncertainty* when |peak error| <= GCI (peak) or L2 <= the L2
 band: the reference cannot tell it from zero.
 
+Filtered quantities (``config.filters``): a quantity with a filter is compared as its low-passed
+series, the same filter run on every case's and the reference's own series (metrics.compared_series);
+``filters`` in the result states, per quantity, the filter or null (raw samples).
+
 Recommendation over the SPH ratios (the worst L2 over the quantities): the smallest tested ratio
 that meets the tolerance ("met"); else the error model solved for the tolerance, rounded up to a
 whole ratio, "predicted" up to 3x the largest tested ratio and "extrapolated" beyond; "not
@@ -74,6 +78,23 @@ def choose_quantities(config: StudyConfig, ref_dir: Path, deck_path: Path) -> tu
             if q.partition(".")[0] in driven and q.partition(".")[2] in KINEMATIC}
     kept = [q for q in every if q not in left]
     return (kept or ["glstat.kinetic"]), left
+
+
+def quantity_filters(config: StudyConfig, quantities: Sequence[str]) -> dict[str, dict | None]:
+    """The filter of each compared quantity (None: raw samples): its own entry in ``config.filters``,
+    else the ``*`` entry; an entry naming no compared quantity is a StudyError."""
+    filters = dict(config.filters or {})
+    unknown = sorted(set(filters) - set(quantities) - {"*"})
+    if unknown and quantities:
+        raise derive.StudyError(f"--filter: {', '.join(unknown)} is no compared quantity "
+                                f"(compared: {', '.join(quantities)})")
+    return {q: filters.get(q, filters.get("*")) for q in quantities}
+
+
+def describe_filter(settings: dict | None) -> str:
+    from ..output.filters import describe
+
+    return "raw samples" if settings is None else describe(**settings)
 
 
 def pick_reference(config: StudyConfig, cases) -> tuple[object | None, Path | None, str, list[dict]]:
@@ -267,12 +288,15 @@ def evaluate(config: StudyConfig, plan: Plan) -> dict:
     ref_case, ref_dir, ref_label, failed_refs = pick_reference(config, cases)
     quantities, left_out = (choose_quantities(config, ref_dir, Path(config.deck)) if ref_dir is not None
                             else (list(config.quantities or []), {}))
+    filters = quantity_filters(config, quantities)
     ref_series = {}
     for q in quantities:
         try:
-            ref_series[q] = metrics.quantity_series(ref_dir, q)
+            ref_series[q] = metrics.compared_series(ref_dir, q, filters[q])
         except KeyError as err:
             raise derive.StudyError(f"--quantities: {err.args[0]}") from None
+        except ValueError as err:
+            raise derive.StudyError(f"--filter {q}: {err}") from None
     rows = []
     for c in cases:
         row = {"case": c.name, "name": c.name, "method": c.kind, "kind": c.kind, "size": c.size, "ratio": c.ratio,
@@ -283,10 +307,12 @@ def evaluate(config: StudyConfig, plan: Plan) -> dict:
         if c.status.get("state") == "done" and ref_dir is not None:
             for q in quantities:
                 try:
-                    t, v = metrics.quantity_series(c.histories, q)
+                    t, v = metrics.compared_series(c.histories, q, filters[q])
                 except KeyError as err:
                     row["errors"][q] = {"missing": str(err)}
                     continue
+                except ValueError as err:
+                    raise derive.StudyError(f"--filter {q} on {c.name}: {err}") from None
                 row["errors"][q] = metrics.history_error(t, v, *ref_series[q]).as_dict()
         row["worst_l2"] = _worst(row)
         rows.append(row)
@@ -344,6 +370,7 @@ def evaluate(config: StudyConfig, plan: Plan) -> dict:
     }
     return {
         "deck": str(Path(config.deck).resolve()), "tolerance": config.tolerance, "quantities": quantities,
+        "filters": {q: None if f is None else {**f, "description": describe_filter(f)} for q, f in filters.items()},
         "quantities_left_out": left_out, "plan_notes": plan.notes,
         "units": plan.data.get("units") or {}, "dimension": plan.data.get("dimension", 2),
         "reference": {"case": ref_label if ref_case is not None or ref_dir is not None else None,

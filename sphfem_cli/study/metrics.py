@@ -12,6 +12,10 @@ the times both cover):
 - peak error: (max|q| - max|r|) / max|r|;
 - time-of-peak error: t(max|q|) - t(max|r|), and that over the reference's duration.
 
+A quantity may be compared as a low-passed series (the study's ``filters``, docs/mesh-study.md):
+the same filter (``output.filters.low_pass``: zero-phase Butterworth or causal running mean) is
+applied to the case's and the reference's own series before the errors; raw samples otherwise.
+
 Convergence over three grids h1 < h2 < h3 (Celik et al. 2008, J. Fluids Eng. 130, 078001): observed
 order p from the fixed point p = |ln|e32/e21| + q(p)| / ln r21, q(p) = ln((r21^p - s)/(r32^p - s)),
 s = sign(e32/e21); Richardson value phi_ext = (r21^p phi1 - phi2)/(r21^p - 1); GCI_fine =
@@ -57,6 +61,17 @@ def quantity_series(histories: Path, quantity: str) -> tuple[np.ndarray, np.ndar
                        f"(columns: {', '.join(columns)})")
     comps = np.stack([data[:, columns.index(c)] for c in parts], axis=1)
     return t, np.sqrt(np.sum(comps**2, axis=1))
+
+
+def compared_series(histories: Path, quantity: str, settings: dict | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """(t, q) of ``TABLE.COLUMN`` as the study compares it: raw, or low-passed with ``settings``
+    (``output.filters.low_pass`` keywords: kind, cutoff and order, or window) on its own times."""
+    t, q = quantity_series(histories, quantity)
+    if settings is None or len(t) < 2:
+        return t, q
+    from ..output.filters import low_pass
+
+    return t, low_pass(t, q, **settings)
 
 
 def default_quantities(histories: Path) -> list[str]:

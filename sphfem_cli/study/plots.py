@@ -125,19 +125,21 @@ def study_plots(out: Path, result: dict, cases) -> list[Path]:
     for q in result["quantities"]:
         written.append(overlay(q, [(c.name, c.histories) for c in done], out / f"history_{_safe(q)}.png",
                                reference=result["reference"]["label"], units=result.get("units"),
-                               dimension=result.get("dimension", 2)))
+                               dimension=result.get("dimension", 2),
+                               settings=(result.get("filters") or {}).get(q)))
     return written
 
 
 def overlay(quantity: str, runs: Sequence[tuple[str, Path]], path: Path, reference: str | None = None,
-            units: dict | None = None, dimension: int = 2) -> Path:
-    """One quantity's history from several runs on one plot."""
+            units: dict | None = None, dimension: int = 2, settings: dict | None = None) -> Path:
+    """One quantity's history from several runs on one plot; with ``settings`` (a study filter,
+    output.filters.low_pass keywords and its description) the low-passed series the study compares."""
     plt = _pyplot()
     fig, ax = plt.subplots(figsize=(7.0, 4.4))
     drawn = 0
     for name, histories in runs:
         try:
-            t, v = metrics.quantity_series(histories, quantity)
+            t, v = metrics.compared_series(histories, quantity, _settings(settings))
         except KeyError:
             continue
         ref = name == reference
@@ -146,11 +148,17 @@ def overlay(quantity: str, runs: Sequence[tuple[str, Path]], path: Path, referen
     ax.set_xlabel(label("time", units, dimension))
     ax.set_ylabel(label(quantity, units, dimension))
     ax.set_title(f"{quantity} history" + (f": {drawn} runs" if drawn != 1 else "")
-                 + (f", reference {reference} in black" if reference and drawn > 1 else ""))
+                 + (f", reference {reference} in black" if reference and drawn > 1 else "")
+                 + (f"\ncompared as: {settings.get('description')}" if settings else ""), **({"fontsize": 9} if settings else {}))
     ax.grid(True, alpha=0.3)
     if drawn:
         ax.legend(fontsize=8)
     return _save(fig, path, plt)
+
+
+def _settings(settings: dict | None) -> dict | None:
+    """A study filter as output.filters.low_pass keywords (its description left out)."""
+    return None if not settings else {k: v for k, v in settings.items() if k != "description"}
 
 
 def plot_dir(directory: Path, quantities: Sequence[str] = (), outdir: Path | None = None,
@@ -174,7 +182,8 @@ def plot_dir(directory: Path, quantities: Sequence[str] = (), outdir: Path | Non
         out.mkdir(parents=True, exist_ok=True)
         for q in quantities:
             written.append(overlay(q, runs, out / f"{_safe(q)}.png", reference=reference, units=info.get("units"),
-                                   dimension=info.get("dimension", 2)))
+                                   dimension=info.get("dimension", 2),
+                                   settings=(rep.get("filters") or {}).get(q)))  # as the report compared it
         return written
     from ..output.plots import plot_run
 

@@ -12,8 +12,8 @@ from pathlib import Path
 CASE_COLUMNS = ["case", "method", "role", "size", "ratio", "count", "state", "cpu_s", "cpu_spread", "compile_s",
                 "wall_s", "peak_mib", "steps", "particles", "ale_elements", "solid_elements", "message"]
 ERROR_COLUMNS = ["l2", "peak", "peak_time", "peak_time_rel", "peak_value", "reference_peak"]
-CSV_COLUMNS = CASE_COLUMNS + ["quantity"] + ERROR_COLUMNS + ["l2_below_reference_uncertainty",
-                                                             "peak_below_reference_uncertainty"]
+CSV_COLUMNS = CASE_COLUMNS + ["quantity", "compared"] + ERROR_COLUMNS + ["l2_below_reference_uncertainty",
+                                                                         "peak_below_reference_uncertainty"]
 
 
 def _ok(v) -> bool:
@@ -38,6 +38,12 @@ def _flag(e: dict, key: str) -> str:
     return "" if b is None else ("*" if b else "")
 
 
+def compared(result: dict, quantity: str) -> str:
+    """How a quantity is compared: "raw samples" or its filter's description (result["filters"])."""
+    f = (result.get("filters") or {}).get(quantity)
+    return f["description"] if f else "raw samples"
+
+
 def csv_rows(result: dict) -> list[dict]:
     rows = []
     for r in result["cases"]:
@@ -47,7 +53,7 @@ def csv_rows(result: dict) -> list[dict]:
             rows.append(base)
         for q, e in r["errors"].items():
             below = e.get("below_reference_uncertainty") or {}
-            rows.append({**base, "quantity": q, **{k: e.get(k) for k in ERROR_COLUMNS},
+            rows.append({**base, "quantity": q, "compared": compared(result, q), **{k: e.get(k) for k in ERROR_COLUMNS},
                          "l2_below_reference_uncertainty": below.get("l2"),
                          "peak_below_reference_uncertainty": below.get("peak")})
     return rows
@@ -113,6 +119,10 @@ def markdown(result: dict) -> str:
         lines.append(f"**The finer reference {f['case']} failed:** {_one_line(f['message'], 400)}")
         lines.append("")
     lines += _recommendation_md(result["recommendation"])
+    for name in q:
+        lines.append(f"- `{name}` compared as: {compared(result, name)}"
+                     + (" (the same filter on every case and on the reference)" if (result.get("filters") or {}).get(name)
+                        else ""))
     for note in result["plan_notes"]:
         lines.append(f"- {note}")
     for name, why in result["quantities_left_out"].items():

@@ -33,6 +33,9 @@ class StudyConfig:
     threads: int = 1
     end_time: float | None = None
     verify: bool = False
+    # low-pass filters of the compared quantities (output.filters.low_pass settings), by quantity name,
+    # "*" for every quantity; None or {}: raw samples (docs/mesh-study.md, "Filtered quantities")
+    filters: dict[str, dict] | None = None
 
 
 @dataclass
@@ -146,7 +149,7 @@ def plan(config: StudyConfig) -> Plan:
         "deck": str(deck_path.resolve()), "ale_element_size": h, "ratios": sorted({int(r) for r in config.ratios}),
         "ale_sizes": sizes, "reference": str(config.reference), "tolerance": config.tolerance,
         "end_time": data["control"]["end_time"], "units": units, "dimension": data.get("dimension", 2),
-        "notes": notes,
+        "notes": notes, "filters": dict(config.filters or {}),
         "cases": [{"name": c.name, "kind": c.kind, "size": c.size, "ratio": c.ratio} for c in result.cases],
     }, indent=2) + "\n")
     return result

@@ -9,7 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from sphfem_cli.study import evaluate, report, runner
+from sphfem_cli.study import StudyError, evaluate, report, runner
 from sphfem_cli.study.study import Case, Plan, StudyConfig, load_deck_data
 
 HERE = Path(__file__).parent
@@ -19,7 +19,7 @@ T = np.linspace(0.0, 1e-3, 201)
 
 
 def _case(root: Path, name: str, kind: str, size: float, amplitude: float | None, count: int, cpu: float,
-          steps: int, message: str | None = None) -> Case:
+          steps: int, message: str | None = None, noise: float = 0.0) -> Case:
     d = root / "cases" / name
     (d / "run" / "histories").mkdir(parents=True)
     (d / runner.DECK).write_text(f"# {name}\n")
@@ -28,7 +28,10 @@ def _case(root: Path, name: str, kind: str, size: float, amplitude: float | None
         "steps": steps, "particles": count if kind == "sph" else 0, "ale_elements": count if kind == "ale" else 0,
         "dt0": {"solid": 1e-6, kind: 1e-6 * size / 0.05}}
     if amplitude is not None:
-        rows = np.stack([T, amplitude * np.sin(np.pi * T / 1e-3)], axis=1)
+        # noise: a sample-to-sample alternation (the Nyquist frequency), as a ringing contact's samples,
+        # under the same half-sine envelope (zero at both ends, as a contact force before contact)
+        shape = np.sin(np.pi * T / 1e-3)
+        rows = np.stack([T, (amplitude + noise * (-1.0) ** np.arange(T.size)) * shape], axis=1)
         np.savetxt(d / "run" / "histories" / "probe.csv", rows, delimiter=",", header="time,height", comments="")
     status["deck_sha256"] = runner.deck_hash(d)
     runner.write_status(d, status)
@@ -40,7 +43,8 @@ def _ale_peak(h: float) -> float:
     return 1.0 + 0.4 * ((h / 0.05) ** 2 - 1.0 / 16.0)
 
 
-def _plan(tmp_path: Path, sph_errors: dict[int, float], finest_fails: bool, message: str = "ALE blew up") -> Plan:
+def _plan(tmp_path: Path, sph_errors: dict[int, float], finest_fails: bool, message: str = "ALE blew up",
+          sph_noise: float = 0.0) -> Plan:
     """ALE at 0.05, 0.025, 0.0125 (order 2, the finest exactly 1) and SPH ratios whose amplitude error
     against that finest level is the given one."""
     cases = []
@@ -50,7 +54,7 @@ def _plan(tmp_path: Path, sph_errors: dict[int, float], finest_fails: bool, mess
                            int(5 * 0.05 / h), message=message))
     for r, e in sph_errors.items():
         cases.append(_case(tmp_path, f"sph_r{r}", "sph", 0.05 / r, 1.0 + e, 30 * r * r, 0.05 + 1e-4 * 30 * r**3 * 8,
-                           8 * r))
+                           8 * r, noise=sph_noise))
     return Plan(tmp_path, cases, load_deck_data(TINY), 0.05)
 
 
@@ -125,3 +129,57 @@ def test_verdicts_never_leave_a_far_ratio_unqualified(tmp_path):
 def test_driven_histories_are_no_default_quantities():
     driven = evaluate.driven_histories(DECKS / "structure_in_water_ale.yaml")
     assert set(driven) == {"bottom"}  # the plate's bottom nodes follow the prescribed drive; mid, clamp do not
+
+
+def test_a_filtered_quantity_compares_the_low_passed_series_and_says_so(tmp_path):
+    """Sample-to-sample noise (0.3 at the Nyquist frequency, 100 kHz) on SPH amplitudes 10 / 5 / 2 % high:
+    raw, the noise sets every L2 (about 0.3 / 1 = 30 %, more than any amplitude error) and it does not
+    fall with the ratio; a zero-phase Butterworth at 10 kHz (the signal is a 1 ms half sine, 0.5 kHz)
+    removes it, and the L2 and peak errors are the amplitude errors again."""
+    errors = {1: 0.10, 2: 0.05, 3: 0.02}
+    raw = evaluate.evaluate(_config(tmp_path / "raw", 0.05), _plan(tmp_path / "raw", errors, False, sph_noise=0.3))
+    cfg = _config(tmp_path / "bw", 0.05)
+    cfg.filters = {"*": {"kind": "butterworth", "cutoff": 1e4, "order": 2}}
+    plan = _plan(tmp_path / "bw", errors, False, sph_noise=0.3)
+    result = evaluate.evaluate(cfg, plan)
+    for r, e in errors.items():
+        row_raw = next(c for c in raw["cases"] if c["case"] == f"sph_r{r}")["errors"]["probe.height"]
+        row = next(c for c in result["cases"] if c["case"] == f"sph_r{r}")["errors"]["probe.height"]
+        assert row_raw["l2"] > 0.3
+        assert row["l2"] == pytest.approx(e, rel=0.01)
+        assert row["peak"] == pytest.approx(e, abs=0.002)
+    assert raw["filters"] == {"probe.height": None}
+    f = result["filters"]["probe.height"]
+    assert f["kind"] == "butterworth" and f["cutoff"] == 1e4 and "Butterworth" in f["description"]
+    report.write_all(tmp_path / "bw", result)
+    md = (tmp_path / "bw" / "report.md").read_text()
+    assert "`probe.height` compared as: zero-phase Butterworth low-pass, order 2, -3 dB at 10000" in md
+    assert json.loads((tmp_path / "bw" / "report.json").read_text())["filters"]["probe.height"]["cutoff"] == 1e4
+    assert "Butterworth" in (tmp_path / "bw" / "report.csv").read_text().splitlines()[1]
+    from sphfem_cli.study import plots
+
+    assert (tmp_path / "bw" / "history_probe.height.png") in plots.study_plots(tmp_path / "bw", result, plan.cases)
+    # a per-quantity entry wins over "*"; one that names no compared quantity is refused
+    cfg.filters = {"*": {"kind": "butterworth", "cutoff": 1e4, "order": 2},
+                   "probe.height": {"kind": "running_mean", "window": 1e-4}}
+    assert evaluate.evaluate(cfg, plan)["filters"]["probe.height"]["kind"] == "running_mean"
+    cfg.filters = {"probe.depth": {"kind": "running_mean", "window": 1e-4}}
+    with pytest.raises(StudyError, match="probe.depth is no compared quantity"):
+        evaluate.evaluate(cfg, plan)
+    cfg.filters = {"*": {"kind": "butterworth", "cutoff": 2e5, "order": 2}}  # above the Nyquist 100 kHz
+    with pytest.raises(StudyError, match="--filter probe.height: cutoff must lie below the Nyquist"):
+        evaluate.evaluate(cfg, plan)
+
+
+def test_mesh_study_filter_option_is_parsed_and_checked():
+    from click.testing import CliRunner
+
+    from sphfem_cli.cli import _study_filters, main
+
+    assert _study_filters(("running_mean:0.001", "cyl.contact_force=butterworth:500:4")) == {
+        "*": {"kind": "running_mean", "window": 0.001},
+        "cyl.contact_force": {"kind": "butterworth", "cutoff": 500.0, "order": 4}}
+    res = CliRunner().invoke(main, ["mesh-study", str(TINY), "--filter", "lowpass:3"])
+    assert res.exit_code != 0 and "expected butterworth:CUTOFF[:ORDER]" in res.output
+    res = CliRunner().invoke(main, ["mesh-study", str(TINY), "--filter", "running_mean:1", "--filter", "running_mean:2"])
+    assert res.exit_code != 0 and "a second filter for every quantity" in res.output
