@@ -26,7 +26,7 @@ import numpy as np
 
 from ..materials import kernels as mk
 from ..materials import slots as ms
-from . import eos, integration, rates, search, walls
+from . import eos, expansion, integration, rates, search, walls
 from . import slots as sl
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2
 
@@ -410,6 +410,9 @@ class SphSystem:
         else:
             rates.fluid_rates(sx, sd, stau, perm, cs, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph,
                               self.wall_power)
+            if getattr(self, "burn_light", None) is not None:  # explosive products: renormalised continuity
+                he = np.isfinite(self.burn_light[self.ids]) & self.active
+                expansion.renormalise_continuity(sx, sd, perm, cs, si, gf, gi, he, self.drho)
         if pts["friction_slots"].size and (self.options.alpha or self.options.beta):
             walls.ghost_friction(sx, sd, pts["svf"], pts["friction_slots"], perm, cs, sf, si, gf, gi, self.acc,
                                  self.de)
