@@ -11,9 +11,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..deck.schema import Deck, SegmentSet
-from ..fem.geometry import hex8_volumes
-from ..fem.kernels import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2
-from ..materials.kernels import RIGID
+from ..fem.slots import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2
+from ..materials.ids import RIGID
 from ..materials.slots import EOS_OFFSET, NPARAM, P_EOS_TYPE, P_G, P_K, P_RHO0, Q_E0
 
 VOID = -1  # material type id of void (ALE only; no row in the kernels)
@@ -235,6 +234,8 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     element_active = np.array([not parts[i].rigid for i in element_part])
 
     if dim == 3 and len(connectivity):
+        from ..fem.geometry import hex8_volumes  # a kernel: 3D decks load numba here
+
         volume0 = hex8_volumes(coordinates, connectivity)
     else:
         volume0 = meshgen.element_jacobian_sign_check(coordinates, connectivity)  # exact quad4 areas
