@@ -303,7 +303,7 @@ def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarra
 
 def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     """Mesh the ALE part and lay out its materials: the part's material, then each fill in order."""
-    from ..ale.fill import fill_fractions, quad_sample_points
+    from ..ale.fill import fill_fractions
     from ..materials.kernels import eos_pressure
     index = next(i for i, p in enumerate(model.parts) if p.kind == "ale")
     name = model.parts[index].name
@@ -329,11 +329,10 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     density = np.tile(rho0, (n_elem, 1))
     pressure = np.tile(np.array([state(m, rho0[j]) for j, m in enumerate(mats)], dtype=float), (n_elem, 1))
     velocity = np.zeros((len(nodes), model.dim))
-    points = quad_sample_points(nodes, conn) if model.dim == 2 and part.fill else None  # shared by the fills
     for j, fill in enumerate(part.fill):
         inside = fill_region(fill)
         try:
-            f = fill_fractions(nodes, conn, inside, points=points)
+            f = fill_fractions(nodes, conn, inside)
         except ValueError as exc:
             raise ModelError(f"parts.{name}.fill.{j}", str(exc)) from None
         k = names.index(fill.material)
