@@ -3,9 +3,9 @@
     python benchmarks/startup.py [--repeat 3] [--cases check,run,cold,ale2,ale1,sph] [--threads 1]
 
 Every figure is the CPU time (user + system, from the child's rusage) of a fresh process, so imports,
-numba's cache loads and the model build all count; the repetitions of all cases are interleaved
-(round r runs every case once, then round r + 1), and min and median over the rounds are printed
-with the load average before and after.
+numba's cache loads and the model build all count (the package is byte-compiled first, as an
+installed one is); the repetitions of all cases are interleaved (round r runs every case once, then
+round r + 1), and min and median over the rounds are printed with the load average before and after.
 
 * ``check``: ``sphfem check decks/cantilever_2d.yaml``, warm numba cache; peer ``python -c "import
   numpy"`` (goal: at most 3x the peer).
@@ -33,6 +33,25 @@ before and 9.1 after, 3 interleaved rounds, min / median CPU seconds):
   (goal 15 s);
 * ALE 960^2, two materials 2.97 / 3.02 (main, one run in the same hour: 14.1 s), one material
   1.99 / 1.99 (main: 9.1-10.4 s); SPH 5e5 particles 0.515 / 0.537 (main: 1.07 s, one run).
+
+After the startup17 branch (2 December 2026, same machine; CPU seconds min / median):
+
+* ``--repeat 3``, all cases, load 2.5 before and 3.7 after: check 0.354 / 0.391 against import
+  numpy 0.132 / 0.136 (ratio of the pairs: min 2.61, median 2.97); tiny run 1.11 / 1.22; empty
+  cache 11.4 / 12.5, says it compiles; ALE 960^2 two materials 2.59 / 2.74, one material
+  1.37 / 1.61; SPH 5e5 particles 0.84 / 0.92.
+* ``--cases check,ale2,ale1 --repeat 5``, load 3.1 / 3.7: check 0.355 / 0.374 against numpy
+  0.118 / 0.133 (pairs: min 2.62, median 2.82; min/min 3.00); ALE two materials 1.93 / 2.59,
+  one material 1.36 / 1.72.
+* main -> the branch, interleaved pairs in one run (3 rounds each; a first run at load 5.0 -> 5.7:
+  check 1.15 / 1.18 -> 0.39 / 0.39, ALE two materials 1.98 / 2.08 -> 1.44 / 1.71, one material
+  1.44 / 1.49 -> 1.30 / 1.36; a second at load 3.3 -> 2.9: ALE two materials 2.60 / 2.65 ->
+  1.35 / 1.61, tiny run 1.01 / 1.15 -> 1.06 / 1.11, unchanged).
+
+``check`` of a plane-strain solid deck at rest no longer loads numba (``fem.at_rest``). The ALE
+set-up's CPU is now mostly system time: first touches of fresh memory (page faults, transparent
+huge pages through numpy's madvise), which swing with what ran before it (the two-material case
+after the empty-cache compiles of ``cold``: 2.6 s; without them: 1.4-1.9 s).
 """
 from __future__ import annotations
 
@@ -125,6 +144,10 @@ def main() -> None:
     tiny.write_text(TINY)
     sphfem = [sys.executable, "-m", "sphfem_cli.cli"]
     run_cmd = sphfem + ["run", str(tiny), "-o", str(tmp / "out"), "--overwrite", "--threads", "1"]
+    # the package's bytecode, as an installed package has it (pip byte-compiles; an editable
+    # checkout under PYTHONDONTWRITEBYTECODE=1 would compile every module in every child)
+    subprocess.run([sys.executable, "-m", "compileall", "-q", str(ROOT / "sphfem_cli")], check=True,
+                   capture_output=True)
     child_cpu(run_cmd, env)  # a warm cache for every kernel of the tiny deck
     results: dict[str, list[float]] = {c: [] for c in cases}
     results["numpy"] = []

@@ -61,7 +61,7 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
         raise ValueError("a face is shared by more than two elements")
     face_dir = np.where(face_local[:, 0] % 2 == 1, 0, 1)
 
-    node_elem_idx = np.argsort(a, kind="stable").astype(np.int64)
+    node_elem_idx = np.argsort(a, kind="stable").astype(np.int64, copy=False)
     node_elem_ptr = np.zeros(n_nodes + 1, dtype=np.int64)
     node_elem_ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
 
@@ -69,10 +69,10 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
     _quad_node_lines(conn, elem_nbr, np.array(QUAD_SIDE_A, dtype=np.int64), np.array(QUAD_SIDE_B, dtype=np.int64),
                      QUAD_HALF_NODES, node_line)
     return dict(
-        face_nodes=face_nodes.astype(np.int64), face_elem=face_elem, face_local=face_local,
+        face_nodes=face_nodes.astype(np.int64, copy=False), face_elem=face_elem, face_local=face_local,
         face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
         node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line,
-        faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64) for d in range(2)],
+        faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64, copy=False) for d in range(2)],
         side_a=QUAD_SIDE_A, side_b=QUAD_SIDE_B, corner_edge=QUAD_CORNER_HALF, corner_dst=QUAD_CORNER_DST,
     )
 
@@ -214,10 +214,10 @@ def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:
             corner_edge[d, HEX_EDGES[d, h]] = h
             corner_dst[d, HEX_EDGES[d, h, 1]] = 1
     return dict(
-        face_nodes=face_nodes.astype(np.int64), face_elem=face_elem, face_local=face_local,
+        face_nodes=face_nodes.astype(np.int64, copy=False), face_elem=face_elem, face_local=face_local,
         face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
         node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line,
-        faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64) for d in range(3)],
+        faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64, copy=False) for d in range(3)],
         side_a=(0, 2, 4), side_b=(1, 3, 5), corner_edge=corner_edge, corner_dst=corner_dst,
     )
 

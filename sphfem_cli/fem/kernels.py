@@ -29,16 +29,10 @@ from ..materials.kernels import sound_speed, update_stress
 from ..materials.slots import P_G, P_RHO0
 from .geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient, quad4_char_length,
                        quad4_gradient, stable_dt)
+from .slots import (  # noqa: F401  (re-exported: declared in fem.slots)
+    HG_STIFFNESS, HG_VISCOUS, INVERTED, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2,
+)
 
-HG_VISCOUS = 0
-HG_STIFFNESS = 1
-
-# Section table columns.
-SEC_HG_TYPE, SEC_HG_COEF, SEC_Q1, SEC_Q2 = 0, 1, 2, 3
-NSEC = 4
-
-# Element status written into dt_elem when the element is invalid.
-INVERTED = -1.0
 
 @njit(cache=True)
 def rotate_stress(s, w_xy, w_yz, w_zx, dt):

@@ -1,13 +1,14 @@
 """Constitutive models and equations of state.
 
 ``kernels`` holds the numba functions (``update_stress``, ``sound_speed``, ``eos_pressure``,
-``eos_sound_speed``) and the type-id constants; ``slots`` names every slot of the parameter, EOS
+``eos_sound_speed``; loaded on first use of one of these names, so that importing the package loads no
+numba); ``ids`` declares the type-id constants; ``slots`` names every slot of the parameter, EOS
 and history rows; ``tables.pack_material`` turns a deck material (and its equation of state) into
 ``(type id, parameter row)``. Theory: docs/theory/materials.md.
 """
 from __future__ import annotations
 
-from .kernels import (
+from .ids import (
     EOS_GRUNEISEN,
     EOS_IDEAL_GAS,
     EOS_JWL,
@@ -20,10 +21,6 @@ from .kernels import (
     FLUID,
     JOHNSON_COOK,
     RIGID,
-    eos_pressure,
-    eos_sound_speed,
-    sound_speed,
-    update_stress,
 )
 from .slots import EOS_OFFSET, NHIST, NPARAM, P_EOS_TYPE
 
@@ -33,3 +30,15 @@ __all__ = [
     "EOS_STIFFENED_GAS", "EOS_JWL", "NPARAM", "NHIST", "P_EOS_TYPE", "EOS_OFFSET",
     "update_stress", "sound_speed", "eos_pressure", "eos_sound_speed",
 ]
+
+
+_KERNEL_NAMES = ("update_stress", "sound_speed", "eos_pressure", "eos_sound_speed")
+
+
+def __getattr__(name: str):
+    """The kernel functions, from ``materials.kernels`` at first use (PEP 562)."""
+    if name in _KERNEL_NAMES:
+        from . import kernels
+
+        return getattr(kernels, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -16,6 +16,10 @@ import math
 
 from numba import njit
 
+from .ids import (  # noqa: F401  (re-exported: the type ids, declared in materials.ids)
+    ELASTIC, ELASTIC_PLASTIC, EOS_GRUNEISEN, EOS_IDEAL_GAS, EOS_JWL, EOS_LINEAR_POLYNOMIAL, EOS_NONE,
+    EOS_STIFFENED_GAS, EOS_TAIT, FLUID, JOHNSON_COOK, RIGID,
+)
 from .slots import NHIST, NPARAM  # noqa: F401  (re-exported: row lengths for callers of the kernels)
 from .slots import (
     EOS_OFFSET, H_BACK_XX, H_BACK_XY, H_BACK_YY, H_BACK_YZ, H_BACK_ZX, H_BACK_ZZ, H_EPS, H_WP, P_EOS_TYPE,
@@ -25,22 +29,6 @@ from .slots import (
     Q_LP_C3, Q_LP_C4, Q_LP_C5, Q_LP_C6, Q_RHO0, Q_SG_GAMMA, Q_SG_PINF, Q_TAIT_B, Q_TAIT_C0, Q_TAIT_GAMMA,
     Q_TAIT_PB, Q_TAIT_RHO_REF,
 )
-
-# material type ids
-ELASTIC = 0
-ELASTIC_PLASTIC = 1
-JOHNSON_COOK = 2
-RIGID = 3
-FLUID = 4
-
-# equation-of-state type ids
-EOS_NONE = -1
-EOS_LINEAR_POLYNOMIAL = 0
-EOS_GRUNEISEN = 1
-EOS_TAIT = 2
-EOS_IDEAL_GAS = 3
-EOS_STIFFENED_GAS = 4
-EOS_JWL = 5
 
 _JC_MAXIT = 100
 _JC_RTOL = 1e-12

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..deck.schema import materials as sm
-from . import kernels as k
+from . import ids
 from .slots import (
     EOS_OFFSET, NPARAM, NQ, P_DETONATION_VELOCITY, P_E, P_EOS_TYPE, P_EP_BETA, P_EP_EP, P_EP_ET,
     P_EP_SIGMA_Y0, P_G, P_JC_A, P_JC_B, P_JC_C, P_JC_CP, P_JC_M, P_JC_N, P_JC_RATE0, P_JC_TM, P_JC_TR,
@@ -20,21 +20,21 @@ from .slots import (
 )
 
 MATERIAL_IDS = {
-    "elastic": k.ELASTIC,
-    "elastic_plastic": k.ELASTIC_PLASTIC,
-    "johnson_cook": k.JOHNSON_COOK,
-    "rigid": k.RIGID,
-    "fluid": k.FLUID,
-    "high_explosive": k.FLUID,
+    "elastic": ids.ELASTIC,
+    "elastic_plastic": ids.ELASTIC_PLASTIC,
+    "johnson_cook": ids.JOHNSON_COOK,
+    "rigid": ids.RIGID,
+    "fluid": ids.FLUID,
+    "high_explosive": ids.FLUID,
 }
 
 EOS_IDS = {
-    "linear_polynomial": k.EOS_LINEAR_POLYNOMIAL,
-    "gruneisen": k.EOS_GRUNEISEN,
-    "tait": k.EOS_TAIT,
-    "ideal_gas": k.EOS_IDEAL_GAS,
-    "stiffened_gas": k.EOS_STIFFENED_GAS,
-    "jwl": k.EOS_JWL,
+    "linear_polynomial": ids.EOS_LINEAR_POLYNOMIAL,
+    "gruneisen": ids.EOS_GRUNEISEN,
+    "tait": ids.EOS_TAIT,
+    "ideal_gas": ids.EOS_IDEAL_GAS,
+    "stiffened_gas": ids.EOS_STIFFENED_GAS,
+    "jwl": ids.EOS_JWL,
 }
 
 
@@ -77,7 +77,7 @@ def pack_material(material, eos=None) -> tuple[int, np.ndarray]:
         raise ValueError(f"material of type {material.type} takes no equation of state here")
 
     p = np.zeros(NPARAM)
-    p[P_EOS_TYPE] = k.EOS_NONE
+    p[P_EOS_TYPE] = ids.EOS_NONE
     rho0 = material.density
     p[P_RHO0] = rho0
     if eos is not None:
@@ -86,13 +86,15 @@ def pack_material(material, eos=None) -> tuple[int, np.ndarray]:
         p[EOS_OFFSET :] = q
 
     if isinstance(material, (sm.Fluid, sm.HighExplosive)):
-        c0 = float(k.eos_sound_speed(int(p[P_EOS_TYPE]), p[EOS_OFFSET :], 1.0, p[EOS_OFFSET + Q_E0]))
+        from .kernels import eos_sound_speed  # fluids only: a solid deck loads no kernel here
+
+        c0 = float(eos_sound_speed(int(p[P_EOS_TYPE]), p[EOS_OFFSET :], 1.0, p[EOS_OFFSET + Q_E0]))
         p[P_E], p[P_NU], p[P_G], p[P_K] = 0.0, 0.5, 0.0, rho0 * c0 * c0
         if isinstance(material, sm.HighExplosive):
             p[P_DETONATION_VELOCITY] = material.detonation_velocity
         else:
             p[P_VISCOSITY] = material.viscosity
-        return k.FLUID, p
+        return ids.FLUID, p
 
     e, nu = material.youngs_modulus, material.poisson_ratio
     p[P_E], p[P_NU] = e, nu

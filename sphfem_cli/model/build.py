@@ -11,9 +11,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..deck.schema import Deck, SegmentSet
-from ..fem.geometry import hex8_volumes
-from ..fem.kernels import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2
-from ..materials.kernels import RIGID
+from ..fem.slots import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2
+from ..materials.ids import RIGID
 from ..materials.slots import EOS_OFFSET, NPARAM, P_EOS_TYPE, P_G, P_K, P_RHO0, Q_E0
 
 VOID = -1  # material type id of void (ALE only; no row in the kernels)
@@ -235,6 +234,8 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     element_active = np.array([not parts[i].rigid for i in element_part])
 
     if dim == 3 and len(connectivity):
+        from ..fem.geometry import hex8_volumes  # a kernel: 3D decks load numba here
+
         volume0 = hex8_volumes(coordinates, connectivity)
     else:
         volume0 = meshgen.element_jacobian_sign_check(coordinates, connectivity)  # exact quad4 areas
@@ -302,7 +303,7 @@ def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarra
 
 def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     """Mesh the ALE part and lay out its materials: the part's material, then each fill in order."""
-    from ..ale.fill import fill_fractions, quad_sample_points
+    from ..ale.fill import fill_fractions
     from ..materials.kernels import eos_pressure
     index = next(i for i, p in enumerate(model.parts) if p.kind == "ale")
     name = model.parts[index].name
@@ -328,11 +329,10 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     density = np.tile(rho0, (n_elem, 1))
     pressure = np.tile(np.array([state(m, rho0[j]) for j, m in enumerate(mats)], dtype=float), (n_elem, 1))
     velocity = np.zeros((len(nodes), model.dim))
-    points = quad_sample_points(nodes, conn) if model.dim == 2 and part.fill else None  # shared by the fills
     for j, fill in enumerate(part.fill):
         inside = fill_region(fill)
         try:
-            f = fill_fractions(nodes, conn, inside, points=points)
+            f = fill_fractions(nodes, conn, inside)
         except ValueError as exc:
             raise ModelError(f"parts.{name}.fill.{j}", str(exc)) from None
         k = names.index(fill.material)

@@ -127,7 +127,8 @@ def _default_tol(nodes: np.ndarray, tol: float | None) -> float:
         return float(tol)
     if nodes.shape[0] == 0:
         return 0.0
-    return 1.0e-6 * float(np.linalg.norm(np.ptp(nodes, axis=0)))
+    span = np.array([np.ptp(nodes[:, k]) for k in range(nodes.shape[1])])  # per column: 20x np.ptp(axis=0)
+    return 1.0e-6 * float(np.linalg.norm(span))
 
 
 def nodes_in_box(

@@ -13,7 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..fem import kernels as fem
+from ..fem.at_rest import at_rest_element_pass
+from ..fem.slots import INVERTED
 from ..materials.slots import EOS_OFFSET, H_EPS, NHIST, P_EOS_TYPE, P_RHO0, Q_E0
 from .boundary import Constraints, Curves, Loads, RigidBodies
 from .domain import Domain, Energies
@@ -153,6 +154,8 @@ class SolidDomain(Domain):
         f_applied = st.f_ext + st.f_contact if self.sim.interactions else st.f_ext
         if self.rigid.bodies:
             self.rigid.kick(st.f_int + f_applied, t_mid, dt_avg, st.x)
+        from ..fem import kernels as fem  # loaded at the first step (`sphfem check` takes none)
+
         fem.central_difference_update(
             st.x, st.v, st.f_int, f_applied, self.inv_mass, self.constraints.free,
             self.constraints.v_prescribed, dt_avg, dt, st.node_power,
@@ -162,18 +165,28 @@ class SolidDomain(Domain):
             self.rigid.drift(dt, st.x)
 
     def _element_pass(self, st: State, dt: float) -> None:
+        """Element stresses, forces and stable steps of state n+1 (the zero step of the initial state in
+        numpy where ``fem.at_rest`` covers it, so that `sphfem check` loads no kernel)."""
         m = self.model
-        if m.axisymmetric:  # a module of its own: plane-strain and 3D decks never compile it
-            from ..fem.axisymmetric import axisymmetric_element_forces as element_forces
+        if not m.axisymmetric and at_rest_element_pass(
+                st.x, st.v, m.connectivity, m.element_active, m.element_material, m.material_type,
+                m.material_param, m.volume0, dt, st.stress, st.hg_force, self._f_elem, self._dt_elem,
+                st.volume, st.q_visc):
+            st.f_int[:] = 0.0  # the gather of zero element forces
         else:
-            element_forces = fem.solid_element_forces
-        element_forces(
-            st.x, st.v, m.connectivity, m.element_active, m.element_material, m.element_section,
-            m.material_type, m.material_param, m.section_param, m.volume0, dt,
-            st.stress, st.hist, st.energy, st.hg_energy, st.hg_force,
-            self._f_elem, self._dt_elem, st.volume, st.q_visc,
-        )
-        fem.gather_nodal_forces(self._f_elem, m.node_elem_ptr, m.node_elem_idx, st.f_int)
+            from ..fem import kernels as fem
+
+            if m.axisymmetric:  # a module of its own: plane-strain and 3D decks never compile it
+                from ..fem.axisymmetric import axisymmetric_element_forces as element_forces
+            else:
+                element_forces = fem.solid_element_forces
+            element_forces(
+                st.x, st.v, m.connectivity, m.element_active, m.element_material, m.element_section,
+                m.material_type, m.material_param, m.section_param, m.volume0, dt,
+                st.stress, st.hist, st.energy, st.hg_energy, st.hg_force,
+                self._f_elem, self._dt_elem, st.volume, st.q_visc,
+            )
+            fem.gather_nodal_forces(self._f_elem, m.node_elem_ptr, m.node_elem_idx, st.f_int)
         self._check_elements(st)
         if m.element_dt_factor is not None:  # elements free to dilate (thin parts): model.build.free_dilatation_factor
             self._dt_elem *= m.element_dt_factor
@@ -244,7 +257,7 @@ class SolidDomain(Domain):
     def _check_elements(self, st: State) -> None:
         """Erode what the parts' `erosion` allows; stop on any other inverted element."""
         m = self.model
-        bad = np.flatnonzero(self._dt_elem == fem.INVERTED)
+        bad = np.flatnonzero(self._dt_elem == INVERTED)
         if len(bad) and not np.isfinite(st.volume[bad]).all():
             self.sim.check_finite()  # an element "inverted" by a non-finite state: that state is the fault
         if len(bad) and self._erode_inverted[bad].any():
@@ -271,6 +284,8 @@ class SolidDomain(Domain):
         m.element_active[elements] = False
         self._f_elem[elements] = 0.0
         self._dt_elem[elements] = np.inf
+        from ..fem import kernels as fem
+
         fem.gather_nodal_forces(self._f_elem, m.node_elem_ptr, m.node_elem_idx, st.f_int)
         for e in elements:
             self.eroded.append((st.time, int(e), self.part_of(int(e)), reason))

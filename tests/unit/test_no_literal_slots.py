@@ -33,7 +33,7 @@ ROW_NAMES = frozenset({
     "material_param", "mat_param", "params", "mat_q",  # material rows (M, NPARAM), EOS rows (M, NQ)
     "hist",  # history rows (E, NHIST)
     "settings_f", "settings_i", "grid_f", "grid_i",  # SPH settings and cell-grid vectors (sph/slots.py)
-    "sec_param",  # section table (fem/kernels.py SEC_* columns)
+    "sec_param",  # section table (fem/slots.py SEC_* columns)
 })
 
 ROW_VARIABLES = {

@@ -99,3 +99,29 @@ def test_only_an_axisymmetric_deck_compiles_the_axisymmetric_sph(deck, axisymmet
         assert {"_axisymmetric_rates", "ring_smoothing_lengths"} <= compiled and "_fluid_rates" not in compiled, sorted(compiled)
     else:
         assert not (compiled & _AXISYMMETRIC_SPH), f"{deck} compiled axisymmetric kernels {sorted(compiled & _AXISYMMETRIC_SPH)}"
+
+
+_CHECK_PROBE = r"""
+import json, sys
+from sphfem_cli.cli import main
+sys.argv = ["sphfem", "check", sys.argv[1]]
+try:
+    main()
+except SystemExit as stop:
+    assert not stop.code, stop.code
+# every module of the package that defines a numba dispatcher, and numba itself
+kernels = sorted(key for key, m in list(sys.modules.items()) if key.startswith("sphfem_cli.") and any(
+    getattr(getattr(v, "py_func", None), "__module__", None) == key for v in vars(m).values()))
+print(json.dumps({"numba": "numba" in sys.modules, "kernels": kernels}), file=sys.stderr)
+"""
+
+
+def test_check_of_a_solid_deck_at_rest_loads_no_kernel():
+    """`sphfem check` of a plane-strain solid deck at rest gets its stable step from fem.at_rest: no
+    kernel module is imported, nor numba (issue 17: check at most 3x `import numpy`)."""
+    out = subprocess.run([sys.executable, "-c", _CHECK_PROBE, str(DECKS / "cantilever_2d.yaml")],
+                         capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert "stable time step" in out.stdout
+    report = json.loads(out.stderr.strip().splitlines()[-1])
+    assert report == {"numba": False, "kernels": []}, report

@@ -17,7 +17,7 @@ from pydantic import BaseModel, ConfigDict, Field
 
 
 class DeckModel(BaseModel):
-    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, frozen=False)
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, frozen=False, defer_build=True)
 
 
 class _VectorMarker:
