@@ -94,8 +94,10 @@ def axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f,
     padded with the sentinel slot, summed by ``_pair_sums`` (which LLVM vectorises). Plain Python
     that picks the kernel's and the term set's specialisation (as ``rates.fluid_rates``).
     """
-    kshape = _SHAPES[2 if int(settings_i[SI_KERNEL]) == WENDLAND_C2 else 1]
-    tshape = _SHAPES[2 if settings_f[SF_XSPH] == 0.0 else 1]
+    kernel = int(settings_i[SI_KERNEL])
+    lean = settings_f[SF_XSPH] == 0.0
+    kshape = _SHAPES[2 if kernel == WENDLAND_C2 else 1]
+    tshape = _SHAPES[2 if lean else 1]
     _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
                         kshape, tshape)
 
