@@ -62,3 +62,21 @@ def test_hugoniot_velocity():
     up = float(hugoniot_velocity(2e8))
     assert 2e8 == pytest.approx(RHO_W * (C_W + 1.92 * up) * up, rel=1e-12)
     assert float(hugoniot_velocity(-1e5)) == pytest.approx(-1e5 / (RHO_W * C_W))
+
+
+def test_strip_plate_2d_plane_limits():
+    from tests.verification.plate_shock_reference import strip_plate_2d
+    t = np.linspace(0.0, 1e-4, 2001)
+    p = np.where(t > 1e-5, P0 * np.exp(-(t - 1e-5) / THETA), 0.0)
+    plane = strip_plate_2d(t, p, 6e-5, dx=4e-3, dt=1e-6, plane=True)
+    vt = taylor_plate(t, p)
+    assert np.interp(5e-5, plane["t"], plane["v_centre"]) == pytest.approx(np.interp(5e-5, t, vt), rel=5e-3)
+    # a plane incident wave (line source far away) on the finite strip plate: the centre moves as the
+    # infinite plate until the edges' signal arrives (half_span / c = 100 us)
+    far = strip_plate_2d(t, p, 6e-5, standoff=1e4, dx=4e-3, dt=1e-6)
+    assert np.interp(5e-5, far["t"], far["v_centre"]) == pytest.approx(
+        np.interp(5e-5, plane["t"], plane["v_centre"]), rel=2e-3)
+    # the cylindrical wave of the 2D charge (R = 0.1 m) loads the centre's neighbours later and
+    # the centre's radiation load is relieved: it moves faster than the plane-wave plate
+    near = strip_plate_2d(t, p, 6e-5, dx=4e-3, dt=1e-6)
+    assert np.interp(5e-5, near["t"], near["v_centre"]) > np.interp(5e-5, plane["t"], plane["v_centre"])
