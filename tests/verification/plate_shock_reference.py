@@ -40,8 +40,8 @@ m = rho_s t (decks/underwater_explosion_*.yaml: 7850 kg/m^3 x 5 mm = 39.25 kg/m^
    checks the scheme against model 1. Left face (x = -L): a ghost cell in the incident state
    (p_i, u_i) with u_i on the right-going Hugoniot p = rho0 (C + S1 u) u (acoustic: p/(rho0 C)),
    so that the wave reflected from the plate leaves through it; p_i is the given history delayed
-   by L/C (the returned times are the free field's at x = 0). Right face: the plate, m dv/dt = p_face (air behind, 0 gauge); a gap opens at the
-   cut-off (face pressure p_cav) and closes when the water reaches the plate again.
+   by L/C (the returned times are the free field's at x = 0). Right face: the plate,
+   m dv/dt = p_face (air behind, 0 gauge); a gap opens at the cut-off (face pressure p_cav) and closes when the water reaches the plate again.
 
 4. **The 2D charge's cylindrical wave** (`strip_plate_2d`): Taylor's plate cut into independent
    strips, each loaded by 2 p_i of the cylindrical wave at its x and relieved by the 2D Rayleigh
