@@ -41,7 +41,11 @@ m = rho_s t (decks/underwater_explosion_*.yaml: 7850 kg/m^3 x 5 mm = 39.25 kg/m^
    (p_i, u_i) with u_i on the right-going Hugoniot p = rho0 (C + S1 u) u (acoustic: p/(rho0 C)),
    so that the wave reflected from the plate leaves through it; p_i is the given history delayed
    by L/C (the returned times are the free field's at x = 0). Right face: the plate,
-   m dv/dt = p_face (air behind, 0 gauge); a gap opens at the cut-off (face pressure p_cav) and closes when the water reaches the plate again.
+   m dv/dt = p_face (air behind, 0 gauge); a gap opens at the cut-off (face pressure p_cav) and
+   closes when the water reaches the plate again. The study uses L = 30 mm: the result moves by
+   1.5 % between 5 and 30 mm (a short column cuts Kennard's cavitated zone, a long one smears the
+   first-order front). Note: the "acoustic" EOS keeps the convective (c + u) nonlinearity of the
+   Lagrangian scheme; it is Taylor's linear model only at small amplitude (tested at 2 MPa).
 
 4. **The 2D charge's cylindrical wave** (`strip_plate_2d`): Taylor's plate cut into independent
    strips, each loaded by 2 p_i of the cylindrical wave at its x and relieved by the 2D Rayleigh
