@@ -297,8 +297,6 @@ class SphSystem:
             raise ValueError("axisymmetric SPH supports slip ghost walls only")
         if np.any(self.params[:, ms.P_DETONATION_VELOCITY] > 0.0):
             raise ValueError("axisymmetric SPH has no programmed burn yet")
-        if opt.continuity != "volume":
-            raise ValueError("axisymmetric SPH has the volume form of the continuity equation only")
 
     # ------------------------------------------------------------------ evaluation
 
