@@ -138,6 +138,7 @@ class SphDomainOptions(Options):
     epsilon: float
     density_diffusion: float
     xsph: float
+    continuity: str
     diffusion_hydrostatic: bool
     ghost_hydrostatic: bool
     pressure_cutoff: float | None
@@ -324,7 +325,7 @@ def _sph_options(deck, model, detonations) -> SphDomainOptions:
     return SphDomainOptions(
         kernel=section.kernel, smoothing_ratio=section.smoothing_ratio, alpha=visc.alpha, beta=visc.beta,
         epsilon=visc.epsilon, density_diffusion=section.density_diffusion, xsph=section.xsph,
-        diffusion_hydrostatic=section.diffusion_hydrostatic, ghost_hydrostatic=section.ghost_hydrostatic,
+        continuity=section.continuity, diffusion_hydrostatic=section.diffusion_hydrostatic, ghost_hydrostatic=section.ghost_hydrostatic,
         pressure_cutoff=section.pressure_cutoff,
         domain=None if section.domain is None else (_vec(section.domain.min), _vec(section.domain.max)),
         walls=tuple(SphWall(_vec(bc.min), _vec(bc.max), tuple(bc.sides), bc.condition)

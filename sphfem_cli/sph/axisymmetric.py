@@ -13,6 +13,11 @@ the plane 2D kernel W (normalised in r-z) and Q = p / (rho eta) = p / (2 pi r rh
 
   continuity   drho_i/dt = rho_i sum_j A_j v_ij . grad_i W_ij  -  rho_i v_r,i / r_i
                            - 2 delta sum_j h_ij c_ij psi_ij F_ij A_j             (delta-SPH, as in 2D)
+               [mass form (SphOptions.continuity = "mass", the plane code's sum_j m_j v_ij . grad W with
+                the plane mass rho_j A_j = m_j / (2 pi r_j) of each ring): the first sum is
+                sum_j rho_j A_j v_ij . grad_i W_ij; rho is even across the axis, so the images' +rho_j A_j
+                continue it consistently. Python API only (an axisymmetric deck refuses it): it converges
+                on Noh's sphere but lets a few particles reach the axis (docs/theory/sph.md)]
   momentum     dv_i/dt   = - sum_j m_j (s_j Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) grad_i W_ij
                            + kappa_i p_i / (rho_i r_i) e_r
   energy       de_i/dt   = 1/2 sum_j m_j (Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) v_ij . grad_i W_ij
@@ -62,7 +67,7 @@ from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_sigma
 from .search import cell_range
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GI_NX,
                     GI_NY, KIND_FLUID, KIND_GHOST, KIND_WALL, ND, SF_ALPHA, SF_BETA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
-                    SI_DELTA_HYDROSTATIC, SI_KERNEL)
+                    SI_DELTA_HYDROSTATIC, SI_KERNEL, SI_CONTINUITY, CONTINUITY_MASS)
 
 TWO_PI = 2.0 * math.pi
 INV_TWO_PI = 1.0 / TWO_PI
@@ -110,7 +115,7 @@ _FMV = {"nsz", "arcp", "reassoc"}  # for the neighbour sums only (as rates._FMV)
 
 @njit(cache=True, fastmath=_FM, forceinline=True, error_model="numpy")
 def _pair_terms(j, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
-                gx, gy, dhydro):
+                gx, gy, dhydro, mform):
     """The terms of neighbour slot ``j`` in the sums of ``_pair_sums`` (module docstring); exactly 0 for a
     wall point or the sentinel. Always inlined, without "reassoc" (see ``rates._pair_terms``)."""
     wend = kshape.ndim == 2
@@ -171,19 +176,20 @@ def _pair_terms(j, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, 
     same = 1.0 if matj == mati else 0.0
     diff = same * hij * cij * psi * f * area
     wr = norm * th * area * rhoj / rij if full else 0.0
-    return ct * wgx, ct * wgy, work, area * vdotg, -area * f * dx * dx, diff, wr * du, wr * dv
+    cw = area * rhoj if mform else area  # continuity weight: rho_j A_j (mass form) or A_j (volume form)
+    return ct * wgx, ct * wgy, work, cw * vdotg, -area * f * dx * dx, diff, wr * du, wr * dv
 
 
 @njit(cache=True, fastmath=_FMV, error_model="numpy")
 def _pair_sums(nbj, cnt, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
-               gx, gy, dhydro):
+               gx, gy, dhydro, mform):
     """Branch-free sums over ``nbj[:cnt]`` of ``_pair_terms``: (ax, ay, work, cont, kappa, diff, sxu, sxv)."""
     full = tshape.ndim == 1
     fmati = float(mati)
     ax = ay = work = cont = kap = diff = sxu = sxv = 0.0
     for t in range(cnt):
         tx, ty, tw, tc, tk, td, tu, tv = _pair_terms(nbj[t], sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi,
-                                                     rhoi, ci, qi, fmati, alpha, beta, eps, gx, gy, dhydro)
+                                                     rhoi, ci, qi, fmati, alpha, beta, eps, gx, gy, dhydro, mform)
         ax -= tx
         ay -= ty
         work += tw
@@ -204,6 +210,7 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f
     kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
     nx, ny = grid_i[GI_NX], grid_i[GI_NY]
     dhydro = settings_i[SI_DELTA_HYDROSTATIC] != 0
+    mform = settings_i[SI_CONTINUITY] == CONTINUITY_MASS
     alpha, beta, eps = settings_f[SF_ALPHA], settings_f[SF_BETA], settings_f[SF_EPS]
     delta, exsph = settings_f[SF_DELTA], settings_f[SF_XSPH]
     gx, gy = settings_f[SF_GX], settings_f[SF_GY]
@@ -249,12 +256,12 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f
             qi = pri * INV_TWO_PI / xi  # Q_i = p_i / (2 pi r_i rho_i^2)
             ax, ay, work, cont, kap, diff, sxu, sxv = _pair_sums(
                 nbj, npad, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mki >> 2,
-                alpha, beta, eps, gx, gy, dhydro)
+                alpha, beta, eps, gx, gy, dhydro, mform)
             i = perm[k]
             hoop = pri * rhoi * kap / xi  # kappa_i p_i / (rho_i r_i), kappa_i = -sum_j A_j F_ij (r_i - x_j)^2
             acc[i, 0] = ax + hoop
             acc[i, 1] = ay
-            drho[i] = rhoi * cont - rhoi * ui / xi - 2.0 * delta * diff
+            drho[i] = (cont if mform else rhoi * cont) - rhoi * ui / xi - 2.0 * delta * diff
             de[i] = work - hoop * ui
             xsph[i, 0] = exsph * sxu
             xsph[i, 1] = exsph * sxv

@@ -18,7 +18,7 @@ from .search import cell_range
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
                     GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, ND, SF_ALPHA, SF_BETA,
                     SF_DELTA, SF_DILATATIONAL_VISCOSITY, SF_EPS, SF_GX, SF_GY, SF_GZ, SF_XSPH, SI_DELTA_HYDROSTATIC,
-                    SI_DIM, SI_KERNEL, SI_NWALL, SI_VISCOUS)
+                    SI_CONTINUITY, SI_DIM, SI_KERNEL, SI_NWALL, SI_VISCOUS, CONTINUITY_MASS)
 
 # Fast-math flags without nnan/ninf (NaN checks keep working), without "contract" and, but for the
 # additions of the neighbour sums (_FMV, _pair_sums), without "reassoc". numba links a copy of each
@@ -123,7 +123,7 @@ _FMV = {"nsz", "arcp", "reassoc"}
 
 @njit(cache=True, fastmath=_FM, forceinline=True, error_model="numpy")
 def _pair_terms(j, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, fmati,
-                alpha, beta, eps, gx, gy, gz, dhydro):
+                alpha, beta, eps, gx, gy, gz, dhydro, mform):
     """The terms of neighbour slot ``j`` in the sums of ``_pair_sums`` (same arguments, same order).
 
     Without "reassoc" and always inlined into ``_pair_sums`` (LLVM keeps each instruction's flags
@@ -206,12 +206,13 @@ def _pair_terms(j, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi
         psi += rij * gr / (cij * cij) if cij > 0.0 else 0.0  # c_ij = 0: no diffusion, no correction (0/0)
     diff = same * hij * cij * psi * f * vol
     wr = notwall * norm * th * mj * (dd * dd * rcp) if full else 0.0
-    return (coef * wgx, coef * wgy, coef * wgz, vol * vdotg, work, wall_work, diff, wr * du, wr * dv, wr * dw)
+    cw = mj if mform else vol  # the continuity weight: m_j (mass form) or V_j (volume form)
+    return (coef * wgx, coef * wgy, coef * wgz, cw * vdotg, work, wall_work, diff, wr * du, wr * dv, wr * dw)
 
 
 @njit(cache=True, fastmath=_FMV, error_model="numpy")
 def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mati,
-               alpha, beta, eps, gx, gy, gz, dhydro):
+               alpha, beta, eps, gx, gy, gz, dhydro, mform):
     """Branch-free sums over the neighbour slots ``nbj[:cnt]`` of one particle (LLVM vectorises it).
 
     ``sxf``, ``sdf``: ``sx``, ``sd`` flattened (rows of 4 and ``ND`` = 8), indexed with the unsigned
@@ -223,7 +224,8 @@ def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, 
     are not computed. The terms of one pair are ``_pair_terms``'.
 
     Returns (ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw): the pressure + artificial-viscosity
-    acceleration -sum m_j S grad W (S = p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij), sum V_j v_ij.grad W,
+    acceleration -sum m_j S grad W (S = p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij), sum V_j v_ij.grad W
+    (with ``mform``, the mass form: sum m_j v_ij.grad W),
     sum m_j S v_ij.grad W, its part over dummy wall points j, the delta-SPH sum sum h c psi F V (same material, no wall) and the
     XSPH sums sum (m_j/rho_ij) W (v_j - v_i) (no wall). Sentinel entries add exactly zero.
     """
@@ -236,7 +238,7 @@ def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, 
     for t in range(cnt):
         tx, ty, tz, tc, tw, tww, td, tu, tv, tws = _pair_terms(
             nbj[t], sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, fmati,
-            alpha, beta, eps, gx, gy, gz, dhydro)
+            alpha, beta, eps, gx, gy, gz, dhydro, mform)
         ax -= tx
         if dim > 1:
             ay -= ty
@@ -263,6 +265,8 @@ def fluid_rates(sx, sd, stau, perm, cell_start, settings_f, settings_i, grid_f, 
     grad_i W_ij = F_ij r_ij, v_ij = v_i - v_j, V_j = m_j/rho_j, Pi_ij the Monaghan viscosity:
 
       drho_i = rho_i sum_j V_j v_ij . grad_i W_ij                                  (paper 3.8)
+               [mass form, SphOptions.continuity = "mass": sum_j m_j v_ij . grad_i W_ij,
+                Monaghan 1992 ARA&A 30, 543: the rate of the summation density at fixed h]
                - 2 delta sum_j h_ij c_ij psi_ij F_ij V_j    (fluid/ghost j of the same material)
       acc_i  = sum_j m_j (sigma_i/rho_i^2 + sigma_j/rho_j^2 - Pi_ij I) . grad_i W_ij   (paper 3.9)
       de_i   = -1/2 sum_j m_j (sigma_i/rho_i^2 + sigma_j/rho_j^2 - Pi_ij I) : (v_ij (x) grad_i W_ij)
@@ -309,6 +313,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, settings_f, settings_i, grid_f,
     nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
     viscous = settings_i[SI_VISCOUS] != 0
     dhydro = settings_i[SI_DELTA_HYDROSTATIC] != 0
+    mform = settings_i[SI_CONTINUITY] == CONTINUITY_MASS
     alpha, beta, eps = settings_f[SF_ALPHA], settings_f[SF_BETA], settings_f[SF_EPS]
     delta, exsph = settings_f[SF_DELTA], settings_f[SF_XSPH]
     gx, gy, gz = settings_f[SF_GX], settings_f[SF_GY], settings_f[SF_GZ]
@@ -361,7 +366,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, settings_f, settings_i, grid_f,
             rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]
             ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw = _pair_sums(
                 nbj, npad, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
-                alpha, beta, eps, gx, gy, gz, dhydro)
+                alpha, beta, eps, gx, gy, gz, dhydro, mform)
             if viscous:
                 irho2 = 1.0 / (rhoi * rhoi)
                 t0i, t1i, t2i = stau[k, 0] * irho2, stau[k, 1] * irho2, stau[k, 2] * irho2
@@ -396,7 +401,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, settings_f, settings_i, grid_f,
                 acc[i, 1] = ay
             if dim > 2:
                 acc[i, 2] = az
-            drho[i] = rhoi * cont - 2.0 * delta * diff
+            drho[i] = (cont if mform else rhoi * cont) - 2.0 * delta * diff
             de[i] = 0.5 * work
             wall_power[i] = 0.5 * sd[k, D_VOL] * rhoi * wall_work
             xsph[i, 0] = exsph * sxu

@@ -149,3 +149,30 @@ def noh_sphere_axisymmetric(dx: float = 0.02, radius: float = 1.2, gamma: float 
     opt = _options({"alpha": 1.0, "beta": 2.0, "eps": 0.01, "delta": 0.0, "axisymmetric": True}, options)
     return SphSystem(x, -x / dist[:, None], ring_particles(x, dx, rho), rho, np.zeros(len(x), dtype=np.int64), mats,
                      opt, energy=np.full(len(x), 1e-6))
+
+
+def noh_disk(dx: float = 0.02, radius: float = 1.0, gamma: float = 5.0 / 3.0, **options) -> SphSystem:
+    """Noh's (1987) cylindrical implosion in plane 2D: the disk of ``radius`` about the origin, an ideal gas
+    of density 1, specific energy 1e-6 (p ~ 0) and velocity -x/|x| (unit speed towards the centre),
+    lattice spacing dx, no walls. Exact: a shock at R = (gamma - 1)/2 t (t/3 for gamma 5/3), density
+    ((gamma + 1)/(gamma - 1))^2 = 16 behind it, 1 + t/R ahead (``noh_density``). Monaghan alpha = 1,
+    beta = 2, no density diffusion, the mass form of the continuity equation (docs/theory/sph.md "Noh")."""
+    mats = ideal_gas(gamma=gamma, rho0=1.0)
+    x = lattice.box([-radius, -radius], [radius, radius], dx)
+    dist = np.linalg.norm(x, axis=1)
+    x = x[dist < radius]
+    dist = dist[dist < radius]
+    rho = np.ones(len(x))
+    opt = _options({"alpha": 1.0, "beta": 2.0, "eps": 0.01, "delta": 0.0, "continuity": "mass"}, options)
+    return SphSystem(x, -x / dist[:, None], rho * dx * dx, rho, np.zeros(len(x), dtype=np.int64), mats, opt,
+                     energy=np.full(len(x), 1e-6))
+
+
+def noh_density(r, t: float, dim: int, gamma: float = 5.0 / 3.0):
+    """Exact density of Noh's implosion (unit inflow speed, density 1, cold gas) in ``dim`` = 2 (cylinder)
+    or 3 (sphere) at radius r and time t: ((g+1)/(g-1))^dim behind the shock R = (g-1)/2 t,
+    (1 + t/r)^(dim-1) ahead of it (Noh 1987, J. Comput. Phys. 72, 78)."""
+    r = np.asarray(r, dtype=np.float64)
+    shock = 0.5 * (gamma - 1.0) * t
+    post = ((gamma + 1.0) / (gamma - 1.0)) ** dim
+    return np.where(r < shock, post, (1.0 + t / np.maximum(r, 1e-300)) ** (dim - 1))

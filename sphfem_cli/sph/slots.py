@@ -33,9 +33,12 @@ SF_DILATATIONAL_VISCOSITY, SF_PRESSURE_CUTOFF = 8, 9
 N_SF = 10
 
 # settings_i: dimension; smoothing kernel (kernel_functions.CUBIC_SPLINE / WENDLAND_C2); 1 when a
-# material is viscous; 1 with the hydrostatic delta-SPH correction; number of dummy wall particles
-SI_DIM, SI_KERNEL, SI_VISCOUS, SI_DELTA_HYDROSTATIC, SI_NWALL = 0, 1, 2, 3, 4
-N_SI = 5
+# material is viscous; 1 with the hydrostatic delta-SPH correction; number of dummy wall particles;
+# the continuity form (CONTINUITY_VOLUME: rho_i sum V_j v_ij.grad W, CONTINUITY_MASS: sum m_j v_ij.grad W)
+SI_DIM, SI_KERNEL, SI_VISCOUS, SI_DELTA_HYDROSTATIC, SI_NWALL, SI_CONTINUITY = 0, 1, 2, 3, 4, 5
+N_SI = 6
+CONTINUITY_VOLUME, CONTINUITY_MASS = 0, 1
+CONTINUITY_FORMS = {"volume": CONTINUITY_VOLUME, "mass": CONTINUITY_MASS}
 
 # grid_f: largest smoothing length, cell width, grid origin
 GF_HMAX, GF_CELL, GF_OX, GF_OY, GF_OZ = 0, 1, 2, 3, 4

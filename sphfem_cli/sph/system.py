@@ -85,7 +85,9 @@ class SphOptions:
     axisymmetric: the 2D points are the meridian plane x = r > 0, y = the axis, masses are ring masses
     for the full 2 pi, the axis r = 0 is a slip ghost wall added here, and the rates are
     ``sph.axisymmetric``'s [False] (slip ghost walls only: no dummy wall particles, no viscous
-    material, no no-slip or wall-function walls).
+    material, no no-slip or wall-function walls); continuity: the form of the continuity equation,
+    "volume" drho_i/dt = rho_i sum_j V_j v_ij.grad W (the paper's eq. 3.8) or "mass" sum_j m_j
+    v_ij.grad W (Monaghan 1992), see ``rates.fluid_rates`` and docs/theory/sph.md ["volume"].
     """
 
     kernel: str = "cubic_spline"
@@ -108,6 +110,7 @@ class SphOptions:
     reorder_every: int = 20
     max_cells_per_point: int = 4
     axisymmetric: bool = False
+    continuity: str = "volume"
 
 
 @dataclass
@@ -260,6 +263,9 @@ class SphSystem:
         self.settings_i[sl.SI_VISCOUS] = int(self.viscous)
         self.settings_i[sl.SI_DELTA_HYDROSTATIC] = int(opt.delta_hydrostatic)
         self.settings_i[sl.SI_NWALL] = len(self.wall_x)
+        if opt.continuity not in sl.CONTINUITY_FORMS:
+            raise ValueError(f"continuity must be one of {sorted(sl.CONTINUITY_FORMS)}, got {opt.continuity!r}")
+        self.settings_i[sl.SI_CONTINUITY] = sl.CONTINUITY_FORMS[opt.continuity]
         self.grid_f = np.zeros(sl.N_GF)
         self.grid_i = np.zeros(sl.N_GI, dtype=np.int64)
 

@@ -107,6 +107,9 @@ def _check_axisymmetric(deck: Deck) -> None:
         if kind == "sph":
             sph = True
             _check_meridian_half_plane(pname, part)
+            if getattr(section, "continuity", "volume") != "volume":
+                raise ValueError(f"@sections.{part.section}.continuity: {AXISYMMETRIC_SPH}; the '{section.continuity}' "
+                                 "form of the continuity equation is 2D/3D only (docs/theory/sph.md 'Axisymmetric SPH')")
             if getattr(material, "viscosity", 0.0) or getattr(material, "type", "") == "high_explosive":
                 why = "a viscous fluid" if getattr(material, "viscosity", 0.0) else "a high explosive"
                 raise ValueError(f"@parts.{pname}.material: {AXISYMMETRIC_SPH}; '{part.material}' is {why}")

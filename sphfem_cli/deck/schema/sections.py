@@ -75,6 +75,9 @@ class SphSection(DeckModel):
     ghost_hydrostatic: bool = Field(
         True, description="Ghost particles carry the mirrored particle's pressure plus the hydrostatic increment rho g.(x_ghost - x); false is the paper's plain mirror, which leaves the rows next to a floor about 5 % low under gravity. Default true."
     )
+    continuity: Literal["volume", "mass"] = Field(
+        "volume", description="Form of the continuity equation: volume, drho_i/dt = rho_i sum_j V_j v_ij.grad W (the paper's form, suited to liquids and interfaces of unequal density), or mass, sum_j m_j v_ij.grad W (Monaghan 1992, the rate of the summation density), for gas with strong shocks: the volume form over-weights the light side of a strong density jump and drifts from the particles' volumes (the cylindrical Noh implosion's post-shock density overshoots and diverges with resolution; docs/theory/sph.md, Noh's implosion and the continuity form). mass is 2D and 3D only (an axisymmetric deck's error). Default volume."
+    )
     xsph: float = Field(0.0, ge=0, le=1, description="XSPH velocity smoothing coefficient epsilon, 0 to 1 (Monaghan 1989 uses 0.5); 0 turns it off. Default 0.")
     pressure_cutoff: float | None = Field(
         None, description="Lowest pressure a particle may carry (cavitation) [pressure]. Default none."
