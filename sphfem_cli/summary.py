@@ -65,7 +65,7 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
     for c in sim.interactions:
         if not hasattr(c, "layer_in_h"):
             continue
-        layer, length = c.layer_in_h()
+        layer, length, wetted = c.layer_in_h()
         if layer.size == 0:
             continue
         # the median over the wetted length: a thin plate's short edge faces (small l, large L_c / h)
@@ -74,7 +74,7 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
         cum = np.cumsum(length[order])
         typical = float(layer[order][np.searchsorted(cum, 0.5 * cum[-1])])
         lines.append(f"  coupling {c.name}: penalty layer L_c = n h / pfac = {typical:.3g} h (median over "
-                     f"the faces' length; max {layer.max():.3g} h; pfac {c.spec.pfac:g}, nquad {c.nquad})")
+                     f"the {'wetted ' if wetted else ''}faces' length; max {layer.max():.3g} h; pfac {c.spec.pfac:g}, nquad {c.nquad})")
         if typical > 0.5 * (1.0 + 1e-6):
             warnings.append(f"warning: coupling {c.name}: the penalty acts as {typical:.3g} h of extra fluid "
                             f"(L_c = n h / pfac above h/2); pfac >= 2 n keeps it below h/2 "
