@@ -87,7 +87,7 @@ def test_free_fall_entry_ale(tmp_path):
             assert (V * t - 0.5 * a_wagner * t * t) / D <= pen <= (V * t + 0.5 * G * t * t) / D, (rho, q, pen)
         assert np.all(np.diff(p[T > 0.0]) > 0.0)  # the penetration grows
     assert T5[-1] > 0.73 and T10[-1] > 0.73  # both to 0.08 s
-    assert -h5["velocity_y"][-1] < 0.6 * V and -h10["velocity_y"][-1] < V  # both slowed (1.02, 1.51 m/s)
+    assert -h5["velocity_y"][-1] < 0.6 * V and -h10["velocity_y"][-1] < V  # both slowed (1.01, 1.50 m/s; pfac 1: 1.02, 1.51)
     both = (T5 > 0.05) & (T5 <= T10[-1])
     assert np.count_nonzero(both) > 10
     assert np.all(np.interp(T5[both], T10, p10) > p5[both])  # heavier deeper at equal T
