@@ -62,6 +62,23 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
     end = deck.control.end_time
     lines.append(f"  stable time step {dt:.4e} {units.time} (timestep_scale {deck.control.timestep_scale}), set by "
                  f"{sim.limiter_description()}; about {end / dt:.3g} steps to end_time {end:g} {units.time}")
+    for c in sim.interactions:
+        if not hasattr(c, "layer_in_h"):
+            continue
+        layer, length, wetted = c.layer_in_h()
+        if layer.size == 0:
+            continue
+        # the median over the wetted length: a thin plate's short edge faces (small l, large L_c / h)
+        # carry little of the load and would dominate a maximum
+        order = np.argsort(layer)
+        cum = np.cumsum(length[order])
+        typical = float(layer[order][np.searchsorted(cum, 0.5 * cum[-1])])
+        lines.append(f"  coupling {c.name}: penalty layer L_c = n h / pfac = {typical:.3g} h (median over "
+                     f"the {'wetted ' if wetted else ''}faces' length; max {layer.max():.3g} h; pfac {c.spec.pfac:g}, nquad {c.nquad})")
+        if float(f"{typical:.3g}") > 0.5:  # as printed: a layer shown as 0.5 h does not warn
+            warnings.append(f"warning: coupling {c.name}: the penalty acts as {typical:.3g} h of extra fluid "
+                            f"(L_c = n h / pfac above h/2); pfac >= 2 n keeps it below h/2 "
+                            f"(n = h / l coupling points per fluid-element face)")
     lines.append(f"  memory estimate {model.memory_bytes() / 2**20:.1f} MiB")
     lines += _counts(deck)
     lines.append(_output_size(sim, model, dt))

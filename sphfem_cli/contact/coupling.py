@@ -134,6 +134,40 @@ class LagrangeInSolidCoupling:
         st.f_contact += self.f_solid
         ale.f_couple += f_ale
 
+    def layer_in_h(self) -> tuple[np.ndarray, np.ndarray, bool]:
+        """(L_c / h, segment length, wetted) per segment: the penalty's extra fluid layer.
+
+        A point's spring k = pfac K l^2 / V (l = segment length / nquad, V the host's area) is, per
+        unit length of the face, k / l = pfac K l / V; a fluid layer of thickness L under bulk
+        modulus K is K / L. So the coupling acts as an extra layer L_c = V / (pfac l) = n h / pfac
+        in series with the fluid, with h = sqrt(V) and n = h / l the coupling points per fluid
+        element face (docs/theory/coupling.md, "Stiffness"). Measured on the initial geometry: a
+        segment's host is the ALE element whose centroid is nearest the point half an element in
+        front of the segment's midpoint. The segments returned are those whose host holds at least
+        min_fraction of coupling fluid (``wetted`` True), else, when none does (a structure that
+        enters the fluid later), every segment within one element size of a centroid.
+        """
+        from scipy.spatial import cKDTree
+
+        ale = self.sim.ale.system
+        x = self.sim.state.x
+        if len(self.segments) == 0:
+            return np.zeros(0), np.zeros(0), False
+        frac, _, _ = self._fluid_fields(ale)
+        centroid = ale.x[ale.conn].mean(axis=1)
+        t = x[self.segments[:, 1]] - x[self.segments[:, 0]]
+        length = np.linalg.norm(t, axis=1)
+        normal = np.stack([t[:, 1], -t[:, 0]], axis=1) / np.maximum(length, 1e-300)[:, None]
+        front = 0.5 * (x[self.segments[:, 0]] + x[self.segments[:, 1]]) + self.probe * normal
+        dist, e = cKDTree(centroid).query(front)
+        area = np.abs(ale.vol0[e])
+        h = np.sqrt(area)
+        ell = length / self.nquad
+        near = (dist <= h) & (ell > 0)
+        wet = near & (frac[e] >= float(self.spec.min_fraction))
+        keep = wet if wet.any() else near
+        return area[keep] / (float(self.spec.pfac) * ell[keep] * h[keep]), length[keep], bool(wet.any())
+
     def stable_dt(self) -> float:
         """sqrt(2 m_i / S_i) (1 + zeta^2)^(1/2) - zeta) over the nodes the coupled points load.
 

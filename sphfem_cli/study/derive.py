@@ -134,6 +134,13 @@ def _coupling_points(data: dict, refinement: float) -> list[str]:
     points per fluid element along the structure). Measured on decks/underwater_explosion_ale.yaml
     at h/2 (1.25 mm, 5 mm plate segments): plate centre at 0.1 ms 0.80 mm with nquad 2, 3.63 mm with
     nquad 4 (3.12 mm at h). Returns the notes; the schema caps nquad at NQUAD_MAX.
+
+    The penalty's extra fluid layer L_c = n h / pfac (n = h / l, l = segment length / nquad;
+    docs/theory/coupling.md, "Stiffness") therefore stays the same fraction of the fluid element:
+    at refinement r, h / r and nquad r give n and L_c / h unchanged with pfac kept. ceil() can only
+    raise nquad and the cap only lowers it: at the cap (e.g. nquad 2 at h / 4 wants 8, gets 5) n
+    falls to 5/8 of the deck's and L_c / h with it (a stiffer coupling, never a softer one), while
+    the points sit farther apart than the deck's spacing per element (said in the note).
     """
     notes = []
     for j, c in enumerate(data.get("couplings") or []):

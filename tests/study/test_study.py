@@ -140,6 +140,10 @@ def test_ale_variant_and_bad_decks():
     half, quarter = derive.ale_variant(coupled, h / 2), derive.ale_variant(coupled, h / 4)
     assert half.data["couplings"][0]["nquad"] == 4 and quarter.data["couplings"][0]["nquad"] == 5
     assert any("capped at 5" in n for n in quarter.notes)
+    # the penalty's layer L_c / h = n / pfac, n = h nquad / l_segment (docs/theory/coupling.md): the same
+    # fraction of h at h/2, smaller (stiffer, never softer) where nquad is capped
+    layer = {r: (1.0 / r) * v.data["couplings"][0]["nquad"] / derive.NQUAD_DEFAULT for r, v in ((2, half), (4, quarter))}
+    assert layer[2] == pytest.approx(1.0) and layer[4] == pytest.approx(0.625)
     assert "nquad" not in coupled["couplings"][0]  # the input is not changed
     assert "nquad" not in derive.ale_variant(coupled, h).data["couplings"][0]
     Deck.model_validate(quarter.data)

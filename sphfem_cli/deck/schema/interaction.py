@@ -57,7 +57,11 @@ class LagrangeInSolid(DeckModel):
     min_fraction: float = Field(
         0.5, gt=0.0, le=1.0, description="Fluid volume fraction from which an ALE element couples [-]. Default 0.5."
     )
-    pfac: PositiveFloat = Field(0.1, description="Scale of the penalty stiffness from the fluid's bulk modulus [-]. Default 0.1.")
+    pfac: PositiveFloat = Field(0.1, description=(
+        "Scale of the penalty stiffness from the fluid's bulk modulus [-]: k = pfac K l^2 / V per coupling point "
+        "(LS-DYNA's PFAC; l the point's share of the segment, V the host element's area). The penalty acts as an "
+        "extra fluid layer L_c = n h / pfac (h the fluid element size, n = h / l the coupling points per fluid-element "
+        "face); use pfac >= 2 n to keep L_c below h/2 (`sphfem check` prints L_c). Default 0.1."))
     damping: NonNegativeFloat = Field(
         0.0, le=1.0, description="Viscous coupling damping, fraction of critical [-]. Default 0."
     )
