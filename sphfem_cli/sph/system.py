@@ -274,10 +274,6 @@ class SphSystem:
         self._evaluations = 0
         self._rates_valid = False
         self._sorted = None  # last evaluation's point set (layout in the sph/search.py docstring)
-        # storage of its sx and sd, reused by every evaluation (search.sort_points); _sorted["sx"] and
-        # ["sd"] are views of their leading rows, and a checkpoint restores them as such
-        self._sx_buf = np.zeros((0, 4))
-        self._sd_buf = np.zeros((0, sl.ND))
         self._update_state()
 
     def _check_axisymmetric(self, wall_particles) -> None:
@@ -353,6 +349,13 @@ class SphSystem:
             arr = getattr(self, name)
             arr[...] = arr[order]  # in place: references held by callers stay valid
 
+    def _sort_buffers(self) -> tuple[np.ndarray, np.ndarray]:
+        """The buffers behind the last evaluation's ``sx`` and ``sd`` (empty ones before the first)."""
+        if self._sorted is None:
+            return np.zeros((0, 4)), np.zeros((0, sl.ND))
+        sx, sd = self._sorted["sx"], self._sorted["sd"]
+        return (sx if sx.base is None else sx.base), (sd if sd.base is None else sd.base)
+
     def _build_points(self, hmax: float) -> dict:
         """Ghosts, cell sort and the sorted point set of one evaluation."""
         opt = self.options
@@ -366,11 +369,15 @@ class SphSystem:
             gpos, gvel, gflip, gsrc, gdp, gdr = self._no_ghosts
         if self.axisymmetric:  # the ghosts' source radius, read by sph.axisymmetric (third column unused in 2D)
             gvel[:, 2] = self.x[gsrc, 0]
-        perm, cell_start, sreach, self._sx_buf, self._sd_buf = search.sort_points(
+        # the storage of the last sx and sd, reused (search.sort_points): the arrays their views were
+        # cut from, not attributes, so that a checkpoint holds only the views (after a restart the
+        # restored arrays themselves serve)
+        sx_buf, sd_buf = self._sort_buffers()
+        perm, cell_start, sreach, sx_buf, sd_buf = search.sort_points(
             self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat, self.active, gpos, gvel, gsrc,
             gdp, gdr, self.wall_x, self.wall_v, self.wall_rho, self.wall_m, self.wall_h, self.wall_mat,
-            int(opt.max_cells_per_point), self.grid_f, self.grid_i, self._sx_buf, self._sd_buf)
-        sx, sd = self._sx_buf[: len(perm) + 1], self._sd_buf[: len(perm) + 1]  # views (sort_points)
+            int(opt.max_cells_per_point), self.grid_f, self.grid_i, sx_buf, sd_buf)
+        sx, sd = sx_buf[: len(perm) + 1], sd_buf[: len(perm) + 1]  # views (sort_points)
         # no-slip ghosts: per-slot velocity factors (fill_ghosts) and the fluid slots next to them
         svf, friction_slots = self._no_flips, np.zeros(0, dtype=np.int64)
         stuck = np.flatnonzero((gflip != 1.0).any(axis=1))
@@ -563,6 +570,7 @@ class SphSystem:
         """Bytes held by the per-particle arrays and the last evaluation's point set."""
         total = sum(a.nbytes for a in vars(self).values() if isinstance(a, np.ndarray))
         if self._sorted is not None:
-            # sx and sd are views of _sx_buf and _sd_buf, counted above
-            total += sum(a.nbytes for a in self._sorted.values() if isinstance(a, np.ndarray) and a.base is None)
+            held = {id(a.base if a.base is not None else a): (a.base if a.base is not None else a)
+                    for a in self._sorted.values() if isinstance(a, np.ndarray)}  # sx, sd: their buffers
+            total += sum(getattr(a, "nbytes", 0) for a in held.values())
         return int(total)
