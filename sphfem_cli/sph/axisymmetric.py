@@ -90,7 +90,7 @@ def ring_smoothing_lengths(x, rho, m, active, eta, h):
     return hmax
 
 
-def axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph):
+def axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph):
     """Continuity, momentum, energy, delta-SPH and XSPH rates of every fluid point (module docstring).
 
     ``sd[k, D_VZ]`` of a ghost slot holds its source particle's radius r_j (``SphSystem`` writes it
@@ -103,7 +103,7 @@ def axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f,
     lean = settings_f[SF_XSPH] == 0.0
     kshape = _SHAPES[2 if kernel == WENDLAND_C2 else 1]
     tshape = _SHAPES[2 if lean else 1]
-    _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
+    _axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
                         kshape, tshape)
 
 
@@ -203,7 +203,7 @@ def _pair_sums(nbj, cnt, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
+def _axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
                         kshape, tshape):
     """``axisymmetric_rates`` for one kernel (``kshape.ndim``: 1 cubic spline, 2 Wendland C2) and term set
     (``tshape.ndim``: 1 with XSPH, 2 without)."""
@@ -229,7 +229,7 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, settings_f, settings_i, grid_f
             if (mki & 3) != KIND_FLUID:
                 continue
             xi, yi, hi = sx[k, 0], sx[k, 1], sx[k, 3]
-            reach = hi + hmax
+            reach = sreach[k]  # bounds every 2 h_kj (search.search_reach)
             x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
             y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
             cnt = 0

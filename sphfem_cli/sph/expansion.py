@@ -86,7 +86,7 @@ def renormalised_divergence(a, m, dim):
 
 
 @njit(cache=True)
-def renormalise_continuity(sx, sd, perm, cell_start, settings_i, grid_f, grid_i, flag, drho):
+def renormalise_continuity(sx, sd, perm, cell_start, sreach, settings_i, grid_f, grid_i, flag, drho):
     """Replace the plain divergence in ``drho`` by the renormalised one for every fluid slot whose
     particle ``perm[k]`` has ``flag`` set: drho_i += rho_i (plain sum - div_i), the plain sum
     sum_j V_j v_ij . grad_i W_ij being what ``fluid_rates`` put in drho_i / rho_i. Returns the
@@ -109,7 +109,7 @@ def renormalise_continuity(sx, sd, perm, cell_start, settings_i, grid_f, grid_i,
         if i >= n or not flag[i]:
             continue
         xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
-        reach = hi + hmax
+        reach = sreach[k]  # bounds every 2 h_kj (search.search_reach)
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
         z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)

@@ -43,7 +43,7 @@ _FM = {"nsz", "arcp"}
 
 
 @njit(cache=True, parallel=True, fastmath=_FM, error_model="numpy")
-def viscous_stress(sx, sd, svf, cell_start, settings_f, settings_i, grid_f, grid_i, params, stau):
+def viscous_stress(sx, sd, svf, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, params, stau):
     """Newtonian viscous stress at every point from the SPH velocity gradient.
 
     L_ab = sum_j V_j (v_j,a - v_i,a) dW_ij/dx_i,b (paper eq. 3.6 form), D = (L + L^T)/2,
@@ -70,7 +70,7 @@ def viscous_stress(sx, sd, svf, cell_start, settings_f, settings_i, grid_f, grid
         xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
         fk = np.int64(k) if flips else np.int64(0)
         ui, vi, wi = sd[k, D_VX] * svf[fk, 0], sd[k, D_VY] * svf[fk, 1], sd[k, D_VZ] * svf[fk, 2]
-        reach = hi + hmax
+        reach = sreach[k]  # search.search_reach: bounds every 2 h_kj
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
         z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)
@@ -257,7 +257,7 @@ def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, 
     return ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw
 
 
-def fluid_rates(sx, sd, stau, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
+def fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
                 wall_power):
     """Continuity, momentum, energy, delta-SPH and XSPH rates of every real (fluid) point.
 
@@ -297,7 +297,7 @@ def fluid_rates(sx, sd, stau, perm, cell_start, settings_f, settings_i, grid_f, 
     """
     kernel, dim = int(settings_i[SI_KERNEL]), int(settings_i[SI_DIM])
     lean = settings_i[SI_NWALL] == 0 and settings_f[SF_XSPH] == 0.0
-    _fluid_rates(sx, sd, stau, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
+    _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
                  wall_power, _SHAPES[2 if kernel == WENDLAND_C2 else 1], _SHAPES[dim], _SHAPES[2 if lean else 1])
 
 
@@ -305,7 +305,7 @@ _SHAPES = {1: np.empty(0), 2: np.empty((0, 0)), 3: np.empty((0, 0, 0))}
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def _fluid_rates(sx, sd, stau, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
+def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
                  wall_power, kshape, dshape, tshape):
     """``fluid_rates`` for one kernel, dimension and term set (``kshape``, ``dshape``, ``tshape``)."""
     kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
@@ -332,7 +332,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, settings_f, settings_i, grid_f,
             if (mki & 3) != KIND_FLUID:
                 continue
             xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
-            reach = hi + hmax  # largest 2 h_ij
+            reach = sreach[k]  # bounds every 2 h_kj (search.search_reach)
             x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
             y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
             z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)

@@ -19,10 +19,24 @@ Layout of an evaluation, all in cell order (slot ``k`` holds point ``perm[k]``):
 * ``stau`` (npts, 6): viscous stress tau (xx, yy, zz, xy, yz, zx), only when a material has
   viscosity (otherwise a (1, 6) dummy);
 * ``cell_start`` (ncell + 1): slots of cell ``key`` are ``cell_start[key]:cell_start[key+1]`` with
-  ``key = (cz*ny + cy)*nx + cx``; cells are ``hmax`` wide, so a neighbour at distance < 2 h_ij
-  lies within two cells, and a row of cells along x is one contiguous slot range;
+  ``key = (cz*ny + cy)*nx + cx``; a row of cells along x is one contiguous slot range;
+* ``sreach`` (npts + 1): the search radius of every slot, ``sreach[k] = h_k + H_k`` with H_k an
+  upper bound of the h_j of every neighbour j (|x_k - x_j| < 2 h_kj = h_k + h_j); the pair loops
+  scan the cells within ``sreach[k]`` of slot k (``search_reach`` and the grid choice below);
 * ``grid_f``, ``grid_i``: hmax, cell width and origin; nx, ny, nz (slots ``GF_*``, ``GI_*``),
   written by ``sort_points``.
+
+Grid and reach (``bin_points``, ``search_reach``). With nearly uniform smoothing lengths
+(hmax <= ``SPREAD`` hmin) the cells are hmax wide and H_k = hmax for every slot (the plain
+cell-linked list). With a wider spread (the explosive products of an underwater explosion grow to
+several times the water's h) a search sized by hmax makes every small-h particle scan the large
+particles' area; then the cells are hmin wide (at least hmax / ``MAX_ROWS``) and H_k is local:
+H_k = max(h_k, T, G[cell of k]) with T = ``SPREAD_FLOOR`` hmin and G[c] the largest h of the cells
+with some point of h > T whose 2 h-box covers cell c. Proof that no neighbour is lost: if
+h_j <= max(h_k, T), then h_k + h_j <= sreach[k]; else h_j > h_k, so |x_k - x_j| < 2 h_j and the
+cell of k lies in the 2 h_j-box of j's cell, whence G >= h_j. The pair test itself is unchanged,
+so the neighbour set is the same as the plain search's; only the slot order (and so the order of
+the neighbour sums) differs when the grid does.
 
 Pair quantities use h_ij = (h_i + h_j)/2, which keeps the pair forces antisymmetric (momentum is
 conserved to round-off). Every pair loop is a gather over the slots (``prange``): slot ``k``
@@ -38,14 +52,19 @@ from numba import njit
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
                     GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, ND)
 
+SPREAD = 2.0  # hmax / hmin above which the cells are sized by hmin and the reach is local
+SPREAD_FLOOR = 1.5  # T / hmin: points of h <= T are not spread into G (their h is bounded by T)
+MAX_ROWS = 8.0  # the cell is at least hmax / MAX_ROWS wide (bounds the cell rows a large point scans)
+
 
 @njit(cache=True)
 def bin_points(x, h, active, gpos, gsrc, wpos, wh, max_cells_per_point):
     """Counting sort of all points by cell.
 
     Returns ``perm`` (slot -> point id), ``cell_start``, the grid ``(ox, oy, oz, cell)``,
-    ``(nx, ny, nz)`` and hmax. The cell width is hmax (half the largest support 2 hmax), widened
-    if the bounding box would need more than ``max_cells_per_point`` cells per point. The sort is
+    ``(nx, ny, nz)``, hmax and hmin. The cell width is hmax (half the largest support 2 hmax) if
+    hmax <= ``SPREAD`` hmin, else max(hmin, hmax / ``MAX_ROWS``) (module docstring), widened if the
+    bounding box would need more than ``max_cells_per_point`` cells per point. The sort is
     stable: within a cell points keep increasing point id, so the order is deterministic.
     """
     n = x.shape[0]
@@ -57,6 +76,7 @@ def bin_points(x, h, active, gpos, gsrc, wpos, wh, max_cells_per_point):
     lo[dim:] = 0.0
     hi[dim:] = 0.0
     hmax = 0.0
+    hmin = np.inf
     npts = ng + nw
     for i in range(n):
         if active[i]:
@@ -65,6 +85,7 @@ def bin_points(x, h, active, gpos, gsrc, wpos, wh, max_cells_per_point):
                 lo[d] = min(lo[d], x[i, d])
                 hi[d] = max(hi[d], x[i, d])
             hmax = max(hmax, h[i])
+            hmin = min(hmin, h[i])
     for g in range(ng):
         for d in range(dim):
             lo[d] = min(lo[d], gpos[g, d])
@@ -74,11 +95,14 @@ def bin_points(x, h, active, gpos, gsrc, wpos, wh, max_cells_per_point):
             lo[d] = min(lo[d], wpos[w, d])
             hi[d] = max(hi[d], wpos[w, d])
         hmax = max(hmax, wh[w])
+        hmin = min(hmin, wh[w])
     if npts == 0:
         lo[:] = 0.0
         hi[:] = 0.0
         hmax = 1.0
-    cell = hmax
+    if not hmin <= hmax:  # no point (or a NaN h): the plain grid
+        hmin = hmax
+    cell = hmax if hmax <= SPREAD * hmin else max(hmin, hmax / MAX_ROWS)
     nc = np.ones(3, dtype=np.int64)
     while True:
         total = 1
@@ -127,7 +151,7 @@ def bin_points(x, h, active, gpos, gsrc, wpos, wh, max_cells_per_point):
         if key >= 0:
             perm[counts[key]] = pid
             counts[key] += 1
-    return perm, cell_start, lo[0], lo[1], lo[2], cell, nx, ny, nz, hmax
+    return perm, cell_start, lo[0], lo[1], lo[2], cell, nx, ny, nz, hmax, hmin
 
 
 @njit(cache=True)
@@ -187,20 +211,74 @@ def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr,
 
 
 @njit(cache=True)
-def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
-                wpos, wvel, wrho, wm, wh, wmat, max_cells_per_point, grid_f, grid_i):
-    """Cell-sort all points (``bin_points``) and copy their data into cell order (``gather_points``).
+def search_reach(sx, cell_start, cell, ox, oy, oz, nx, ny, nz, dim, hmax, hmin, sreach):
+    """Search radius ``sreach[k] = h_k + H_k`` of every slot (H_k: module docstring).
 
-    Returns ``(perm, cell_start, sx, sd)``; ``sx`` and ``sd`` have one extra last row, the
-    sentinel: a point far from everything (1e30 in every coordinate) with zero volume and kind
-    wall, whose every pair term is exactly 0; neighbour lists are padded with it. Writes the grid
-    (hmax, cell, origin; nx, ny, nz) into ``grid_f`` and ``grid_i``.
+    H_k = hmax for every slot when hmax <= ``SPREAD`` hmin (the plain search); otherwise
+    H_k = max(h_k, T, G[cell of k]), T = ``SPREAD_FLOOR`` hmin, G[c] = max h over the cells c' whose
+    largest h exceeds T and whose box widened by 2 h (plus a hundredth of a cell against round-off
+    in the cell indices) covers cell c. The sentinel (last) slot gets 0.
     """
-    perm, cell_start, ox, oy, oz, cell, nx, ny, nz, hmax = bin_points(x, h, active, gpos, gsrc, wpos, wh,
-                                                                      max_cells_per_point)
+    npts = cell_start[-1]
+    sreach[npts] = 0.0
+    if hmax <= SPREAD * hmin:
+        for k in range(npts):
+            sreach[k] = sx[k, 3] + hmax
+        return
+    floor = SPREAD_FLOOR * hmin
+    total = cell_start.shape[0] - 1
+    grow = np.zeros(total)
+    inv = 1.0 / cell
+    for key in range(total):
+        hc = 0.0
+        for k in range(cell_start[key], cell_start[key + 1]):
+            hc = max(hc, sx[k, 3])
+        if hc <= floor:
+            continue
+        cx = key % nx
+        cy = (key // nx) % ny
+        cz = key // (nx * ny)
+        w = 2.0 * hc + 0.01 * cell
+        x0, x1 = cell_range(ox + (cx + 0.5) * cell, 0.5 * cell + w, ox, inv, nx)
+        y0, y1 = cell_range(oy + (cy + 0.5) * cell, 0.5 * cell + w, oy, inv, ny) if dim > 1 else (0, 0)
+        z0, z1 = cell_range(oz + (cz + 0.5) * cell, 0.5 * cell + w, oz, inv, nz) if dim > 2 else (0, 0)
+        for bz in range(z0, z1 + 1):
+            for by in range(y0, y1 + 1):
+                base = (bz * ny + by) * nx
+                for bx in range(x0, x1 + 1):
+                    if grow[base + bx] < hc:
+                        grow[base + bx] = hc
+    for key in range(total):
+        g = max(grow[key], floor)
+        for k in range(cell_start[key], cell_start[key + 1]):
+            hk = sx[k, 3]
+            sreach[k] = hk + max(hk, g)
+
+
+@njit(cache=True)
+def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
+                wpos, wvel, wrho, wm, wh, wmat, max_cells_per_point, grid_f, grid_i, sx_buf, sd_buf):
+    """Cell-sort all points (``bin_points``), copy their data into cell order (``gather_points``)
+    and set every slot's search radius (``search_reach``).
+
+    Returns ``(perm, cell_start, sreach, sx_buf, sd_buf)``. ``sx`` and ``sd`` are the leading
+    ``npts + 1`` rows of ``sx_buf`` and ``sd_buf`` (npts = len(perm)), and they and ``sreach`` have
+    one extra last row, the sentinel: a point far from everything (1e30 in every coordinate) with
+    zero volume and kind wall, whose every pair term is exactly 0; neighbour lists are padded with
+    it. The buffers are reused from one evaluation to the next: fresh zeroed buffers 5/4 of the
+    size needed are made (and returned) only when those passed in are too small. (A fresh 50 MB array at every step of 5e5
+    particles costs its page faults and zeroing; startup17 report, section 3.)
+    Writes the grid (hmax, cell, origin; nx, ny, nz) into ``grid_f`` and ``grid_i``.
+    """
+    perm, cell_start, ox, oy, oz, cell, nx, ny, nz, hmax, hmin = bin_points(x, h, active, gpos, gsrc, wpos, wh,
+                                                                            max_cells_per_point)
     npts = perm.shape[0]
-    sx = np.empty((npts + 1, 4))
-    sd = np.empty((npts + 1, ND))
+    if sx_buf.shape[0] < npts + 1 or sd_buf.shape[0] < npts + 1:
+        cap = (npts + 1) + (npts + 1) // 4
+        sx_buf = np.zeros((cap, 4))
+        sd_buf = np.zeros((cap, ND))
+    sx = sx_buf[:npts + 1]
+    sd = sd_buf[:npts + 1]
     gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr, wpos, wvel, wrho, wm, wh, wmat, sx, sd)
     sx[npts, 0] = 1e30
     sx[npts, 1] = 1e30
@@ -210,6 +288,8 @@ def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
     sd[npts, D_RHO] = 1.0
     sd[npts, D_C] = 1.0
     sd[npts, D_MK] = KIND_WALL
+    sreach = np.empty(npts + 1)
+    search_reach(sx, cell_start, cell, ox, oy, oz, nx, ny, nz, x.shape[1], hmax, hmin, sreach)
     grid_f[GF_HMAX] = hmax
     grid_f[GF_CELL] = cell
     grid_f[GF_OX] = ox
@@ -218,7 +298,7 @@ def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
     grid_i[GI_NX] = nx
     grid_i[GI_NY] = ny
     grid_i[GI_NZ] = nz
-    return perm, cell_start, sx, sd
+    return perm, cell_start, sreach, sx_buf, sd_buf
 
 
 @njit(cache=True, fastmath=False)  # called from fast-math kernels too (see rates._FM)
@@ -234,14 +314,14 @@ def cell_range(v, reach, o, inv_cell, n):
 
 
 @njit(cache=True)
-def count_neighbours(sx, cell_start, grid_f, grid_i, counts):
-    """Number of points j != k with |x_k - x_j| < 2 h_kj, for every slot k (cell search)."""
+def count_neighbours(sx, cell_start, sreach, grid_f, grid_i, counts):
+    """Number of points j != k with |x_k - x_j| < 2 h_kj, for every slot k (cells within ``sreach[k]``)."""
     nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
-    hmax, inv_cell = grid_f[GF_HMAX], 1.0 / grid_f[GF_CELL]
+    inv_cell = 1.0 / grid_f[GF_CELL]
     ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
     for k in range(cell_start[-1]):
         xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
-        reach = hi + hmax
+        reach = sreach[k]
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
         z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)
@@ -260,14 +340,14 @@ def count_neighbours(sx, cell_start, grid_f, grid_i, counts):
 
 
 @njit(cache=True)
-def fill_neighbours(sx, cell_start, grid_f, grid_i, offsets, out):
+def fill_neighbours(sx, cell_start, sreach, grid_f, grid_i, offsets, out):
     """CSR neighbour lists in slot numbering (``offsets`` from ``count_neighbours``)."""
     nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
-    hmax, inv_cell = grid_f[GF_HMAX], 1.0 / grid_f[GF_CELL]
+    inv_cell = 1.0 / grid_f[GF_CELL]
     ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
     for k in range(cell_start[-1]):
         xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
-        reach = hi + hmax
+        reach = sreach[k]
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
         z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)

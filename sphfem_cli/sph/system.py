@@ -355,6 +355,13 @@ class SphSystem:
             arr = getattr(self, name)
             arr[...] = arr[order]  # in place: references held by callers stay valid
 
+    def _sort_buffers(self) -> tuple[np.ndarray, np.ndarray]:
+        """The buffers behind the last evaluation's ``sx`` and ``sd`` (empty ones before the first)."""
+        if self._sorted is None:
+            return np.zeros((0, 4)), np.zeros((0, sl.ND))
+        sx, sd = self._sorted["sx"], self._sorted["sd"]
+        return (sx if sx.base is None else sx.base), (sd if sd.base is None else sd.base)
+
     def _build_points(self, hmax: float) -> dict:
         """Ghosts, cell sort and the sorted point set of one evaluation."""
         opt = self.options
@@ -368,10 +375,15 @@ class SphSystem:
             gpos, gvel, gflip, gsrc, gdp, gdr = self._no_ghosts
         if self.axisymmetric:  # the ghosts' source radius, read by sph.axisymmetric (third column unused in 2D)
             gvel[:, 2] = self.x[gsrc, 0]
-        perm, cell_start, sx, sd = search.sort_points(
+        # the storage of the last sx and sd, reused (search.sort_points): the arrays their views were
+        # cut from, not attributes, so that a checkpoint holds only the views (after a restart the
+        # restored arrays themselves serve)
+        sx_buf, sd_buf = self._sort_buffers()
+        perm, cell_start, sreach, sx_buf, sd_buf = search.sort_points(
             self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat, self.active, gpos, gvel, gsrc,
             gdp, gdr, self.wall_x, self.wall_v, self.wall_rho, self.wall_m, self.wall_h, self.wall_mat,
-            int(opt.max_cells_per_point), self.grid_f, self.grid_i)
+            int(opt.max_cells_per_point), self.grid_f, self.grid_i, sx_buf, sd_buf)
+        sx, sd = sx_buf[: len(perm) + 1], sd_buf[: len(perm) + 1]  # views (sort_points)
         # no-slip ghosts: per-slot velocity factors (fill_ghosts) and the fluid slots next to them
         svf, friction_slots = self._no_flips, np.zeros(0, dtype=np.int64)
         stuck = np.flatnonzero((gflip != 1.0).any(axis=1))
@@ -382,7 +394,7 @@ class SphSystem:
             slot_of[perm] = np.arange(len(perm))
             svf[slot_of[n + stuck]] = gflip[stuck]
             friction_slots = np.sort(slot_of[np.unique(gsrc[stuck])])
-        return {"perm": perm, "cell_start": cell_start, "sx": sx, "sd": sd, "n_ghost": len(gsrc),
+        return {"perm": perm, "cell_start": cell_start, "sx": sx, "sd": sd, "sreach": sreach, "n_ghost": len(gsrc),
                 "ghost_source": gsrc, "grid_f": self.grid_f.copy(), "grid_i": self.grid_i.copy(),
                 "svf": svf, "friction_slots": friction_slots}
 
@@ -398,13 +410,13 @@ class SphSystem:
         if opt.reorder_every and self._sorted is not None and self._evaluations % opt.reorder_every == 0:
             self._reorder()
         pts = self._build_points(self._update_state())
-        sx, sd, perm, cs = pts["sx"], pts["sd"], pts["perm"], pts["cell_start"]
+        sx, sd, perm, cs, sr = pts["sx"], pts["sd"], pts["perm"], pts["cell_start"], pts["sreach"]
         sf, si, gf, gi = self.settings_f, self.settings_i, self.grid_f, self.grid_i
         if len(self.wall_x):
-            walls.wall_pressure(sx, sd, cs, sf, si, gf, gi, self.params)
+            walls.wall_pressure(sx, sd, cs, sr, sf, si, gf, gi, self.params)
         if self.viscous:
             stau = np.zeros((len(sx), 6))
-            rates.viscous_stress(sx, sd, pts["svf"], cs, sf, si, gf, gi, self.params, stau)
+            rates.viscous_stress(sx, sd, pts["svf"], cs, sr, sf, si, gf, gi, self.params, stau)
         else:
             stau = self._no_stress
         pts["stau"] = stau
@@ -412,15 +424,15 @@ class SphSystem:
         if self.axisymmetric:
             from .axisymmetric import axisymmetric_rates  # compiled only for axisymmetric systems
 
-            axisymmetric_rates(sx, sd, perm, cs, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph)
+            axisymmetric_rates(sx, sd, perm, cs, sr, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph)
         else:
-            rates.fluid_rates(sx, sd, stau, perm, cs, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph,
+            rates.fluid_rates(sx, sd, stau, perm, cs, sr, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph,
                               self.wall_power)
             if getattr(self, "burn_light", None) is not None:  # explosive products: renormalised continuity
                 he = np.isfinite(self.burn_light[self.ids]) & self.active
-                expansion.renormalise_continuity(sx, sd, perm, cs, si, gf, gi, he, self.drho)
+                expansion.renormalise_continuity(sx, sd, perm, cs, sr, si, gf, gi, he, self.drho)
         if pts["friction_slots"].size and (self.options.alpha or self.options.beta):
-            walls.ghost_friction(sx, sd, pts["svf"], pts["friction_slots"], perm, cs, sf, si, gf, gi, self.acc,
+            walls.ghost_friction(sx, sd, pts["svf"], pts["friction_slots"], perm, cs, sr, sf, si, gf, gi, self.acc,
                                  self.de)
         if len(self.wall_function_walls):
             walls.wall_shear(self.x, self.v, self.rho, self.m, self.mat, self.active, self.params,
@@ -553,16 +565,18 @@ class SphSystem:
         ``point_ids[slot]`` is the point id (particle index < N, then ghosts, then walls)."""
         pts = self._sorted
         counts = np.empty(len(pts["perm"]), dtype=np.int64)
-        search.count_neighbours(pts["sx"], pts["cell_start"], pts["grid_f"], pts["grid_i"], counts)
+        search.count_neighbours(pts["sx"], pts["cell_start"], pts["sreach"], pts["grid_f"], pts["grid_i"], counts)
         offsets = np.zeros(len(counts) + 1, dtype=np.int64)
         np.cumsum(counts, out=offsets[1:])
         out = np.empty(offsets[-1], dtype=np.int64)
-        search.fill_neighbours(pts["sx"], pts["cell_start"], pts["grid_f"], pts["grid_i"], offsets, out)
+        search.fill_neighbours(pts["sx"], pts["cell_start"], pts["sreach"], pts["grid_f"], pts["grid_i"], offsets, out)
         return offsets, out, pts["perm"]
 
     def memory_bytes(self) -> int:
         """Bytes held by the per-particle arrays and the last evaluation's point set."""
         total = sum(a.nbytes for a in vars(self).values() if isinstance(a, np.ndarray))
         if self._sorted is not None:
-            total += sum(a.nbytes for a in self._sorted.values() if isinstance(a, np.ndarray))
+            held = {id(a.base if a.base is not None else a): (a.base if a.base is not None else a)
+                    for a in self._sorted.values() if isinstance(a, np.ndarray)}  # sx, sd: their buffers
+            total += sum(getattr(a, "nbytes", 0) for a in held.values())
         return int(total)

@@ -162,7 +162,7 @@ def make_ghosts(x, v, rho, c, active, walls, valid, reach, gravity, hydrostatic)
 
 
 @njit(cache=True, parallel=True, fastmath=_FM, error_model="numpy")
-def wall_pressure(sx, sd, cell_start, settings_f, settings_i, grid_f, grid_i, params):
+def wall_pressure(sx, sd, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, params):
     """Adami et al. (2012) pressure of the dummy wall points, extrapolated from the fluid.
 
     p_w = (sum_f p_f W_wf + g . sum_f rho_f r_wf W_wf) / sum_f W_wf (fixed wall, a_w = 0), over
@@ -182,7 +182,7 @@ def wall_pressure(sx, sd, cell_start, settings_f, settings_i, grid_f, grid_i, pa
         if (mk & 3) != KIND_WALL:
             continue
         xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
-        reach = hi + hmax
+        reach = sreach[k]  # bounds every 2 h_kj (search.search_reach)
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
         z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)
@@ -230,7 +230,7 @@ def wall_pressure(sx, sd, cell_start, settings_f, settings_i, grid_f, grid_i, pa
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def ghost_friction(sx, sd, svf, slots, perm, cell_start, settings_f, settings_i, grid_f, grid_i, acc, de):
+def ghost_friction(sx, sd, svf, slots, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, de):
     """No-slip correction of the artificial viscosity between fluid particles and ghosts.
 
     ``fluid_rates`` evaluates every ghost with its free-slip velocity v_g (``fill_ghosts``). Near
@@ -255,7 +255,7 @@ def ghost_friction(sx, sd, svf, slots, perm, cell_start, settings_f, settings_i,
         xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
         ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
         rhoi, ci = sd[k, D_RHO], sd[k, D_C]
-        reach = hi + hmax
+        reach = sreach[k]  # bounds every 2 h_kj (search.search_reach)
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
         z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)

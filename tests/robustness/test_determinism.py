@@ -77,7 +77,7 @@ rho = np.full(len(x), 1000.0)
 ps = SphSystem(x, np.zeros_like(x), rho * 0.02**2, rho, np.zeros(len(x), dtype=int), scenes.water(20.0),
                SphOptions(gravity=[0.0, -9.81]), wall_particles=WallParticles(lattice.box([-0.06, -0.06], [0.26, 0.0], 0.02), 0.02))
 pts = ps._build_points(ps._update_state())
-walls.wall_pressure(pts["sx"], pts["sd"], pts["cell_start"], ps.settings_f, ps.settings_i, ps.grid_f, ps.grid_i, ps.params)
+walls.wall_pressure(pts["sx"], pts["sd"], pts["cell_start"], pts["sreach"], ps.settings_f, ps.settings_i, ps.grid_f, ps.grid_i, ps.params)
 """
 
 _SHARED_CALLEES = r"""

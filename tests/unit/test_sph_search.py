@@ -73,6 +73,51 @@ def test_neighbour_search_equals_brute_force(dim, single_thread):
     assert ps._sorted["n_ghost"] > 0
 
 
+def large_h_state(dim, seed):
+    """``random_state`` with a few particles of 3-4 times the others' h (an explosive's products
+    among water): hmax > search.SPREAD hmin, so the search uses the fine grid and local reaches."""
+    s = random_state(dim, seed=seed, mixed=False, n_side={1: 80, 2: 20, 3: 9}[dim])
+    big = np.random.default_rng(seed).choice(len(s["m"]), max(2, len(s["m"]) // 50), replace=False)
+    s["m"][big] *= np.linspace(3.0, 4.0, len(big)) ** dim
+    return s
+
+
+@pytest.mark.parametrize("dim", [1, 2, 3])
+def test_neighbour_search_with_large_h_equals_brute_force(dim, single_thread):
+    from sphfem_cli.sph import search
+    from sphfem_cli.sph.slots import GF_CELL, GF_HMAX
+
+    s = large_h_state(dim, seed=40 + dim)
+    wx = lattice.box_wall_particles([0.0] * dim, [s["L"]] * dim, s["dx"], 2, ["left"] if dim == 1 else ["top"])
+    ps = build(s, full_options(dim, s["L"]), (wx, s["dx"], 0))
+    ps.compute_rates()
+    assert ps.h.max() > search.SPREAD * ps.h.min()
+    assert ps.grid_f[GF_CELL] < 0.5 * ps.grid_f[GF_HMAX]  # the fine grid
+    offsets, nb, perm = ps.neighbour_lists()
+    sx = ps._sorted["sx"][: len(perm)]
+    sreach = ps._sorted["sreach"][: len(perm)]
+    if dim < 3:  # local reaches, shorter than the plain h_k + hmax (in 3D the large supports cover the box)
+        assert (sreach < sx[:, 3] + ps.grid_f[GF_HMAX]).mean() > 0.3
+    cell = {(k, int(j)) for k in range(len(perm)) for j in nb[offsets[k]:offsets[k + 1]]}
+    brute = ref.neighbour_pairs(sx[:, :3], sx[:, 3])
+    assert len(brute) > 3 * len(perm)
+    assert cell == brute
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_numba_rates_equal_numpy_reference_with_large_h(dim, single_thread):
+    """The rates of ``test_numba_rates_equal_numpy_reference`` (every term) on the fine grid."""
+    s = large_h_state(dim, seed=50 + dim)
+    opt = full_options(dim, s["L"])
+    wx = lattice.box_wall_particles([0.0] * dim, [s["L"]] * dim, s["dx"], 2, ["top"])
+    ps = build(s, opt, (wx, s["dx"], 0))
+    ps.compute_rates()
+    r = ref.rates_reference(s["x"], s["v"], s["rho"], s["e"], s["m"], s["mat"], s["mats"][1], opt,
+                            wall=(wx, s["dx"], 0))
+    for key, got in (("acc", ps.acc), ("drho", ps.drho), ("de", ps.de), ("xsph", ps.xsph)):
+        np.testing.assert_allclose(got, r[key], rtol=0, atol=1e-12 * np.abs(r[key]).max(), err_msg=key)
+
+
 @pytest.mark.parametrize("dim", [1, 2, 3])
 @pytest.mark.parametrize("mixed", [False, True])
 def test_numba_rates_equal_numpy_reference(dim, mixed, single_thread):
