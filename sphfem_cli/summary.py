@@ -126,7 +126,8 @@ def _output_size(sim, model, dt: float) -> str:
     per_step = sum(coords.nbytes + sum(np.asarray(a).nbytes for a in (*point.values(), *cell.values()))
                    for coords, point, cell in fields.values())
     steps = int(np.floor(end / out.interval + 1e-9)) + 1
-    rows = int(np.floor(end / out.history_interval + 1e-9)) + 1
+    run_steps = end / dt + 1.0 if dt > 0 else np.inf  # a history row is written at most once per step
+    rows = int(min(np.floor(end / out.history_interval + 1e-9) + 1, run_steps, 1e15))
     tables = 8 * rows * (10 + 3 * len(model.parts) + 12 * (len(out.histories) + len(out.probes)))
     total = steps * per_step + tables
     return (f"  output size: {steps} field steps of {per_step / 2**20:.2f} MiB and about {rows} history rows: "

@@ -172,8 +172,10 @@ def _due(t: float, next_time: float, interval: float) -> bool:
 
 
 def _next_after(t: float, interval: float) -> float:
-    """The first multiple of interval after t (t itself counting as reached within round-off)."""
-    return (np.floor((t + 1e-9 * interval) / interval) + 1) * interval
+    """The first multiple of interval after t (t itself counting as reached within round-off); t itself when
+    the multiple overflows (an interval below float resolution: due at every step)."""
+    following = (np.floor((t + 1e-9 * interval) / interval) + 1) * interval
+    return following if np.isfinite(following) else t
 
 
 class _HistoryProbe:

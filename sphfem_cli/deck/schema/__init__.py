@@ -81,9 +81,24 @@ class Deck(DeckModel):
             self._axisymmetric = True
             _check_axisymmetric(self)
         _check_names(self)
+        _check_output_steps(self)
         check_vector_lengths(self, self.dimension)
         _check_references(self)
         return self
+
+
+MAX_FIELD_STEPS = 100_000
+"""The most field outputs a run may ask for: the solver lands a step on every output time, so an interval far
+below the stable step would shrink the steps to it (a run that never ends)."""
+
+
+def _check_output_steps(deck: Deck) -> None:
+    """output.interval must give at most MAX_FIELD_STEPS field outputs over control.end_time."""
+    interval = deck.output.interval
+    if interval is not None and deck.control.end_time > MAX_FIELD_STEPS * interval:
+        raise ValueError(f"@output.interval: {interval:g} gives more than {MAX_FIELD_STEPS} field outputs over "
+                         f"end_time {deck.control.end_time:g} (each one is a step the solver lands on); "
+                         f"use at least {deck.control.end_time / MAX_FIELD_STEPS:g}")
 
 
 RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")

@@ -158,7 +158,8 @@ class Output(DeckModel):
     """What is written, and how often."""
 
     interval: PositiveFloat | None = Field(
-        None, description="Simulated time between field outputs to XDMF/HDF5 [time]. Default end_time/50."
+        None, description="Simulated time between field outputs to XDMF/HDF5 [time]; at most 100 000 outputs per run "
+        "(the solver lands a step on each). Default end_time/50."
     )
     history_interval: PositiveFloat | None = Field(
         None, description="Simulated time between history rows [time]. Default end_time/1000."
