@@ -23,8 +23,10 @@ average before and after. Peers live in ``$SPHFEM_PEERS`` (default ``~/.cache/sp
 missing peer prints "peer not built: ..." and the case still prints sphfem's figure.
 How to build each peer: benchmarks/README.md.
 
-Measured (3 December 2026, the shared 2-core machine, other helpers running; figures and load in
-benchmarks/README.md, "Measured").
+Measured (3 December 2026, one thread, 3 pairs, CPU time, 2-core machine shared by 5 helpers, load
+5.9-7.4): ale2d 240^2 (--size 0.25) 1.27 M vs CloverLeaf 5.75 M cell-steps/s, ratio 0.22 (min 0.22);
+hex8 30^3 0.371 M vs LULESH 0.862 M, ratio 0.42 (min 0.42); sph2d 89 888 particles 1.00 M vs probe
+2.30 M, ratio 0.44 (min 0.42); dambreak 0.900 M, PySPH not installed then (details: README.md).
 """
 from __future__ import annotations
 
