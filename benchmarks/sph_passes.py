@@ -23,7 +23,29 @@ wrapping the kernel the orchestration (``sph/system.py``) calls, with the proces
 The load average (``os.getloadavg``) is printed before and after: on a shared machine the CPU
 time of a pass includes cache and memory-bandwidth contention from the other processes.
 
-Measured (December 2026, 1 thread, the 2-core machine shared with other sessions; figures below).
+Measured (3 December 2026, 1 thread, the 2-core machine shared with other sessions, load
+average 6.4 -> 7.5; min / median of 3 interleaved repetitions, ns per particle-step; code of
+main at bc9aa7c, no kernel changed on this branch, so there is no "after" yet):
+
+=========  ==============  ==============  ===============
+pass       10 082          89 888          500 000
+=========  ==============  ==============  ===============
+eos        81.0 / 83.9     79.7 / 80.8     77.0 / 78.2
+ghosts     20.3 / 21.8     12.4 / 13.3     11.2 / 11.9
+cell sort  44.8 / 46.7     46.0 / 47.6     59.6 / 104.7
+rates      592.5 / 642.0   599.8 / 633.4   614.5 / 752.0
+time step  18.8 / 20.2     16.3 / 16.6     15.0 / 15.7
+leapfrog   39.2 / 41.8     38.2 / 40.0     37.6 / 39.1
+reorder    9.6 / 11.3      9.3 / 9.5       0 (8 steps < reorder_every)
+rest       34.8 / 35.2     6.4 / 6.6       2.3 / 2.4
+total      841.1 / 902.7   808.5 / 847.7   864.5 / 1004.2
+binning    22.6 / 24.8     22.5 / 23.7     26.8 / 36.6
+=========  ==============  ==============  ===============
+
+The cell sort at 9e4 particles is 47 ns (binning 22, gather into cell order and search radius
+25), not the 116 of issue 17. From 1e4 to 5e5 the total grows +3 % by the minimum and +11 % by
+the median; the growth and the spread sit in the cell sort and the rates at 5e5 (memory bound,
+most sensitive to the other processes' load).
 """
 from __future__ import annotations
 
