@@ -45,6 +45,8 @@ from typing import Callable
 HERE = Path(__file__).resolve().parent
 PEERS = Path(os.environ.get("SPHFEM_PEERS", Path.home() / ".cache" / "sphfem-peers"))
 SHARED = Path(os.environ.get("SPHFEM_SHARED", HERE.parent.parent / "shared"))
+if str(HERE) not in sys.path:  # the sibling benchmarks (ale_throughput, fem_throughput) build our cases
+    sys.path.insert(0, str(HERE))
 
 
 class PeerMissing(Exception):
@@ -106,7 +108,6 @@ CLOVER_IN = """*clover
 
 def ale2d_case(n: int, steps: int) -> Case:
     def ours() -> float:
-        sys.path.insert(0, str(HERE))
         from ale_throughput import build
 
         ale = build(n, False)
@@ -136,7 +137,6 @@ def ale2d_case(n: int, steps: int) -> Case:
 
 def hex8_case(n: int, steps: int) -> Case:
     def ours() -> float:
-        sys.path.insert(0, str(HERE))
         from fem_throughput import CUBE_DECK
 
         from sphfem_cli.driver import load_model
