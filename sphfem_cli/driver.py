@@ -171,7 +171,7 @@ def _execute(loaded: Loaded, out: Path, verbose: bool, restart: Path | None, dig
                                     write_checkpoint)
     from .output.folder import clear_earlier_run, manifest_deck, write_manifest
     from .output.runlog import RunLog, errno_of, io_failure
-    from .output.results import RunOutput, history_tables
+    from .output.results import RunOutput, history_tables, output_grids
     from .solver.explicit import RunStopped, Simulation
 
     quiet = progress.quiet
@@ -191,7 +191,7 @@ def _execute(loaded: Loaded, out: Path, verbose: bool, restart: Path | None, dig
     try:
         if payload is None:
             clear_earlier_run(out)
-            write_manifest(out, history_tables(loaded.model), digest, [p.name for p in loaded.model.parts])
+            write_manifest(out, history_tables(loaded.model), digest, output_grids(loaded.model))
         (out / "deck.effective.yaml").write_text(
             f"# {loaded.path} with every default filled in (sphfem {__version__})\n"
             + yaml.safe_dump(loaded.deck.model_dump(mode="json"), sort_keys=False, allow_unicode=True),

@@ -169,6 +169,14 @@ density diffusion, the artificial viscosity, XSPH, `hydrostatic` starts, `domain
 are those of 2D. Deck errors name what stays 2D/3D only: viscous fluids (`viscosity` > 0), high
 explosives, `dummy_wall` boundaries and `no_slip`/`wall_function` walls.
 
+Results of an axisymmetric deck are the meridian plane (`results.<part>.xdmf`). `output.revolve`
+(`{{segments: 24, angle: 360}}`, off by default, a deck error elsewhere) adds `results.<part>.revolved.xdmf`,
+the body of revolution for ParaView: r goes to 3D (x, y) = (r cos a, r sin a), the axis is 3D z; quads
+sweep to hex8 (collapsed hexes, i.e. wedges, at the axis), particles to rings of points; vectors and
+stress are rotated to Cartesian components, scalars copied. Its faces are chords, so its volume is
+sin(d)/d of the ring's (d = 2 pi / segments: 1.1 % short at 24). It costs `segments` times the part's
+datasets in `results.h5` at every field step (docs/output.md "Revolved 3D view").
+
 ### How to read the tables
 
 Each table lists the keys of one mapping: its **type** (number, integer, string, boolean, a list,

@@ -207,6 +207,7 @@ class OutputOptions(Options):
     selectable: frozenset[str]
     histories: tuple = ()
     probes: tuple = ()
+    revolve: tuple[int, float] | None = None  # output.revolve (segments, angle in degrees); axisymmetric decks only
 
 
 @dataclass(frozen=True)
@@ -241,6 +242,7 @@ def resolve_options(deck, model) -> RunOptions:
         interval=out.interval or c.end_time / 50.0, history_interval=out.history_interval or c.end_time / 1000.0,
         fields=frozenset(out.fields), selectable=frozenset(FIELD_NAMES),
         histories=tuple(out.histories), probes=tuple(out.probes),
+        revolve=None if out.revolve is None else (out.revolve.segments, out.revolve.angle),
     )
     detonations = tuple((_vec(d.point), d.time) for d in deck.detonations)
     return RunOptions(

@@ -20,6 +20,8 @@ from ..solver.explicit import EnergyRow, Simulation
 from ..solver.solid_domain import von_mises
 from .filters import FILTERED, low_pass
 from .history import HistoryWriter
+from .revolve import (REVOLVED_SUFFIX, angles, revolve_cell_field, revolve_connectivity, revolve_point_field,
+                      revolve_points)
 from .xdmf import GridStep, XdmfWriter
 
 XML_BUDGET = 0.05  # the XDMF index is rewritten at a field step whenever that costs under 5 % of the wall time
@@ -31,6 +33,15 @@ def history_tables(model) -> list[str]:
     out = model.options.output
     return ["glstat", "matsum", *domain_tables(model), *(h.name for h in out.histories), *(p.name for p in out.probes),
             *(f"{p.name}{FILTERED}" for p in out.probes if p.filter is not None)]
+
+
+def output_grids(model) -> list[str]:
+    """The grids a run of `model` writes, each with its results.<grid>.xdmf: the parts, and with
+    output.revolve (axisymmetric decks) each part's <part>.revolved view."""
+    names = [p.name for p in model.parts]
+    if model.axisymmetric and model.options.output.revolve is not None:
+        names += [n + REVOLVED_SUFFIX for n in names]
+    return names
 
 
 class RunOutput:
@@ -52,8 +63,16 @@ class RunOutput:
                                xml_budget=XML_BUDGET)
         rows = {} if resume is None else resume["rows"]
         self._owner = {i: d for d in sim.domains for i in d.parts}
+        rev = out.revolve if model.axisymmetric else None
+        self._revolve = None if rev is None else (rev[0], *angles(*rev))
         for i, p in enumerate(model.parts) if resume is None else ():
-            self.xdmf.add_grid(p.name, *self._owner[i].grid(i))
+            topology, conn, n_points = self._owner[i].grid(i)
+            self.xdmf.add_grid(p.name, topology, conn, n_points)
+            if self._revolve is not None:
+                segments, a, closed = self._revolve
+                self.xdmf.add_grid(p.name + REVOLVED_SUFFIX,
+                                   *revolve_connectivity(topology, conn, n_points, segments, closed),
+                                   n_points * len(a))
         group = self.xdmf.h5  # HistoryWriter mirrors each table in /histories/<name>
         hist_dir = self.directory / "histories"
         self.glstat = HistoryWriter(hist_dir, "glstat", EnergyRow.COLUMNS, h5=group, resume_rows=rows.get("glstat"))
@@ -135,6 +154,8 @@ class RunOutput:
         for i, p in enumerate(model.parts):
             coords, point, cell = steps[i]
             data[p.name] = GridStep(coordinates=coords, point_data=point, cell_data=cell)
+            if self._revolve is not None:
+                data[p.name + REVOLVED_SUFFIX] = revolved_step(coords, point, cell, *self._revolve)
         self.flush()  # histories up to this field step are on disk with it
         self.xdmf.write_step(sim.state.time, data)
 
@@ -164,6 +185,13 @@ class RunOutput:
             with HistoryWriter(writer.path.parent, f"{probe.name}{FILTERED}", writer.columns, h5=self.xdmf.h5) as out:
                 for t, v in zip(raw[:, 0], values):
                     out.append([t, v])
+
+
+def revolved_step(coords, point: dict, cell: dict, segments: int, a: np.ndarray, closed: bool) -> GridStep:
+    """The revolved view (output/revolve.py) of one meridian grid step."""
+    return GridStep(coordinates=revolve_points(coords, a),
+                    point_data={k: revolve_point_field(v, a) for k, v in point.items()},
+                    cell_data={k: revolve_cell_field(v, a, segments) for k, v in cell.items()})
 
 
 def _due(t: float, next_time: float, interval: float) -> bool:

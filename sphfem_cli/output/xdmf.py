@@ -53,6 +53,10 @@ from typing import Mapping
 import h5py
 import numpy as np
 
+REVOLVED = ".revolved"
+"""Grids named ``<part>.revolved`` (output/revolve.py) have their own file only: results.xdmf keeps the
+meridian parts, which a revolved view would otherwise overlap in one collection."""
+
 __all__ = ["GridStep", "XdmfWriter", "TOPOLOGIES", "TENSOR6_XDMF_ORDER"]
 
 TOPOLOGIES: dict[str, int] = {
@@ -382,9 +386,12 @@ class XdmfWriter:
                                CollectionType="Temporal")
         for step in self._steps:
             if part is None:
+                records = [r for r in step.grids if not r.grid.endswith(REVOLVED)]
+                if not records:
+                    continue
                 spatial = ET.SubElement(series, "Grid", Name="Parts", GridType="Collection", CollectionType="Spatial")
                 ET.SubElement(spatial, "Time", Value=repr(step.time))
-                for record in step.grids:
+                for record in records:
                     self._uniform(spatial, record)
                 continue
             for record in step.grids:

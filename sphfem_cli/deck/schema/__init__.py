@@ -80,6 +80,9 @@ class Deck(DeckModel):
             self.dimension = 2
             self._axisymmetric = True
             _check_axisymmetric(self)
+        elif self.output.revolve is not None:
+            raise ValueError("@output.revolve: a revolved view needs dimension: axisymmetric (a meridian plane to "
+                             f"revolve); this deck is dimension {self.dimension}")
         _check_names(self)
         _check_output_steps(self)
         check_vector_lengths(self, self.dimension)

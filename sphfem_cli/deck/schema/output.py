@@ -19,6 +19,8 @@ __all__ = [
     "ProbeFilter",
     "ReferenceCurve",
     "Output",
+    "Revolve",
+    "MAX_REVOLVE_SEGMENTS",
 ]
 
 
@@ -154,6 +156,27 @@ class ReferenceCurve(DeckModel):
         return self
 
 
+MAX_REVOLVE_SEGMENTS = 360
+"""The most segments a revolved view may have: its datasets are `segments` (+1 for a partial sweep) times
+the meridian's, at every field step."""
+
+
+class Revolve(DeckModel):
+    """A revolved 3D view of each part of an axisymmetric deck, for ParaView (as ParaView's Rotational
+    Extrusion filter, or LS-DYNA's 2D-to-3D display): results.<part>.revolved.xdmf beside the meridian
+    plane's results.<part>.xdmf. Meridian x = r turns into 3D (x, y) = (r cos a, r sin a); the axis
+    (meridian y) is 3D z. Quad rings become hex8 cells (those touching the axis collapse, see docs/output.md),
+    particles points on `segments` angles of their ring; vectors and stress are rotated to Cartesian components."""
+
+    segments: int = Field(24, ge=3, le=MAX_REVOLVE_SEGMENTS,
+                          description="Angular divisions of the sweep (3 to 360). The revolved datasets are "
+                          "`segments` times the meridian's (one more ring of points for a partial sweep), at every "
+                          "field step. Default 24.")
+    angle: float = Field(360.0, gt=0.0, le=360.0,
+                         description="Sweep angle from the meridian plane (a = 0, 3D x-z plane) toward +y [degrees], "
+                         "up to 360 (closed). Default 360.")
+
+
 class Output(DeckModel):
     """What is written, and how often."""
 
@@ -163,6 +186,10 @@ class Output(DeckModel):
     )
     history_interval: PositiveFloat | None = Field(
         None, description="Simulated time between history rows [time]. Default end_time/1000."
+    )
+    revolve: Revolve | None = Field(
+        None, description="Axisymmetric decks only: also write a revolved 3D view of every part "
+        "(results.<part>.revolved.xdmf). Default none (the meridian plane only)."
     )
     fields: list[Literal[FIELD_NAMES]] = Field(
         default_factory=lambda: list(FIELD_NAMES), description="Fields written to XDMF. Default all."
