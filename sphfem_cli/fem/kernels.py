@@ -25,8 +25,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from ..materials.kernels import sound_speed, update_stress
-from ..materials.slots import P_G, P_RHO0
+from ..materials.ids import ELASTIC, EOS_NONE
+from ..materials.kernels import elastic_sound_speed, elastic_stress_update, sound_speed, update_stress
+from ..materials.slots import P_EOS_TYPE, P_G, P_RHO0
 from .geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient, quad4_char_length,
                        quad4_gradient, stable_dt)
 from .slots import (  # noqa: F401  (re-exported: declared in fem.slots)
@@ -264,8 +265,10 @@ def _hex8_elements(
 
     Every value is computed by the same operations in the same order as the generic loop (so the
     same bits); the loops over nodes (8), components (3) and hourglass modes (4) have constant
-    trip counts that LLVM unrolls, the nodal data sit in three (8, 3) scratch arrays and the
-    viscous / stiffness hourglass choice is made once per element.
+    trip counts that LLVM unrolls, the nodal data sit in three (8, 3) scratch arrays, the
+    viscous / stiffness hourglass choice is made once per element, and an elastic material without
+    an equation of state takes ``elastic_stress_update`` / ``elastic_sound_speed`` (the same
+    numbers as ``update_stress`` / ``sound_speed``, small enough to inline).
     """
     xe = np.empty((8, 3))
     xm = np.empty((8, 3))
@@ -327,10 +330,13 @@ def _hex8_elements(
             deps[c] = d[c] * dt
         rotate_stress(sig, 0.5 * (lxy - lyx), 0.5 * (lyz - lzy), 0.5 * (lzx - lxz), dt)
         rel_volume = ve_new / vol0[e]
-        update_stress(mat_type[m], p, sig, hist[e], deps, dt, rel_volume, energy[e] / vol0[e])
-
         rho = p[P_RHO0] / rel_volume
-        c_snd = sound_speed(mat_type[m], p, rel_volume, energy[e] / vol0[e])
+        if mat_type[m] == ELASTIC and p[P_EOS_TYPE] == EOS_NONE:  # the same numbers, inlined
+            elastic_stress_update(p, sig, deps)
+            c_snd = elastic_sound_speed(p, rel_volume)
+        else:
+            update_stress(mat_type[m], p, sig, hist[e], deps, dt, rel_volume, energy[e] / vol0[e])
+            c_snd = sound_speed(mat_type[m], p, rel_volume, energy[e] / vol0[e])
         length = hex8_char_length(xe, ve_new)
         q = bulk_viscosity(rho, length, c_snd, trace_d, sec[SEC_Q1], sec[SEC_Q2])
         q_visc[e] = q
@@ -414,16 +420,26 @@ def gather_nodal_forces(f_elem, node_elem_ptr, node_elem_idx, out):
     node_elem_idx holds e * nodes_per_element + a; a gather, so deterministic for any thread count.
     """
     n_nodes, dim = out.shape
-    npe = f_elem.shape[1]
+    f = f_elem.reshape((f_elem.shape[0] * f_elem.shape[1], dim))  # row e * npe + a: the listed index
+    if dim == 3:  # sums in scalars, in list order (the same bits as summing into out)
+        for n in prange(n_nodes):
+            f0 = f1 = f2 = 0.0
+            for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+                ea = node_elem_idx[r]
+                f0 += f[ea, 0]
+                f1 += f[ea, 1]
+                f2 += f[ea, 2]
+            out[n, 0] = f0
+            out[n, 1] = f1
+            out[n, 2] = f2
+        return
     for n in prange(n_nodes):
         for k in range(dim):
             out[n, k] = 0.0
         for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
             ea = node_elem_idx[r]
-            e = ea // npe
-            a = ea - e * npe
             for k in range(dim):
-                out[n, k] += f_elem[e, a, k]
+                out[n, k] += f[ea, k]
 
 
 @njit(parallel=True, cache=True)
