@@ -27,6 +27,8 @@ Measured (3 December 2026, one thread, 3 pairs, CPU time, 2-core machine shared 
 5.9-7.4): ale2d 240^2 (--size 0.25) 1.27 M vs CloverLeaf 5.75 M cell-steps/s, ratio 0.22 (min 0.22);
 hex8 30^3 0.371 M vs LULESH 0.862 M, ratio 0.42 (min 0.42); sph2d 89 888 particles 1.00 M vs probe
 2.30 M, ratio 0.44 (min 0.42); dambreak 0.900 M, PySPH not installed then (details: README.md).
+hex8 after the hexspeed branch (10:14 UTC, load 0.5-0.6, 3 pairs, --steps-scale 0.25): 1.140 M vs
+LULESH 1.030 M, ratio 1.28 (min 1.11).
 """
 from __future__ import annotations
 

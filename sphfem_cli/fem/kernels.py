@@ -25,8 +25,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from ..materials.kernels import sound_speed, update_stress
-from ..materials.slots import P_G, P_RHO0
+from ..materials.ids import ELASTIC, EOS_NONE
+from ..materials.kernels import elastic_sound_speed, elastic_stress_update, sound_speed, update_stress
+from ..materials.slots import P_EOS_TYPE, P_G, P_RHO0
 from .geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient, quad4_char_length,
                        quad4_gradient, stable_dt)
 from .slots import (  # noqa: F401  (re-exported: declared in fem.slots)
@@ -98,10 +99,21 @@ def solid_element_forces(
     hg_force (E, modes, dim) stiffness hourglass resultants.
     Written: f_elem (E, nodes, dim) force on each element node, dt_elem (E,) stable step
     (INVERTED where the volume is not positive), vol (E,), q_visc (E,) bulk viscosity.
+
+    hex8 meshes go to ``_hex8_elements`` (the same operations in the same order with the dimension
+    and node count as constants); the loop below is the quad4 one (and any dimension).
     """
     n_elem, npe = conn.shape
     dim = x.shape[1]
     n_chunks = min(n_elem, 64 * 8)
+    if npe == 8 and dim == 3:
+        for chunk in prange(n_chunks):
+            _hex8_elements(
+                chunk * n_elem // n_chunks, (chunk + 1) * n_elem // n_chunks,
+                x, v, conn, active, elem_mat, elem_sec, mat_type, mat_param, sec_param,
+                vol0, dt, stress, hist, energy, hg_energy, hg_force, f_elem, dt_elem, vol, q_visc,
+            )
+        return
     for chunk in prange(n_chunks):
         start = chunk * n_elem // n_chunks
         stop = (chunk + 1) * n_elem // n_chunks
@@ -244,6 +256,163 @@ def solid_element_forces(
                     hg_energy[e] += work
 
 
+@njit(cache=True)
+def _hex8_elements(
+    start, stop, x, v, conn, active, elem_mat, elem_sec, mat_type, mat_param, sec_param,
+    vol0, dt, stress, hist, energy, hg_energy, hg_force, f_elem, dt_elem, vol, q_visc,
+):
+    """Elements start..stop-1 of a hex8 mesh: ``solid_element_forces``'s loop for dim = 3, npe = 8.
+
+    Every value is computed by the same operations in the same order as the generic loop (so the
+    same bits); the loops over nodes (8), components (3) and hourglass modes (4) have constant
+    trip counts that LLVM unrolls, the nodal data sit in three (8, 3) scratch arrays, the
+    viscous / stiffness hourglass choice is made once per element, and an elastic material without
+    an equation of state takes ``elastic_stress_update`` / ``elastic_sound_speed`` (the same
+    numbers as ``update_stress`` / ``sound_speed``, small enough to inline).
+    """
+    xe = np.empty((8, 3))
+    xm = np.empty((8, 3))
+    ve = np.empty((8, 3))
+    b = np.empty((3, 8))
+    bm = np.empty((3, 8))
+    tens = np.empty((3, 6))  # rows: rate of deformation d, strain increment d dt, stress at the start
+    d = tens[0]
+    deps = tens[1]
+    sig_old = tens[2]
+    gam = np.empty(8)
+    half_dt = 0.5 * dt
+    for e in range(start, stop):
+        if not active[e]:
+            dt_elem[e] = np.inf
+            continue
+        for a in range(8):
+            n = conn[e, a]
+            for k in range(3):
+                xe[a, k] = x[n, k]
+                ve[a, k] = v[n, k]
+                xm[a, k] = x[n, k] - half_dt * v[n, k]
+        vm = hex8_gradient(xm, bm)
+        ve_new = hex8_gradient(xe, b)
+        vol[e] = ve_new
+        if not (ve_new > 0.0 and vm > 0.0):
+            dt_elem[e] = INVERTED
+            for a in range(8):
+                for k in range(3):
+                    f_elem[e, a, k] = 0.0
+            continue
+
+        # Velocity gradient L_ij = sum_a v_ia b_ja at mid-step.
+        lxx = lyy = lzz = lxy = lyx = lyz = lzy = lzx = lxz = 0.0
+        for a in range(8):
+            lxx += ve[a, 0] * bm[0, a]
+            lxy += ve[a, 0] * bm[1, a]
+            lyx += ve[a, 1] * bm[0, a]
+            lyy += ve[a, 1] * bm[1, a]
+            lxz += ve[a, 0] * bm[2, a]
+            lzx += ve[a, 2] * bm[0, a]
+            lyz += ve[a, 1] * bm[2, a]
+            lzy += ve[a, 2] * bm[1, a]
+            lzz += ve[a, 2] * bm[2, a]
+        d[0] = lxx
+        d[1] = lyy
+        d[2] = lzz
+        d[3] = 0.5 * (lxy + lyx)
+        d[4] = 0.5 * (lyz + lzy)
+        d[5] = 0.5 * (lzx + lxz)
+        trace_d = lxx + lyy + lzz
+
+        m = elem_mat[e]
+        p = mat_param[m]
+        sec = sec_param[elem_sec[e]]
+        sig = stress[e]
+        for c in range(6):
+            sig_old[c] = sig[c]
+            deps[c] = d[c] * dt
+        rotate_stress(sig, 0.5 * (lxy - lyx), 0.5 * (lyz - lzy), 0.5 * (lzx - lxz), dt)
+        rel_volume = ve_new / vol0[e]
+        rho = p[P_RHO0] / rel_volume
+        if mat_type[m] == ELASTIC and p[P_EOS_TYPE] == EOS_NONE:  # the same numbers, inlined
+            elastic_stress_update(p, sig, deps)
+            c_snd = elastic_sound_speed(p, rel_volume)
+        else:
+            update_stress(mat_type[m], p, sig, hist[e], deps, dt, rel_volume, energy[e] / vol0[e])
+            c_snd = sound_speed(mat_type[m], p, rel_volume, energy[e] / vol0[e])
+        length = hex8_char_length(xe, ve_new)
+        q = bulk_viscosity(rho, length, c_snd, trace_d, sec[SEC_Q1], sec[SEC_Q2])
+        q_visc[e] = q
+        dt_elem[e] = stable_dt(length, c_snd, trace_d, sec[SEC_Q1], sec[SEC_Q2])
+
+        # Internal energy: mid-step stress power plus bulk-viscosity work.
+        power = 0.5 * (_stress_power(sig_old, d) + _stress_power(sig, d)) - q * trace_d
+        energy[e] += power * vm * dt
+
+        # f_I = -V (sigma - q I) . b_I
+        sxx = sig[0] - q
+        syy = sig[1] - q
+        szz = sig[2] - q
+        sxy = sig[3]
+        syz = sig[4]
+        szx = sig[5]
+        for a in range(8):
+            f_elem[e, a, 0] = -ve_new * (sxx * b[0, a] + sxy * b[1, a] + szx * b[2, a])
+            f_elem[e, a, 1] = -ve_new * (sxy * b[0, a] + syy * b[1, a] + syz * b[2, a])
+            f_elem[e, a, 2] = -ve_new * (szx * b[0, a] + syz * b[1, a] + szz * b[2, a])
+
+        # Flanagan-Belytschko hourglass control.
+        qm = sec[SEC_HG_COEF]
+        if qm > 0.0:
+            bb = 0.0
+            for k in range(3):
+                for a in range(8):
+                    bb += b[k, a] * b[k, a]
+            viscous = sec[SEC_HG_TYPE] == HG_VISCOUS
+            if viscous:
+                coef = 0.25 * qm * rho * c_snd * ve_new ** ((3 - 1.0) / 3)
+            else:
+                coef = 0.5 * qm * p[P_G] * ve_new * bb
+            work = 0.0
+            for mode in range(4):
+                # gamma_a = Gamma_a - (Gamma . x_k) b_k
+                gx0 = gx1 = gx2 = 0.0
+                for a in range(8):
+                    g = HEX_GAMMA[mode, a]
+                    gx0 += g * xe[a, 0]
+                    gx1 += g * xe[a, 1]
+                    gx2 += g * xe[a, 2]
+                qv0 = qv1 = qv2 = 0.0
+                for a in range(8):
+                    g = HEX_GAMMA[mode, a] - gx0 * b[0, a] - gx1 * b[1, a] - gx2 * b[2, a]
+                    gam[a] = g
+                    qv0 += ve[a, 0] * g
+                    qv1 += ve[a, 1] * g
+                    qv2 += ve[a, 2] * g
+                if viscous:
+                    r0 = coef * qv0
+                    r1 = coef * qv1
+                    r2 = coef * qv2
+                    mode_work = 0.0 + r0 * qv0 * dt + r1 * qv1 * dt + r2 * qv2 * dt
+                else:
+                    # Stored (elastic) energy: trapezoidal work of the resultant over the step.
+                    o0 = hg_force[e, mode, 0]
+                    o1 = hg_force[e, mode, 1]
+                    o2 = hg_force[e, mode, 2]
+                    hg_force[e, mode, 0] += coef * qv0 * dt
+                    hg_force[e, mode, 1] += coef * qv1 * dt
+                    hg_force[e, mode, 2] += coef * qv2 * dt
+                    r0 = hg_force[e, mode, 0]
+                    r1 = hg_force[e, mode, 1]
+                    r2 = hg_force[e, mode, 2]
+                    mode_work = (0.0 + 0.5 * (o0 + r0) * qv0 * dt + 0.5 * (o1 + r1) * qv1 * dt
+                                 + 0.5 * (o2 + r2) * qv2 * dt)
+                for a in range(8):
+                    f_elem[e, a, 0] -= r0 * gam[a]
+                for a in range(8):
+                    f_elem[e, a, 1] -= r1 * gam[a]
+                for a in range(8):
+                    f_elem[e, a, 2] -= r2 * gam[a]
+                hg_energy[e] += mode_work
+
+
 @njit(parallel=True, cache=True)
 def gather_nodal_forces(f_elem, node_elem_ptr, node_elem_idx, out):
     """out[n] = sum of f_elem[e, a] over the (e, a) pairs listed for node n (CSR map).
@@ -251,16 +420,26 @@ def gather_nodal_forces(f_elem, node_elem_ptr, node_elem_idx, out):
     node_elem_idx holds e * nodes_per_element + a; a gather, so deterministic for any thread count.
     """
     n_nodes, dim = out.shape
-    npe = f_elem.shape[1]
+    f = f_elem.reshape((f_elem.shape[0] * f_elem.shape[1], dim))  # row e * npe + a: the listed index
+    if dim == 3:  # sums in scalars, in list order (the same bits as summing into out)
+        for n in prange(n_nodes):
+            f0 = f1 = f2 = 0.0
+            for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+                ea = node_elem_idx[r]
+                f0 += f[ea, 0]
+                f1 += f[ea, 1]
+                f2 += f[ea, 2]
+            out[n, 0] = f0
+            out[n, 1] = f1
+            out[n, 2] = f2
+        return
     for n in prange(n_nodes):
         for k in range(dim):
             out[n, k] = 0.0
         for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
             ea = node_elem_idx[r]
-            e = ea // npe
-            a = ea - e * npe
             for k in range(dim):
-                out[n, k] += f_elem[e, a, k]
+                out[n, k] += f[ea, k]
 
 
 @njit(parallel=True, cache=True)

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sphfem_cli.fem.geometry import hex8_gradient, quad4_gradient
+from sphfem_cli.fem.geometry import hex8_gradient, hex8_gradient_rows, quad4_gradient
 from sphfem_cli.fem.kernels import rotate_stress
 
 HEX_SIGNS = np.array([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
@@ -48,6 +48,19 @@ def test_hex8_gradient_equals_dv_dx():
         assert np.allclose(b * volume, ref_dvdx, rtol=0, atol=1e-13)
         # A linear field's gradient is exact: sum_I x_I (x) b_I = identity.
         assert np.allclose(x.T @ b.T, np.eye(3), atol=1e-13)
+
+
+def test_hex8_gradient_written_out_is_the_table_sum_bit_for_bit():
+    """The written-out gradient and the HEX_DV row loop: the same bits (valid, inverted, far from the origin)."""
+    rng = np.random.default_rng(6)
+    b, b_rows = np.empty((3, 8)), np.empty((3, 8))
+    for i in range(200):
+        x = distorted_hex(rng) * rng.uniform(1e-3, 1e3) + rng.normal(0.0, 50.0, 3)
+        if i % 5 == 0:
+            x = rng.normal(size=(8, 3))  # often inverted: b is zero, the volume is still returned
+        volume, volume_rows = hex8_gradient(x, b), hex8_gradient_rows(x, b_rows)
+        assert np.float64(volume).tobytes() == np.float64(volume_rows).tobytes()
+        assert b.tobytes() == b_rows.tobytes()
 
 
 def test_quad4_gradient():

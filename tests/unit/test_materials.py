@@ -385,3 +385,21 @@ def test_pack_material_fills_only_its_declared_slots():
         assert {getattr(ms, n) for n in ms.MODEL_SLOTS[model]} - {ms.P_DETONATION_VELOCITY} <= model_part, model
     assert cases["elastic_plastic"][ms.P_EP_EP] == pytest.approx(E * ET / (E - ET), rel=1e-15)
     assert cases["johnson_cook"][ms.P_JC_CP] == 383.0 and cases["fluid"][ms.P_VISCOSITY] == 1e-3
+
+
+def test_elastic_fast_path_is_update_stress_bit_for_bit():
+    """elastic_stress_update / elastic_sound_speed (the element loop's inlined elastic law) give the
+    bits update_stress / sound_speed give for an elastic material without an equation of state."""
+    t, p = material(type="elastic", density=7850.0, youngs_modulus=2.1e11, poisson_ratio=0.3)
+    assert t == k.ELASTIC and p[ms.P_EOS_TYPE] == k.EOS_NONE
+    rng = np.random.default_rng(8)
+    hist = np.zeros(ms.NHIST)
+    for _ in range(200):
+        sig = rng.normal(0.0, 1e8, 6)
+        deps = rng.normal(0.0, 1e-4, 6)
+        rel = rng.uniform(0.5, 1.5)
+        ref, fast = sig.copy(), sig.copy()
+        k.update_stress(t, p, ref, hist, deps, 1e-6, rel, 0.0)
+        k.elastic_stress_update(p, fast, deps)
+        assert fast.tobytes() == ref.tobytes()
+        assert k.elastic_sound_speed(p, rel) == k.sound_speed(t, p, rel, 0.0)
