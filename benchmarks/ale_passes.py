@@ -32,7 +32,43 @@ one) runs every repetition once per tree, alternating A, B, A, B ..., each in a 
 and min / median over the repetitions of the per-repetition ratio of total CPU time A / B (the
 speed-up of B).
 
-Measured: see the end of this docstring (figures appended per measurement, with the code state).
+Measured (3 December 2026, 10:06 UTC, 1 thread, the 2-core machine shared with other sessions, load
+average 1.9; ``--n 240 --steps 10 --repeat 3 --two --trees BASE THIS``, BASE = 76efb01 (main before
+this work), THIS = the commit adding this figure; min / median of 3 interleaved repetitions, ns per
+cell-step):
+
+============  ===============  ===============  ===============  ===============
+pass          one, before      one, after       two, before      two, after
+============  ===============  ===============  ===============  ===============
+forces        110.4 / 134.0    104.3 / 134.1    137.4 / 145.5    125.4 / 148.3
+nodal update  20.6 / 25.5      20.5 / 26.0      24.8 / 27.6      25.8 / 28.9
+energy        35.9 / 46.5      36.0 / 49.7      51.3 / 60.1      44.3 / 60.4
+ext forces    3.1 / 3.3        3.2 / 3.4        3.2 / 3.5        3.5 / 3.5
+mesh target   3.2 / 3.2        3.2 / 3.7        3.1 / 3.4        3.4 / 3.6
+face fluxes   35.1 / 41.2      32.2 / 44.5      48.3 / 53.4      50.5 / 56.0
+apply faces   26.6 / 31.1      24.1 / 33.1      39.0 / 45.7      40.4 / 46.9
+dual fluxes   74.7 / 88.4      69.7 / 90.2      100.1 / 113.9    97.5 / 105.9
+apply dual    59.6 / 72.1      43.2 / 58.0      72.8 / 93.0      56.5 / 67.5
+finish nodes  15.8 / 20.1      14.2 / 20.8      29.4 / 32.9      26.2 / 32.8
+nodal mass    10.8 / 13.2      9.6 / 13.7       16.6 / 18.3      15.7 / 18.8
+finish elems  14.0 / 17.6      11.9 / 18.1      19.3 / 22.1      18.2 / 23.2
+time step     2.1 / 2.2        2.1 / 2.4        1.9 / 2.3        2.5 / 2.8
+rest          99.8 / 114.8     33.1 / 37.6      110.2 / 115.2    36.6 / 42.7
+total         512.1 / 612.8    407.5 / 539.5    657.6 / 740.2    546.5 / 641.4
+============  ===============  ===============  ===============  ===============
+
+Speed-up of the total, per repetition: one material min 1.14, median 1.21; two materials min 0.96,
+median 1.15. The gain is the ``rest`` (per-step temporaries: x + dt v, the nodal momentum and
+kinetic energy of the remap, and numpy's strided ``impulse.sum(axis=0)``, 100-115 -> 33-37 ns) and
+``apply dual`` (one flux row per corner, 60-73 -> 43-57). The remaining step is the element
+kernels: forces (EOS, viscosity, hourglass, stable step) about 105-135, the dual-mesh momentum
+remap about 115-150 for its two sweeps, the element face fluxes and their gather about 60-75.
+In the same minutes ``peers.py --cases ale2d --size 0.25 --steps-scale 0.5 --pairs 3`` gave, run
+alternately on the two trees twice: before 0.22 / 0.22 (ratio sphfem / CloverLeaf_Serial, median,
+1.73 and 1.60 M cell-steps/s), after 0.26 / 0.29 (1.81 and 1.91 M against CloverLeaf's 6.6-6.9 M).
+At the issue's 960^2 (``--n 960 --steps 5 --repeat 3 --trees``, one material, 10:08-10:13 UTC, load
+2.3 -> 3.1): total 584.6 / 605.9 -> 507.6 / 561.9 ns per cell-step, speed-up min 1.04, median 1.08
+(rest 105 / 111 -> 40 / 40, apply dual 74 / 75 -> 57 / 65; the other passes within the noise).
 """
 from __future__ import annotations
 
