@@ -4,6 +4,12 @@ The nodal masses, momenta and kinetic energies are remapped with the element mas
 sweep (half-index shift, Benson 1992 sec. 5.4; generalised to hex8), upwind or van Leer
 velocities along the node lines (``dual_fluxes``), gathered by the nodes (``apply_dual_fluxes``).
 Equations: docs/theory/ale.md.
+
+Layout: the fluxes of an element's edge sit together, ``g[e, h]`` = (mass, kinetic energy,
+momentum components) in the slots ``G_MASS``, ``G_KIN``, ``G_MOM + k`` (and ``b[e, h, side]`` for
+the open-face terms), so that a node's gather reads one row per corner instead of one per
+quantity; the node velocities p / m of the sweep are divided once per node (``node_velocities``),
+not once per use. Both are the same arithmetic as before (the same bits).
 """
 from __future__ import annotations
 
@@ -11,10 +17,25 @@ from numba import njit, prange
 
 from .remap import van_leer
 
+# slots of a dual-edge flux row g[e, h] (and b[e, h, side]): mass, kinetic energy, then momentum
+G_MASS = 0
+G_KIN = 1
+G_MOM = 2
+
+
+@njit(parallel=True, cache=True)
+def node_velocities(mnode, pnode, u):
+    """u = p / m per node (0 where m <= 0): the velocities the dual fluxes of one sweep upwind."""
+    dim = pnode.shape[1]
+    for n in prange(mnode.shape[0]):
+        m = mnode[n]
+        for k in range(dim):
+            u[n, k] = pnode[n, k] / m if m > 0.0 else 0.0
+
 
 @njit(cache=True, inline="always")
 def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass, node_line,
-                  mnode, pnode, order, gm, gp, gk, bm, bp, bk, dim, n_edges):
+                  mnode, u, order, g, b, dim, n_edges):
     """``dual_fluxes`` of element e; dim and n_edges are constants at the call (unrolled loops)."""
     n_mat = fmass.shape[1]
     share = 1.0 / n_edges
@@ -33,7 +54,7 @@ def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_ope
     for h in range(n_edges):
         src = node_line[e, direction, h, 1]
         dst = node_line[e, direction, h, 2]
-        gm[e, h] = gh
+        g[e, h, G_MASS] = gh
         if gh >= 0.0:
             donor = src
             acc = dst
@@ -44,21 +65,20 @@ def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_ope
             up = node_line[e, direction, h, 3]
         md = mnode[donor]
         ke = 0.0
+        limited = order == 2 and up >= 0 and md > 0.0 and mnode[acc] > 0.0 and mnode[up] > 0.0
+        courant = min(1.0, n_edges * abs(gh) / md) if limited else 0.0
         for k in range(dim):
-            vd = pnode[donor, k] / md if md > 0.0 else 0.0
+            vd = u[donor, k]
             vf = vd
-            if order == 2 and up >= 0 and md > 0.0 and mnode[acc] > 0.0 and mnode[up] > 0.0:
-                courant = min(1.0, n_edges * abs(gh) / md)
-                vf = van_leer(vd, pnode[acc, k] / mnode[acc], pnode[up, k] / mnode[up], courant)
-            gp[e, h, k] = gh * vf
+            if limited:
+                vf = van_leer(vd, u[acc, k], u[up, k], courant)
+            g[e, h, G_MOM + k] = gh * vf
             ke += vf * vf
-        gk[e, h] = 0.5 * gh * ke
+        g[e, h, G_KIN] = 0.5 * gh * ke
         if any_open:
             for side in range(2):
-                bm[e, h, side] = 0.0
-                for k in range(dim):
-                    bp[e, h, side, k] = 0.0
-                bk[e, h, side] = 0.0
+                for k in range(G_MOM + dim):
+                    b[e, h, side, k] = 0.0
             for side in range(2):
                 if side == 0:
                     if not open_a:
@@ -70,19 +90,18 @@ def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_ope
                         continue
                     flux = share * fb_in
                     n = dst
-                mn = mnode[n]
-                bm[e, h, side] = flux
+                b[e, h, side, G_MASS] = flux
                 u2 = 0.0
                 for k in range(dim):
-                    u = pnode[n, k] / mn if mn > 0.0 else 0.0
-                    bp[e, h, side, k] = flux * u
-                    u2 += u * u
-                bk[e, h, side] = 0.5 * flux * u2
+                    un = u[n, k]
+                    b[e, h, side, G_MOM + k] = flux * un
+                    u2 += un * un
+                b[e, h, side, G_KIN] = 0.5 * flux * u2
 
 
 @njit(parallel=True, cache=True)
 def dual_fluxes(ka, kb, direction, conn, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass, node_line,
-                mnode, pnode, order, gm, gp, gk, bm, bp, bk):
+                mnode, u, order, g, b):
     """Mass, momentum and kinetic-energy fluxes of the dual (nodal) cells in this sweep (2D and 3D).
 
     The element's H edges along the sweep direction (H = 2 for a quad4, 4 for a hex8) join a
@@ -94,24 +113,25 @@ def dual_fluxes(ka, kb, direction, conn, elem_face, elem_sign, elem_nbr, face_op
     momentum G/H v_face and kinetic energy G/(2H) |v_face|^2 with v_face the upwind node's velocity
     (order 1) or van Leer along the node line node_line[e, direction, h] = (before src, src, dst,
     after dst), with the dual Courant number H |G/H| / m_donor. On open boundary faces each of the
-    face's H nodes also receives 1/H of the face's mass flux with its own velocity (bm, bp, bk:
-    [e, h, 0] into src through side a, [e, h, 1] into dst through side b); without open faces
-    (any_open False) bm, bp, bk are left as they are (zero).
+    face's H nodes also receives 1/H of the face's mass flux with its own velocity (b[e, h, 0] into
+    src through side a, b[e, h, 1] into dst through side b); without open faces (any_open False) b
+    is left as it is (zero). u: the node velocities p / m (``node_velocities``); g (E, H, 2 + dim)
+    and b (E, H, 2, 2 + dim) rows in the slots G_MASS, G_KIN, G_MOM + k.
     """
     n_elem = conn.shape[0]
-    three = pnode.shape[1] == 3
+    three = u.shape[1] == 3
     for e in prange(n_elem):
         if three:
             _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass,
-                          node_line, mnode, pnode, order, gm, gp, gk, bm, bp, bk, 3, 4)
+                          node_line, mnode, u, order, g, b, 3, 4)
         else:
             _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass,
-                          node_line, mnode, pnode, order, gm, gp, gk, bm, bp, bk, 2, 2)
+                          node_line, mnode, u, order, g, b, 2, 2)
 
 
 @njit(cache=True, inline="always")
-def _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
-               mnode, pnode, knode, dim, npe):
+def _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, mnode, pnode, knode,
+               dim, npe):
     """``apply_dual_fluxes`` of node n; dim and npe are constants at the call."""
     dm = 0.0
     dp0 = 0.0
@@ -125,19 +145,19 @@ def _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_ope
         h = corner_edge[a]
         side = corner_dst[a]
         s = 1.0 if side == 1 else -1.0
-        dm += s * gm[e, h]
-        dp0 += s * gp[e, h, 0]
-        dp1 += s * gp[e, h, 1]
+        dm += s * g[e, h, G_MASS]
+        dp0 += s * g[e, h, G_MOM]
+        dp1 += s * g[e, h, G_MOM + 1]
         if dim == 3:
-            dp2 += s * gp[e, h, 2]
-        dk += s * gk[e, h]
+            dp2 += s * g[e, h, G_MOM + 2]
+        dk += s * g[e, h, G_KIN]
         if any_open:
-            dm += bm[e, h, side]
-            dp0 += bp[e, h, side, 0]
-            dp1 += bp[e, h, side, 1]
+            dm += b[e, h, side, G_MASS]
+            dp0 += b[e, h, side, G_MOM]
+            dp1 += b[e, h, side, G_MOM + 1]
             if dim == 3:
-                dp2 += bp[e, h, side, 2]
-            dk += bk[e, h, side]
+                dp2 += b[e, h, side, G_MOM + 2]
+            dk += b[e, h, side, G_KIN]
     mnode[n] += dm
     pnode[n, 0] += dp0
     pnode[n, 1] += dp1
@@ -147,8 +167,7 @@ def _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_ope
 
 
 @njit(parallel=True, cache=True)
-def apply_dual_fluxes(corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
-                      mnode, pnode, knode):
+def apply_dual_fluxes(corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, mnode, pnode, knode):
     """Each node adds the dual fluxes of its element corners (a gather); open-face terms if any_open.
 
     corner_edge[a], corner_dst[a]: the edge along this sweep that corner a of an element lies on,
@@ -158,8 +177,8 @@ def apply_dual_fluxes(corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any
     three = pnode.shape[1] == 3
     for n in prange(n_nodes):
         if three:
-            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
-                       mnode, pnode, knode, 3, 8)
+            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, mnode, pnode, knode,
+                       3, 8)
         else:
-            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, gm, gp, gk, bm, bp, bk,
-                       mnode, pnode, knode, 2, 4)
+            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, mnode, pnode, knode,
+                       2, 4)

@@ -44,20 +44,22 @@ own entries. Equations and references: docs/theory/ale.md.
 """
 from __future__ import annotations
 
-from .dual import apply_dual_fluxes, dual_fluxes
+from .dual import G_KIN, G_MASS, G_MOM, apply_dual_fluxes, dual_fluxes, node_velocities
 from .lagrange import (BC_FIXED, BC_FREE, BC_LINE, BC_SLIP, BC_VELOCITY, CLOSURE_EQUAL_STRAIN, CLOSURE_RELAX,
                        RHO_CAVITATED, RHO_VOID, apply_bc, apply_bc_2d, element_volumes_3d, lagrange_energy,
                        lagrange_energy_3d, lagrange_forces, lagrange_forces_3d, material_state, nodal_update,
                        nodal_update_3d, quad_area)
-from .remap import (IFACE_DONOR, IFACE_SLIC, SLIC_JUMP, apply_face_fluxes, face_fluxes, face_fluxes_3d,
-                    finish_remap_elements, finish_remap_nodes, finish_remap_nodes_3d, nodal_mass, swept_volume_3d,
-                    swept_volumes_3d, van_leer)
+from .remap import (IFACE_DONOR, IFACE_SLIC, SLIC_JUMP, add_column_sums, apply_face_fluxes, face_fluxes,
+                    face_fluxes_3d, finish_remap_elements, finish_remap_nodes, finish_remap_nodes_3d, nodal_mass,
+                    remap_nodal_state, swept_volume_3d, swept_volumes_3d, van_leer)
 
 __all__ = [
     "BC_FIXED", "BC_FREE", "BC_LINE", "BC_SLIP", "BC_VELOCITY", "CLOSURE_EQUAL_STRAIN", "CLOSURE_RELAX",
-    "IFACE_DONOR", "IFACE_SLIC", "RHO_CAVITATED", "RHO_VOID", "SLIC_JUMP",
-    "apply_bc", "apply_bc_2d", "apply_dual_fluxes", "apply_face_fluxes", "dual_fluxes", "element_volumes_3d",
+    "G_KIN", "G_MASS", "G_MOM", "IFACE_DONOR", "IFACE_SLIC", "RHO_CAVITATED", "RHO_VOID", "SLIC_JUMP",
+    "add_column_sums", "apply_bc", "apply_bc_2d", "apply_dual_fluxes", "apply_face_fluxes", "dual_fluxes",
+    "element_volumes_3d",
     "face_fluxes", "face_fluxes_3d", "finish_remap_elements", "finish_remap_nodes", "finish_remap_nodes_3d",
     "lagrange_energy", "lagrange_energy_3d", "lagrange_forces", "lagrange_forces_3d", "material_state",
-    "nodal_mass", "nodal_update", "nodal_update_3d", "quad_area", "swept_volume_3d", "swept_volumes_3d", "van_leer",
+    "nodal_mass", "nodal_update", "nodal_update_3d", "node_velocities", "quad_area", "remap_nodal_state",
+    "swept_volume_3d", "swept_volumes_3d", "van_leer",
 ]

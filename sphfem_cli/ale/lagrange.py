@@ -16,7 +16,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..fem.geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient, hex8_volume,
-                            quad4_char_length, quad4_gradient, stable_dt)
+                            quad4_gradient, stable_dt)
 from ..materials.kernels import EOS_GRUNEISEN, eos_state
 
 
@@ -99,6 +99,20 @@ def _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_ep
     return p_mix, c_max, mtot
 
 
+@njit(cache=True, inline="always")
+def _quad_char_length(x, area):
+    """``fem.geometry.quad4_char_length`` (area over the longest edge) with one square root: the
+    longest edge is the root of the largest squared length (the rounded root is monotone, so the
+    same bits as the largest of the four roots)."""
+    longest2 = 0.0
+    for i in range(4):
+        j = (i + 1) % 4
+        dx = x[j, 0] - x[i, 0]
+        dy = x[j, 1] - x[i, 1]
+        longest2 = max(longest2, dx * dx + dy * dy)
+    return area / math.sqrt(longest2)
+
+
 # quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
 # as in FEM solid_element_forces) measured 6-17 % (2D) and 13-20 % (3D) slower per call (benchmarks/ale_throughput.py cases,
 # 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
@@ -145,7 +159,7 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
             trace_d = 0.0
             for a in range(4):
                 trace_d += ve[a, 0] * b[0, a] + ve[a, 1] * b[1, a]
-            length = quad4_char_length(xe, area)
+            length = _quad_char_length(xe, area)
             q = bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
             q_elem[e] = q
             c_eff = c_max + math.sqrt(vmax2)

@@ -78,7 +78,7 @@ def _face_flux(f, amount, donor, acc, far, sgn, vol_m, mass_m, ener_m, order, if
     amount = min(amount, vd)
     # material volumes
     sharp = False
-    if iface == IFACE_SLIC:
+    if iface == IFACE_SLIC and n_mat > 1:  # one material: no interface to order (g_max - g_min = 0)
         gmin = 1.0
         gmax = -1.0
         for m in range(n_mat):
@@ -429,6 +429,40 @@ def finish_remap_elements(conn, mass_m, ener_m, node_mass, dissip, ke_fix):
                 add += dissip[n] * corner * me / node_mass[n]
         for m in range(n_mat):
             ener_m[e, m] += add * mass_m[e, m] / me
+
+
+@njit(cache=True)
+def remap_nodal_state(node_mass, v, mnode, pnode, knode):
+    """The nodal state the dual remap carries: mnode = m, pnode = m v, knode = m |v|^2 / 2.
+
+    In the order of the numpy expressions it replaces (``pnode = m[:, None] * v``,
+    ``knode = 0.5 * m * (v ** 2).sum(axis=1)``), so the results are the same to the bit.
+    """
+    dim = v.shape[1]
+    for n in range(v.shape[0]):
+        m = node_mass[n]
+        mnode[n] = m
+        s = v[n, 0] * v[n, 0]
+        pnode[n, 0] = m * v[n, 0]
+        for k in range(1, dim):
+            s += v[n, k] * v[n, k]
+            pnode[n, k] = m * v[n, k]
+        knode[n] = 0.5 * m * s
+
+
+@njit(cache=True)
+def add_column_sums(a, out):
+    """out[k] += sum_n a[n, k], summed in row order from a[0, k] (numpy's ``a.sum(axis=0)`` of a
+    C-ordered (N, dim) array adds the rows one after the other: the same bits, without the
+    per-row overhead of its strided reduction). Serial, so the sum does not depend on the threads."""
+    n_rows, dim = a.shape
+    if n_rows == 0:
+        return
+    for k in range(dim):
+        s = a[0, k]
+        for n in range(1, n_rows):
+            s += a[n, k]
+        out[k] += s
 
 
 @njit(cache=True, inline="always")

@@ -154,14 +154,19 @@ class AleSystem:
         self._fmass = np.zeros((nf, n_mat))
         self._fener = np.zeros((nf, n_mat))
         n_edges = npe // 2  # element edges along one sweep direction
-        self._gm = np.zeros((n_elem, n_edges))
-        self._gp = np.zeros((n_elem, n_edges, dim))
-        self._gk = np.zeros((n_elem, n_edges))
-        self._bm = np.zeros((n_elem, n_edges, 2))
-        self._bp = np.zeros((n_elem, n_edges, 2, dim))
-        self._bk = np.zeros((n_elem, n_edges, 2))
+        # dual-edge fluxes (mass, kinetic energy, momentum per row: dual.G_MASS, G_KIN, G_MOM) and the node velocities
+        self._g = np.zeros((n_elem, n_edges, K.G_MOM + dim))
+        self._b = np.zeros((n_elem, n_edges, 2, K.G_MOM + dim))
+        self._unode = np.zeros((n_nodes, dim))
         self._impulse = np.zeros((n_nodes, dim))
         self._f_ext = np.zeros((n_nodes, dim))
+        # the step's node-sized work arrays (no allocation per step)
+        self._v_old = np.zeros((n_nodes, dim))
+        self._mnode = np.zeros(n_nodes)
+        self._pnode = np.zeros((n_nodes, dim))
+        self._knode = np.zeros(n_nodes)
+        self._dissip = np.zeros(n_nodes)
+        self._x_lag = np.zeros((n_nodes, dim))
         # body acceleration on the nodal masses, and the forces of couplings to structures
         # (contact.coupling): set f_couple before each step; its impulse is couple_dt * f_couple
         self.gravity = np.zeros(dim)
@@ -346,7 +351,8 @@ class AleSystem:
         if not self._fresh:
             self._forces()
         topo = self.topo
-        v_old = self.velocity.copy()
+        v_old = self._v_old
+        v_old[:] = self.velocity
         f_ext = self._external_forces()
         has_gravity = bool(np.any(self.gravity))
         if has_gravity:
@@ -365,15 +371,21 @@ class AleSystem:
             self.gravity_work += dt * float(np.sum(self.node_mass * (v_mid @ self.gravity)))
         if has_couple:
             self.coupling_work += w_couple * float(np.sum(self.f_couple * v_mid))
-        self.wall_impulse += self._impulse.sum(axis=0)
+        K.add_column_sums(self._impulse, self.wall_impulse)  # wall_impulse += impulse.sum(axis=0), same bits
         self._k_energy(self.x, v_old, self.velocity, dt, self.conn, self.f_elem, self.vol_m, self.mass_m,
                        self.ener_m, self.pres_m, self.bulk_m, self.q_elem, self.closure, self.options.relax_alpha,
                        self.options.relax_beta, self.options.phi_eps, self.work_elem)
-        x_lag = self.x + dt * self.velocity
         self._since_remap += 1
-        if self.options.motion.mesh_motion == "lagrangian":
+        lagrangian = self.options.motion.mesh_motion == "lagrangian"
+        remap = not lagrangian and self._since_remap >= self.options.advect_every
+        # x_lag = x + dt v: into the work array when the remap consumes it this step, else fresh
+        # (it becomes self.x, which callers may hold); dt v + x is x + dt v to the bit
+        x_lag = self._x_lag if remap else np.empty_like(self.x)
+        np.multiply(self.velocity, dt, out=x_lag)
+        np.add(self.x, x_lag, out=x_lag)
+        if lagrangian:
             self.x = x_lag
-        elif self._since_remap >= self.options.advect_every:
+        elif remap:
             x_new = self.mesh.target(x_lag)
             self._remap(x_lag, x_new)
             self.x = x_new
@@ -421,9 +433,8 @@ class AleSystem:
 
     def _remap(self, x_lag: np.ndarray, x_new: np.ndarray) -> None:
         topo = self.topo
-        mnode = self.node_mass.copy()
-        pnode = mnode[:, None] * self.velocity
-        knode = 0.5 * mnode * (self.velocity ** 2).sum(axis=1)
+        mnode, pnode, knode = self._mnode, self._pnode, self._knode
+        K.remap_nodal_state(self.node_mass, self.velocity, mnode, pnode, knode)
         any_open = bool(self.face_open.any())
         for d in self._sweep_order():
             ka, kb = topo["side_a"][d], topo["side_b"][d]
@@ -436,16 +447,15 @@ class AleSystem:
                 self.outflow -= self._fmass[fo].sum(axis=0)
             K.apply_face_fluxes(ka, kb, topo["elem_face"], topo["elem_sign"], self._fvol, self._fmass, self._fener,
                                 self.vol_m, self.mass_m, self.ener_m)
+            K.node_velocities(mnode, pnode, self._unode)
             K.dual_fluxes(ka, kb, d, self.conn, topo["elem_face"], topo["elem_sign"], topo["elem_nbr"], self.face_open,
-                          any_open, self._fmass, topo["node_line"], mnode, pnode, self.order,
-                          self._gm, self._gp, self._gk, self._bm, self._bp, self._bk)
+                          any_open, self._fmass, topo["node_line"], mnode, self._unode, self.order, self._g, self._b)
             K.apply_dual_fluxes(topo["corner_edge"][d], topo["corner_dst"][d], topo["node_elem_ptr"],
-                                topo["node_elem_idx"], any_open, self._gm, self._gp, self._gk,
-                                self._bm, self._bp, self._bk, mnode, pnode, knode)
-        dissip = np.empty_like(mnode)
+                                topo["node_elem_idx"], any_open, self._g, self._b, mnode, pnode, knode)
+        dissip = self._dissip
         self._k_finish(mnode, pnode, knode, self.m_floor, self.v_lag, self.conn, topo["node_elem_ptr"],
                        topo["node_elem_idx"], self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)
-        self.wall_impulse += self._impulse.sum(axis=0)
+        K.add_column_sums(self._impulse, self.wall_impulse)  # wall_impulse += impulse.sum(axis=0), same bits
         K.nodal_mass(self.mass_m, topo["node_elem_ptr"], topo["node_elem_idx"], self.npe, self.node_mass)
         K.finish_remap_elements(self.conn, self.mass_m, self.ener_m, self.node_mass, dissip, self.options.ke_fix)
 
