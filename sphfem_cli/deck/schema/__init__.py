@@ -106,7 +106,8 @@ RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")
 """Tables the solver writes itself (histories/<name>.csv); a history or probe cannot take these names."""
 
 
-AXISYMMETRIC_ONLY_SOLIDS = "axisymmetric models support solid and SPH parts only for now (ALE, contact: issue 15)"
+AXISYMMETRIC_ONLY_SOLIDS = ("axisymmetric models support solid and SPH parts only for now (ALE and rigid parts are "
+                            "2D/3D only, issue 15)")
 AXISYMMETRIC_CONTACT = ("axisymmetric models support contacts of SPH particles on solid parts only for now "
                         "(node-to-surface contact between solids and ALE couplings are 2D/3D only)")
 AXISYMMETRIC_SPH = "axisymmetric SPH supports inviscid fluids with slip ghost walls only for now (issue 15)"
