@@ -139,14 +139,17 @@ def _project_3d(p, xm, face, w, normal):
 
 
 @njit(cache=True, parallel=True)
-def point_forces(xp, vp, mp, slave, thickness, xm, vm, faces, seg_k, seg_depth, point_k,
+def point_forces(xp, vp, mp, slave, thickness, xm, vm, faces, seg_k, seg_depth, point_k, ring,
                  cell_start, cell_segs, lo, cell, ncell, damping, friction, dt,
                  f_point, seg_of, weights, gap_out):
     """Penalty force on every slave point (see module docstring); each point writes its own rows.
 
     slave (P,) bool selects the points in contact consideration; thickness (P,) per point;
     seg_k (S,) segment stiffness (used where point_k[i] <= 0) and point_k (P,) a per-point
-    stiffness (soft constraint) otherwise. Outputs: f_point (P, dim), seg_of (P,) the segment or
+    stiffness (soft constraint) otherwise. ring (P,) multiplies the segment stiffness per point: 1 in
+    2D and 3D, the ring circumference 2 pi r_i of the point in an axisymmetric model, where seg_k is
+    the meridian stiffness s K L^2 / A and the ring's k_i = 2 pi r_i s K L^2 / A (contact.system).
+    Outputs: f_point (P, dim), seg_of (P,) the segment or
     -1, weights (P, nn) its shape functions at the contact point, gap_out (P,) the gap.
     """
     n_points, dim = xp.shape
@@ -192,7 +195,7 @@ def point_forces(xp, vp, mp, slave, thickness, xm, vm, faces, seg_k, seg_depth, 
                 best_n[:] = nrm
         if best_s < 0:
             continue
-        k_pen = point_k[i] if point_k[i] > 0.0 else seg_k[best_s]
+        k_pen = point_k[i] if point_k[i] > 0.0 else seg_k[best_s] * ring[i]
         vn = 0.0
         v_rel = np.empty(dim)
         for k in range(dim):

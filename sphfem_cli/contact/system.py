@@ -49,11 +49,31 @@ class NodesToSurfaceContact:
         bulk = model.material_param[model.element_material[owner], P_K]
         self.seg_k = spec.penalty_scale * bulk * area * area / volume
         self.seg_depth = volume / area
+        self.axisymmetric = bool(getattr(model, "axisymmetric", False))
+        if self.axisymmetric:
+            # r-z: segments sweep rings. seg_k is the meridian stiffness s K L^2 / A (A the meridian area,
+            # volume0 holds 2 pi r_c A), and a point's spring is that times its ring 2 pi r_i (see forces);
+            # the depth limit is the meridian length A / L.
+            area_m = model.volume0[owner] / (2.0 * np.pi * np.maximum(self._owner_radius(model, owner), 1e-300))
+            self.seg_k = spec.penalty_scale * bulk * area * area / area_m
+            self.seg_depth = area_m / area
         self.reach = float(self.slave_thickness.max()) if len(slave_mass) else 0.0
         self._k_soft = None  # set on the first step for the soft constraint
         self.work = 0.0
         self._f_master = np.zeros((model.n_nodes, self.dim))
         self._seg_of = None
+
+    @staticmethod
+    def _owner_radius(model, owner: np.ndarray) -> np.ndarray:
+        """r_c of the master faces' elements: volume0 = 2 pi r_c A (fem.axisymmetric.ring_volumes)."""
+        conn = model.connectivity[owner]
+        return model.coordinates[conn, 0].mean(axis=1)
+
+    def _ring(self, xp: np.ndarray) -> np.ndarray:
+        """Per point, the factor on the segment stiffness: 2 pi r in r-z (x = r), else 1."""
+        if self.axisymmetric:
+            return 2.0 * np.pi * xp[:, 0]
+        return np.ones(len(xp))
 
     def _segment_areas(self, x: np.ndarray) -> np.ndarray:
         f = self.faces
@@ -84,7 +104,14 @@ class NodesToSurfaceContact:
         else:
             if not len(self.seg_k) or not np.isfinite(self.slave_mass_min):
                 return np.inf
-            omega = np.sqrt(float(self.seg_k.max()) / self.slave_mass_min)
+            if self.axisymmetric:  # k_i / m_i = seg_k 2 pi r_i / m_i: the ring and its mass both scale with r
+                xp, _, mp, mask, _ = self._slaves()
+                if not mask.any():
+                    return np.inf
+                per_ring = float(np.max(2.0 * np.pi * np.maximum(xp[mask, 0], 0.0) / mp[mask]))
+                omega = np.sqrt(float(self.seg_k.max()) * per_ring)
+            else:
+                omega = np.sqrt(float(self.seg_k.max()) / self.slave_mass_min)
         zeta = self.spec.damping
         return 2.0 / omega * (np.sqrt(1.0 + zeta * zeta) - zeta)
 
@@ -106,7 +133,7 @@ class NodesToSurfaceContact:
             lo, cell, ncell = self._grid(st.x)
             start, segs = K.bin_segments(st.x, self.faces, self.reach, lo, cell, ncell)
             K.point_forces(xp, vp, mp, mask, thickness, st.x, st.v, self.faces, self.seg_k, self.seg_depth, point_k,
-                           start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
+                           self._ring(xp), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
                            max(st.dt_prev, self.sim._dt_first or 0.0), self._f_point, self._seg_of, self._weights,
                            self._gap)
         self._f_master[:] = 0.0

@@ -45,7 +45,8 @@ class Deck(DeckModel):
     units: Units = Field(default_factory=Units, description="Consistent unit system. Default m-kg-s.")
     dimension: Literal[2, 3, "axisymmetric"] = Field(
         description="2 = plane strain in x-y, 3 = solid, axisymmetric = the meridian plane of a body of revolution "
-        "(x = radius r >= 0, y = the axis; solid and SPH parts so far; forces, masses and energies for the full 2 pi)."
+        "(x = radius r >= 0, y = the axis; solid and SPH parts and SPH-on-solid contacts so far; forces, masses "
+        "and energies for the full 2 pi)."
     )
     control: Control = Field(description="End time and time-step control.")
     curves: dict[str, Curve] = Field(default_factory=dict, description="Named time curves.")
@@ -108,12 +109,16 @@ RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")
 """Tables the solver writes itself (histories/<name>.csv); a history or probe cannot take these names."""
 
 
-AXISYMMETRIC_ONLY_SOLIDS = "axisymmetric models support solid and SPH parts only for now (ALE, contact: issue 15)"
+AXISYMMETRIC_ONLY_SOLIDS = ("axisymmetric models support solid and SPH parts only for now (ALE and rigid parts are "
+                            "2D/3D only, issue 15)")
+AXISYMMETRIC_CONTACT = ("axisymmetric models support contacts of SPH particles on solid parts only for now "
+                        "(node-to-surface contact between solids and ALE couplings are 2D/3D only)")
 AXISYMMETRIC_SPH = "axisymmetric SPH supports inviscid fluids with slip ghost walls only for now (issue 15)"
 
 
 def _check_axisymmetric(deck: Deck) -> None:
-    """What an axisymmetric deck cannot hold yet: ALE parts, rigid parts, contacts and couplings; SPH
+    """What an axisymmetric deck cannot hold yet: ALE parts, rigid parts, contacts other than SPH particles
+    on a solid part's faces (contact.system, rings), ALE couplings; SPH
     parts only of inviscid non-explosive fluids, with slip ghost walls (sph/axisymmetric.py)."""
     sph = False
     for pname, part in deck.parts.items():
@@ -142,10 +147,13 @@ def _check_axisymmetric(deck: Deck) -> None:
                 raise ValueError(f"@boundaries.{i}: {AXISYMMETRIC_SPH}; use a wall (ghost particles)")
             if kind == "wall" and bc.condition != "slip":
                 raise ValueError(f"@boundaries.{i}.condition: {AXISYMMETRIC_SPH}; '{bc.condition}' walls are 2D/3D only")
-    if deck.contacts:
-        raise ValueError(f"@contacts.0: {AXISYMMETRIC_ONLY_SOLIDS}")
+    for i, contact in enumerate(deck.contacts):
+        slave = deck.parts.get(contact.nodes)
+        kind = getattr(deck.sections.get(slave.section), "type", "solid") if slave is not None else "node set"
+        if kind != "sph":
+            raise ValueError(f"@contacts.{i}.nodes: {AXISYMMETRIC_CONTACT}; '{contact.nodes}' is {kind}")
     if deck.couplings:
-        raise ValueError(f"@couplings.0: {AXISYMMETRIC_ONLY_SOLIDS}")
+        raise ValueError(f"@couplings.0: {AXISYMMETRIC_CONTACT}")
 
 
 def _check_meridian_half_plane(pname: str, part) -> None:
