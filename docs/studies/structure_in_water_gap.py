@@ -1,0 +1,112 @@
+"""Issue 12 on the paper's section 4.1 scene: is the flow round the plate's bottom end what separates SPH from ALE?
+(figures in docs/studies/structure_in_water.md, "The flow under the plate").
+
+    python docs/studies/structure_in_water_gap.py [CASE ...]   # run from the repository root
+    python docs/studies/structure_in_water_gap.py --summary
+
+Each case writes a variant of decks/structure_in_water_{ale,sph}.yaml into study_siw_gap/ (plate 4 x 60, 2 ms,
+the code-to-code settings of the study: ALE Lagrangian mesh with L_c = h / 2, i.e. pfac 16 / 16 / 10 at nquad
+2 / 4 / 5 for 10 / 5 / 2.5 mm; SPH at ratios 2 / 3 / 4 of the 10 mm ALE size), runs it on one thread and appends
+its CPU seconds to study_siw_gap/log.txt. "gap" is the shipped scene (water under the plate's driven bottom end,
+0 < y < 0.05, joining the two sides); "nogap" raises the tank floor to the plate's bottom (y = 0.05), so the two
+sides are closed chambers and no water flows round the plate's end (the bottom nodes slide on the slip floor).
+Every variant records the x force of the contact / coupling on three bands of each face of the plate
+(y 0.05-0.10, 0.10-0.15, 0.15-0.20) and on its bottom face; `--summary` prints the mid-height peaks and the
+net band impulses over the drive (0-0.75 ms) and the rebound (0.75-1.6 ms).
+"""
+import copy, os, resource, subprocess, sys
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+ROOT = Path(__file__).resolve().parents[2]
+WORK = Path("study_siw_gap")
+LEVELS = {"ale": {"10": (0.01, 2, 16.0), "5": (0.005, 4, 16.0), "2.5": (0.0025, 5, 10.0)},  # size, nquad, pfac
+          "sph": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025}}
+CASES = [f"{kind}_{level}_{geo}" for geo in ("gap", "nogap") for kind in LEVELS for level in LEVELS[kind]]
+BANDS = ((0.0499, 0.1001), (0.1002, 0.1501), (0.1502, 0.2001))  # node boxes: each face node in exactly one band
+WINDOWS = {"drive": (0.0, 0.75e-3), "rebound": (0.75e-3, 1.6e-3)}
+
+
+def variant(name: str) -> Path:
+    kind, level, geo = name.split("_")
+    d = copy.deepcopy(yaml.safe_load(open(ROOT / f"decks/structure_in_water_{kind}.yaml")))
+    d["control"]["end_time"] = 0.002
+    d["parts"]["plate"]["geometry"]["box"]["divisions"] = [4, 60]
+    sets, hist = d["sets"], d["output"]["histories"]
+    for side, x in (("R", 0.21), ("L", 0.20)):
+        for i, (y0, y1) in enumerate(BANDS):
+            sets[f"{side}{i}"] = {"type": "node", "part": "plate", "box": {"min": [x - 1e-4, y0], "max": [x + 1e-4, y1]}}
+            hist.append({"name": f"f{side}{i}", "set": f"{side}{i}", "quantities": ["contact_force"]})
+    hist.append({"name": "fB", "set": "plate_bottom", "quantities": ["contact_force"]})
+    floor = 0.05 if geo == "nogap" else 0.0
+    if kind == "ale":
+        size, nquad, pfac = LEVELS["ale"][level]
+        box = d["parts"]["tank"]["geometry"]["box"]
+        box.update(min=[0.0, floor], element_size=size)
+        d["couplings"][0].update(nquad=nquad, pfac=pfac)
+    else:
+        dx = LEVELS["sph"][level]
+        tank = d["parts"]["tank"]
+        tank["spacing"] = dx
+        d["boundaries"][-1]["min"] = [0.0, floor]
+        if geo == "nogap":  # two closed chambers, each in contact with the plate
+            left, right = copy.deepcopy(tank), copy.deepcopy(tank)
+            left["geometry"] = {"polygon": {"vertices": [[0.0, 0.05], [0.2, 0.05], [0.2, 0.2], [0.0, 0.2], [0.0, 0.05]]}}
+            right["geometry"] = {"polygon": {"vertices": [[0.21, 0.05], [0.4, 0.05], [0.4, 0.2], [0.21, 0.2], [0.21, 0.05]]}}
+            d["parts"]["tank"], d["parts"]["tank_right"] = left, right
+            d["contacts"].append(dict(d["contacts"][0], nodes="tank_right"))
+    WORK.mkdir(exist_ok=True)
+    path = WORK / f"{name}.yaml"
+    yaml.safe_dump(d, open(path, "w"), sort_keys=False)
+    return path
+
+
+def run(name: str) -> None:
+    deck = variant(name)
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run(["sphfem", "run", str(deck), "-o", str(WORK / name), "-q", "--overwrite", "--threads", "1"],
+                   check=True)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
+    with open(WORK / "log.txt", "a") as log:
+        log.write(f"{name} cpu {cpu:.1f} s load {os.getloadavg()[0]:.1f}\n")
+
+
+def history(name: str, table: str) -> np.ndarray:
+    return np.genfromtxt(WORK / name / "histories" / f"{table}.csv", delimiter=",", names=True)
+
+
+def impulse(t: np.ndarray, f: np.ndarray, window: tuple[float, float]) -> float:
+    m = (t >= window[0]) & (t <= window[1])
+    return float(np.trapezoid(f[m], t[m]))
+
+
+def summary() -> None:
+    print("case | peak u mm (t ms) | peak v m/s | net x impulse N s/m, bands y 0.05-0.10 / 0.10-0.15 / 0.15-0.20: "
+          "drive ; rebound")
+    for name in CASES:
+        if not (WORK / name / "histories" / "mid.csv").exists():
+            continue
+        mid = history(name, "mid")
+        k = int(np.abs(mid["displacement_x"]).argmax())
+        row = [f"{1e3 * abs(mid['displacement_x'][k]):.4f} ({1e3 * mid['time'][k]:.2f})",
+               f"{np.abs(mid['velocity_x']).max():.3f}"]
+        for window in WINDOWS.values():
+            net = []
+            for i in range(len(BANDS)):
+                r, l = history(name, f"fR{i}"), history(name, f"fL{i}")
+                net.append(impulse(r["time"], r["contact_force_x"] + l["contact_force_x"], window))
+            row.append(" / ".join(f"{v:.2f}" for v in net))
+        print(f"{name} | {row[0]} | {row[1]} | {row[2]} ; {row[3]}")
+
+
+if __name__ == "__main__":
+    args = sys.argv[1:]
+    if args == ["--summary"]:
+        summary()
+    else:
+        for case in args or CASES:
+            run(case)
+        summary()
