@@ -19,9 +19,9 @@ the plane 2D kernel W (normalised in r-z) and Q = p / (rho eta) = p / (2 pi r rh
                 continue it consistently. Python API only (an axisymmetric deck refuses it): it converges
                 on Noh's sphere but lets a few particles reach the axis (docs/theory/sph.md)]
   momentum     dv_i/dt   = - sum_j m_j (s_j Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) grad_i W_ij
-                           + kappa_i p_i / (rho_i r_i) e_r
+                           + p_i / (rho_i r_i) kappa_i
   energy       de_i/dt   = 1/2 sum_j m_j (Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) v_ij . grad_i W_ij
-                           + sum_j m_j (s_j - 1) Q_i v_i . grad_i W_ij  -  kappa_i p_i v_r,i / (rho_i r_i)
+                           + sum_j m_j (s_j - 1) Q_i v_i . grad_i W_ij  -  p_i / (rho_i r_i) kappa_i . v_i
 
 The pair term m_j (Q_i + Q_j) grad W is the areal form's 2 pi (r_i p_i / eta_i^2 + r_j p_j / eta_j^2)
 m_j grad W; p/(rho r) is the hoop term of the momentum equation, -p v_r/(rho r) that of the energy
@@ -39,11 +39,17 @@ sees the images' signed radii: eta = 2 pi r rho is extended linearly (oddly acro
 consistent continuation of a field that vanishes on the axis, so that sum_j m_j s_j grad W estimates
 grad eta at every distance from the axis; with the plain mirror (s_j = 1) it misses 2 pi rho near the
 axis and the first rows are pushed off it and the column near the free surface goes unstable (seen
-in the hydrostatic test). kappa_i = -sum_j A_j F_ij (r_i - x_j)^2 (1 in the bulk for an exact
-quadrature, 1/2 at a free surface) is the kernel's estimate of dr/dr, so that for a uniform pressure
-the hoop term cancels the radial pair sum exactly, in the bulk and at a free surface (with the exact
-p/(rho r) the kernel's truncation at the free surface pushes the top rows next to the axis outwards) -- this
-renormalisation is this implementation's, in the spirit of the axis corrections of Garcia-Senz et al.
+in the hydrostatic test). The vector kappa_i = sum_j A_j (x_j - r_i) grad_i W_ij is the kernel's estimate
+of grad r = e_r: radially -sum_j A_j F_ij (r_i - x_j)^2 (1 in the bulk for an exact quadrature, 1/2 at a
+free surface), axially -sum_j A_j F_ij (r_i - x_j)(z_i - z_j) (0 on a regular lattice). For a uniform
+pressure the pair sum plus the hoop term is then exactly the plane code's -(2 p/rho) sum_j A_j grad_i W_ij
+in both components, for any arrangement (with the exact p/(rho r) e_r the kernel's truncation at the
+free surface pushes the top rows next to the axis outwards) -- this renormalisation is this
+implementation's, in the spirit of the axis corrections of Garcia-Senz et al. The axial component is
+needed where the support is cut in z, at a floor without ghosts (a contact floor): there the axial force
+of the images' odd term is first order in a particle's radial offset and grows as 1/r towards the axis,
+and with the radial kappa alone a water column on a contact floor blew up at the corner of the axis and
+the floor (issue 15; docs/theory/sph.md gives the figures).
 
 Conservation: masses never change (mass exact). The part of the pair term with s_j - 1 (images only)
 does its work on particle i alone (the axis and the walls are at rest), and the hoop work goes into
@@ -52,9 +58,12 @@ the ghosts of walls across z are symmetric in i and j, so they conserve the axia
 to round-off; the images across the axis do not quite (their axial force on i, m_j (Q_j - Q_i), and
 that of the image of i on j are equal, not opposite): the axial force they leave is of the order of
 the kernel's truncation error (5e-4 of sum m |a_z| on a jittered lattice with an axial pressure
-gradient; 4e-14 drift of the axial momentum over 800 steps in the closed-cylinder test, 2.4e-10 in
-Noh's implosion at dx = 0.01) -- the price
-of the consistent (odd) extension; the symmetric (even) mirror conserves it exactly but is unstable.
+gradient; 2.4e-10 in Noh's implosion at dx = 0.01) -- the price of the consistent (odd) extension;
+the symmetric (even) mirror conserves it exactly but is unstable. The axial component of the hoop term,
+p_i kappa_i . e_z / (rho_i r_i), is a force on i alone as well: 0 on a regular lattice, of the kernel's
+truncation error where the support is cut in z. With it the closed-cylinder test (free ends at z = 0.2
+and 0.8) drifts 1.0e-9 of sum m |v_z| over 0.25 s (3e-14 with the radial kappa alone), the price of
+the consistency at a cut support that a contact floor needs (issue 15).
 """
 from __future__ import annotations
 
@@ -177,29 +186,31 @@ def _pair_terms(j, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, 
     diff = same * hij * cij * psi * f * area
     wr = norm * th * area * rhoj / rij if full else 0.0
     cw = area * rhoj if mform else area  # continuity weight: rho_j A_j (mass form) or A_j (volume form)
-    return ct * wgx, ct * wgy, work, cw * vdotg, -area * f * dx * dx, diff, wr * du, wr * dv
+    return ct * wgx, ct * wgy, work, cw * vdotg, -area * f * dx * dx, -area * f * dx * dy, diff, wr * du, wr * dv
 
 
 @njit(cache=True, fastmath=_FMV, error_model="numpy")
 def _pair_sums(nbj, cnt, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
                gx, gy, dhydro, mform):
-    """Branch-free sums over ``nbj[:cnt]`` of ``_pair_terms``: (ax, ay, work, cont, kappa, diff, sxu, sxv)."""
+    """Branch-free sums over ``nbj[:cnt]`` of ``_pair_terms``: (ax, ay, work, cont, kappa_r, kappa_z, diff, sxu,
+    sxv)."""
     full = tshape.ndim == 1
     fmati = float(mati)
-    ax = ay = work = cont = kap = diff = sxu = sxv = 0.0
+    ax = ay = work = cont = kap = kapz = diff = sxu = sxv = 0.0
     for t in range(cnt):
-        tx, ty, tw, tc, tk, td, tu, tv = _pair_terms(nbj[t], sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi,
+        tx, ty, tw, tc, tk, tkz, td, tu, tv = _pair_terms(nbj[t], sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi,
                                                      rhoi, ci, qi, fmati, alpha, beta, eps, gx, gy, dhydro, mform)
         ax -= tx
         ay -= ty
         work += tw
         cont += tc
         kap += tk
+        kapz += tkz
         diff += td
         if full:
             sxu -= tu
             sxv -= tv
-    return ax, ay, work, cont, kap, diff, sxu, sxv
+    return ax, ay, work, cont, kap, kapz, diff, sxu, sxv
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
@@ -254,14 +265,14 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i
             ui, vi = sd[k, D_VX], sd[k, D_VY]
             rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]  # pri = p_i / rho_i^2
             qi = pri * INV_TWO_PI / xi  # Q_i = p_i / (2 pi r_i rho_i^2)
-            ax, ay, work, cont, kap, diff, sxu, sxv = _pair_sums(
+            ax, ay, work, cont, kap, kapz, diff, sxu, sxv = _pair_sums(
                 nbj, npad, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mki >> 2,
                 alpha, beta, eps, gx, gy, dhydro, mform)
             i = perm[k]
-            hoop = pri * rhoi * kap / xi  # kappa_i p_i / (rho_i r_i), kappa_i = -sum_j A_j F_ij (r_i - x_j)^2
-            acc[i, 0] = ax + hoop
-            acc[i, 1] = ay
+            hoop = pri * rhoi / xi  # p_i / (rho_i r_i), times kappa_i = sum_j A_j (x_j - r_i) grad_i W_ij
+            acc[i, 0] = ax + hoop * kap
+            acc[i, 1] = ay + hoop * kapz
             drho[i] = (cont if mform else rhoi * cont) - rhoi * ui / xi - 2.0 * delta * diff
-            de[i] = work - hoop * ui
+            de[i] = work - hoop * (kap * ui + kapz * vi)
             xsph[i, 0] = exsph * sxu
             xsph[i, 1] = exsph * sxv

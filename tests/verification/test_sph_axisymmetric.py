@@ -11,11 +11,14 @@ and the semi-discrete energy balance of the rates.
   too (the cubic spline's pressure-gradient bias at h/dx = 1.2, see test_sph_still_water.py). No particle
   crosses or approaches the axis (the first column stays at r = dx/2: closest 0.4998 dx).
 * Closed cylinder without gravity: a ring vortex (v_r, v_z of one cell) in [0, R] x [0.2, 0.8]
-  inside a slip wall at r = R, no wall across the axis: mass is exact (no particle leaves), the axial
-  momentum sum m v_z stays at round-off (measured 4.8e-14 of sum m |v_z| over 800 steps; see the module
-  docstring of sph/axisymmetric.py for why the axis images conserve it only to truncation error in
-  general), the kinetic + internal energy changes by the leapfrog's error only (measured 2.6e-3 of the
-  initial kinetic energy over 0.25 s: the time discretisation's).
+  inside a slip wall at r = R, no wall across the axis, free ends at z = 0.2 and 0.8: mass is exact (no
+  particle leaves), the axial momentum sum m v_z drifts by the axial hoop term's truncation error only
+  (measured 1.0e-9 of sum m |v_z| over 0.25 s; 3e-14 before issue 15 gave the hoop term its axial
+  component kappa_z, which is a force on one particle and nonzero where the support is cut, here at the
+  free ends; see the module docstring of sph/axisymmetric.py, also for why the axis images conserve it
+  only to truncation error in general); asserted below 1e-8. The kinetic + internal energy changes by
+  the leapfrog's error only (measured 5.8e-3 of the initial kinetic energy over 0.25 s, 2.7e-3 with the
+  radial kappa alone; the rates balance exactly, test_rates_balance_energy_exactly); asserted below 1e-2.
 * The rates alone: sum_i m_i (v_i . a_i + de_i/dt) = 0 to round-off at a jittered state with random
   velocities, the axis images and a wall at r = R included (the exactness the docstring claims; measured
   0 against 1.1e5 for sum |m v . a|).
@@ -78,8 +81,8 @@ def test_closed_cylinder_conserves_mass_axial_momentum_and_energy():
     assert ps.lost == 0 and ps.active.all() and np.array_equal(np.sort(ps.m), m0)  # the same masses
     e = ps.energies()
     print(f"axial momentum {(ps.momentum()[1] - pz0) / scale:.2e}, energy {(e['total'] - e0['total']) / e0['kinetic']:.2e}")
-    assert abs(ps.momentum()[1] - pz0) < 1e-12 * scale
-    assert abs(e["total"] - e0["total"]) < 5e-3 * e0["kinetic"]
+    assert abs(ps.momentum()[1] - pz0) < 1e-8 * scale  # the axial hoop term's truncation error (docstring)
+    assert abs(e["total"] - e0["total"]) < 1e-2 * e0["kinetic"]
     assert ps.wall_crossings == 0
 
 

@@ -15,17 +15,27 @@
       -m_i m_j (Q_j - Q_i) F_ij' (z_i - z_j), equal, not opposite. With the images' s_j set to +1 (the
       even mirror, a diagnostic edit of _pair_terms, not in the code) the same scene's total drift
       is 3.3e-16 of sum m |v_z|; the ball into a resting water slab (SPH alone, no disc) drifts
-      1.0e-3. Asserted below 1e-2 (measured 6.0e-3, dx = 0.01).
+      1.0e-3. Since issue 15's corner fix the hoop term has an axial component p kappa_z/(rho r), a
+      force on one particle, nonzero where the support is cut in z, here at the disc (contact floor)
+      during the impact: the drift is 1.26e-2 of sum m |v_z| with it (6.0e-3 with the radial kappa
+      alone). Asserted below 2e-2 (dx = 0.01).
   No particle crosses the axis; glstat's energy ratio (the contact's work included) stays near 1.
 * Hydrostatics: a water column (R 0.1 m, H 0.2 m, dx 0.01, slip ghost wall at r = R, no ghost floor)
   rests on a clamped elastic disc through the contact; the contact force on the particles carries the
   weight rho g H pi R^2 (the midpoint lattice's ring masses sum to it exactly). Measured over
   0.05-0.15 s, alpha 0.1: mean 0.9985 of the weight; asserted within 1 %. The same column is NOT
-  stable longer: the particles next to the axis on the contact floor gain speed (max |v| 1.1 m/s at
-  0.3 s with alpha 0.1; with alpha 0.02 the column leaves the floor after 0.15 s), while the plane 2D
-  twin (a ghost wall at x = 0 instead of the axis) keeps max |v| 0.005 m/s to 0.3 s and the
-  axisymmetric column on a ghost floor is stable (test_sph_axisymmetric). The strict xfail below
-  records it: the axis images next to a floor without ghosts (kernel support cut at the floor).
+  at rest longer (the strict xfail below), for two causes:
+    - fixed (issue 15): the hoop term's renormalisation had only its radial component; at a floor
+      without ghosts the images' odd term leaves an axial force first order in a particle's radial
+      offset and growing as 1/r, and the particles at the corner of the axis and the floor blew up
+      (max |v| at 0.3 s: 1.14 m/s at dx 0.01, 12.5 m/s at dx 0.005). With the vector kappa of
+      sph/axisymmetric.py: 0.34 and 0.19 m/s (test_sph_axisymmetric_uniform_pressure checks the term);
+    - left: the second row above a floor without ghosts pairs into the first (a zig-zag of v_z along
+      the row, largest next to the axis). It is not axisymmetric: the plane 2D twin (a ghost wall at
+      x = 0 instead of the axis) does the same once seeded with 1 mm/s random velocities (0.20 m/s at
+      0.2 s); unseeded it has no perturbation along x and keeps 0.005 m/s to 0.3 s. The axisymmetric
+      column on a ghost floor is stable (test_sph_axisymmetric). A cure needs kernel support below a
+      contact floor (ghosts or boundary particles on the master surface), in 2D as well.
 """
 from __future__ import annotations
 
@@ -98,7 +108,7 @@ def test_ball_into_free_disc_conserves_axial_momentum(sim_from_deck, single_thre
     assert touched >= 5, "the ball never met the disc"
     assert pair_worst <= 1e-12 * impulse / end_time, pair_worst
     assert abs(own_solid) <= 1e-12 * scale, own_solid
-    assert abs(own_sph) < 1e-2 * scale, own_sph  # the axis images (module docstring): 6.0e-3 measured
+    assert abs(own_sph) < 2e-2 * scale, own_sph  # axis images, axial hoop term (module docstring): 1.26e-2
     assert closest > 0.0
     assert disc_v < -0.05  # the disc took axial momentum from the ball
     assert ratio_worst < 0.05, ratio_worst
@@ -159,8 +169,9 @@ def test_column_on_clamped_disc_carries_its_weight(sim_from_deck, single_thread)
     assert ps.x[ps.active, 0].min() > 0.0
 
 
-@pytest.mark.xfail(strict=True, reason="the particles next to the axis on a contact floor (no floor ghosts) gain "
-                   "speed: max |v| 1.1 m/s at 0.3 s (the plane 2D twin: 0.005 m/s); module docstring")
+@pytest.mark.xfail(strict=True, reason="the second row above a contact floor (no floor ghosts) pairs into the "
+                   "first: max |v| 0.34 m/s at 0.3 s (1.14 before the vector hoop term; the seeded plane 2D twin "
+                   "does the same); module docstring")
 def test_column_on_clamped_disc_stays_at_rest(sim_from_deck, single_thread):
     sim, _, _ = _run_column(sim_from_deck, 0.3)
     ps = sim.particles.system
