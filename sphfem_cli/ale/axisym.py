@@ -228,10 +228,11 @@ def face_fluxes_rz(faces, face_nodes, face_elem, face_local, elem_nbr, face_open
                        fvol, fmass, fener, dvm, g, used)
 
 
-def swept_ring_volumes(l0, w0, w1, l1):
-    """Signed ring volumes (numpy, (F,)) of the quads (l0, w0, w1, l1), each (F, 2): ``ring_volume`` on arrays."""
-    q = (l0, w0, w1, l1)
-    s = np.zeros(len(l0))
+def quad_ring_volumes(p0, p1, p2, p3):
+    """Signed ring volumes (numpy, (F,)) of the quads (p0, p1, p2, p3), corners each (F, 2): ``ring_volume`` on
+    arrays (an element's, or the quad (l0, w0, w1, l1) a face sweeps)."""
+    q = (p0, p1, p2, p3)
+    s = np.zeros(len(p0))
     for i in range(4):
         a, b = q[i], q[(i + 1) % 4]
         s += (a[:, 0] + b[:, 0]) * (a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1])

@@ -434,8 +434,8 @@ class AleSystem:
             n0, n1 = self.topo["face_nodes"][faces].T
             l0, l1, w0, w1 = x_lag[n0], x_lag[n1], x_new[n0], x_new[n1]
             if self.axisymmetric:
-                from .axisym import swept_ring_volumes
-                dv = swept_ring_volumes(l0, w0, w1, l1)
+                from .axisym import quad_ring_volumes
+                dv = quad_ring_volumes(l0, w0, w1, l1)
             else:
                 # quad (l0, w0, w1, l1): half the cross product of its diagonals (kernels.quad_area)
                 dv = 0.5 * ((w1[:, 0] - l0[:, 0]) * (l1[:, 1] - w0[:, 1]) - (w1[:, 1] - l0[:, 1]) * (l1[:, 0] - w0[:, 0]))
