@@ -31,8 +31,9 @@ because the remap needs swept ring volumes that add up to the element's change o
 Viscosity: von Neumann-Richtmyer bulk viscosity with the divergence div v = (dV/dt) / V =
 sum_a v_a . dV/dx_a / V (hoop rate included) and the plane length A / longest edge; Flanagan-Belytschko
 viscous hourglass on the plane quad's gamma vectors, weighted by the ring length 2 pi r_bar = V / A.
-Stable step: the plane length times |b| / |b_V| (b the plane mean gradient, b_V = dV/dx / V; at most
-1, sqrt(2/3)-ish for an element on the axis), the hoop stiffening of the FEM form.
+Stable step: the plane length times min(1, |b| / |b_V|) (b the plane mean gradient, b_V = dV/dx / V,
+norms over the four corners): the hoop term's stiffening, as the FEM form's factor
+sqrt(|b|^2 / (|b|^2 + 1/(4 r_c^2))) (``fem.axisymmetric``); 1 far from the axis.
 
 Remap: the volume a face sweeps from x_lag to x_new is the signed ring volume of the quad
 (l0, w0, w1, l1); every edge term of S is shared, with opposite orientations, by the two regions
