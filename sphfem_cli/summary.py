@@ -102,8 +102,9 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
 
 
 def part_masses(model) -> list[float]:
-    """The mass of each part at t = 0 in the deck's mass unit (per unit thickness in 2D): solids the
-    sum of their nodal masses, SPH parts of their particles' masses, the ALE part Σ φ ρ V of its fills."""
+    """The mass of each part at t = 0 in the deck's mass unit (per unit thickness in 2D, for the full 2 pi
+    when axisymmetric): solids the sum of their nodal masses, SPH parts of their particles' masses, the
+    ALE part Σ φ ρ V of its fills (V its elements' ring volumes when axisymmetric)."""
     out = []
     for i, p in enumerate(model.parts):
         if p.kind == "sph":
@@ -111,7 +112,13 @@ def part_masses(model) -> list[float]:
         elif p.kind == "ale":
             from .model.mesh import element_jacobian_sign_check
 
-            volume = np.abs(element_jacobian_sign_check(model.ale.nodes, model.ale.elements))
+            if model.axisymmetric:  # rings, for the full 2 pi (ale/axisym.py)
+                from .ale.axisym import quad_ring_volumes
+
+                x = model.ale.nodes[model.ale.elements]
+                volume = np.abs(quad_ring_volumes(x[:, 0], x[:, 1], x[:, 2], x[:, 3]))
+            else:
+                volume = np.abs(element_jacobian_sign_check(model.ale.nodes, model.ale.elements))
             out.append(float((model.ale.fractions * model.ale.density * volume[:, None]).sum()))
         else:
             out.append(float(model.mass[p.nodes].sum()))

@@ -76,7 +76,7 @@ class AleSystem:
     """Multi-material ALE fluid on a quad4 or hex8 mesh (see the module docstring)."""
 
     def __init__(self, nodes, conn, materials: Sequence, fractions, density, energy=None, pressure=None,
-                 velocity=None, options: AleOptions | None = None):
+                 velocity=None, options: AleOptions | None = None, axisymmetric: bool = False):
         self.options = opt = AleOptions() if options is None else options
         self.x0 = np.ascontiguousarray(nodes, dtype=np.float64)
         if self.x0.ndim != 2 or self.x0.shape[1] not in (2, 3):
@@ -87,6 +87,14 @@ class AleSystem:
         if self.conn.ndim != 2 or self.conn.shape[1] != npe:
             raise ValueError(f"AleSystem needs {'quad4 (E, 4)' if dim == 2 else 'hex8 (E, 8)'} connectivity in {dim}D")
         n_nodes, n_elem = self.x0.shape[0], self.conn.shape[0]
+        self.axisymmetric = axisymmetric = bool(axisymmetric)
+        if axisymmetric:
+            if dim != 2:
+                raise ValueError("an axisymmetric AleSystem is a quad4 mesh of the meridian plane (x = r, y = the axis)")
+            if np.any(self.x0[:, 0] < 0.0):
+                raise ValueError("an axisymmetric AleSystem lies in x = r >= 0 (y is the axis)")
+            if opt.motion.mesh_motion == "smoothed":
+                raise ValueError("an axisymmetric AleSystem is eulerian or lagrangian (smoothed meshes are 2D/3D only)")
         self.n_mat = n_mat = len(materials)
         self.mat_eos, self.mat_q, self.mat_rho0, rows = material_tables(materials)
         # the options as the kernels take them
@@ -97,7 +105,11 @@ class AleSystem:
 
         self.topo = build_topology(self.conn, n_nodes)
         self.mesh = MeshMover(opt.motion, self.x0, self.conn, self.topo)
-        if dim == 2:
+        if axisymmetric:
+            from . import axisym  # ring kernels: compiled only for an axisymmetric mesh
+            self.vol0 = np.empty(n_elem)
+            axisym.ring_volumes(self.x0, self.conn, self.vol0)
+        elif dim == 2:
             # on contiguous corner columns (not the (E, 4, 2) gather: fresh memory is the set-up's cost)
             xs, ys = np.ascontiguousarray(self.x0[:, 0]), np.ascontiguousarray(self.x0[:, 1])
             cx = [xs[self.conn[:, a]] for a in range(4)]
@@ -136,6 +148,8 @@ class AleSystem:
         self.n_steps = 0
         self._since_remap = 0
         self._allocate(n_nodes, n_elem)
+        if axisymmetric:  # the axis: u_r = 0 on its nodes (they slide along it)
+            self.set_slip(np.flatnonzero(self.x0[:, 0] == 0.0), (1.0, 0.0))
 
     def _allocate(self, n_nodes: int, n_elem: int) -> None:
         """Work arrays of the kernels, and the coupling interface (gravity, f_couple, v_mid)."""
@@ -176,7 +190,12 @@ class AleSystem:
         self.v_lag = self.velocity.copy()  # v^{n+1/2} of the Lagrangian phase, before the remap
         self.v_mid = np.zeros((n_nodes, dim))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last Lagrangian phase
         # the kernels that differ between quad4 and hex8 (twins: the generic forms measured slower, ale/kernels.py)
-        if dim == 2:
+        if self.axisymmetric:
+            from . import axisym
+            self._k_forces, self._k_nodal, self._k_energy = axisym.lagrange_forces_rz, K.nodal_update, \
+                axisym.lagrange_energy_rz
+            self._k_faces, self._k_finish = axisym.face_fluxes_rz, K.finish_remap_nodes
+        elif dim == 2:
             self._k_forces, self._k_nodal, self._k_energy = K.lagrange_forces, K.nodal_update, K.lagrange_energy
             self._k_faces, self._k_finish = K.face_fluxes, K.finish_remap_nodes
         else:
@@ -328,6 +347,9 @@ class AleSystem:
                 for k in range(3):
                     np.add.at(f[:, k], fnodes[:, a], -0.25 * p * area[:, k])
             return f
+        if self.axisymmetric:
+            from .axisym import face_pressure_forces
+            return face_pressure_forces(self.x, n0, n1, p, f)
         t = self.x[n1] - self.x[n0]
         # the outside, a copy of the inside, pushes inward with its pressure: -p n L / 2 per node
         fx = -0.5 * p * t[:, 1]
@@ -411,8 +433,12 @@ class AleSystem:
         else:
             n0, n1 = self.topo["face_nodes"][faces].T
             l0, l1, w0, w1 = x_lag[n0], x_lag[n1], x_new[n0], x_new[n1]
-            # quad (l0, w0, w1, l1): half the cross product of its diagonals (kernels.quad_area)
-            dv = 0.5 * ((w1[:, 0] - l0[:, 0]) * (l1[:, 1] - w0[:, 1]) - (w1[:, 1] - l0[:, 1]) * (l1[:, 0] - w0[:, 0]))
+            if self.axisymmetric:
+                from .axisym import quad_ring_volumes
+                dv = quad_ring_volumes(l0, w0, w1, l1)
+            else:
+                # quad (l0, w0, w1, l1): half the cross product of its diagonals (kernels.quad_area)
+                dv = 0.5 * ((w1[:, 0] - l0[:, 0]) * (l1[:, 1] - w0[:, 1]) - (w1[:, 1] - l0[:, 1]) * (l1[:, 0] - w0[:, 0]))
         inward = dv > 0.0
         for k, (frac, rho_m, e_m, _) in enumerate(self.inflow_states):
             sel = faces[inward & (self.face_inflow[faces] == k)]

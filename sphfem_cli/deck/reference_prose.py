@@ -152,10 +152,19 @@ body), not per radian; a pressure acts on the ring an edge sweeps (area 2 pi r L
 condition is automatic**: nodes at x = 0 (within 1e-12 of the part's size) keep u_r = 0, with no
 boundary keyword. Solid and SPH parts so far, and `contacts` of an SPH part on a solid part's faces
 (the SPH-structure coupling: a meridian segment sweeps a ring, the force on a particle is its whole
-ring's, docs/theory/contact.md "Axisymmetric"); ALE parts, rigid parts, contacts whose slaves are
-nodes (solid on solid) and ALE `couplings` are deck errors (issue 15). The element is the one-point volume-weighted ring quad4 with
+ring's, docs/theory/contact.md "Axisymmetric"); rigid parts, contacts whose slaves are
+nodes (solid on solid), ALE `couplings` and smoothed ALE meshes are deck errors (issue 15). The element is the one-point volume-weighted ring quad4 with
 Flanagan-Belytschko hourglass control; the hoop strain rate v_r/r at the element centre is the
 stress's `zz` component (docs/theory/fem.md, `sphfem_cli/fem/axisymmetric.py`).
+
+An **ALE part** in an axisymmetric deck is a mesh of rings (`sphfem_cli/ale/axisym.py`, docs/theory/ale.md
+"Axisymmetric"): every element is the ring its quad sweeps (exact volume 2 pi r_bar A), its forces the
+derivative of that volume times the pressure and viscosity (the volume-weighted form, which holds the hoop
+stress and conserves mass, axial momentum and total energy to round-off), its remap fluxes the ring volumes
+the faces sweep. The axis is automatic (nodes at x = 0 slide along it); `ale_boundary` sides, fills,
+programmed burn, gravity along y and probes are those of 2D (a fill's volume fraction is its share of the
+element's meridian area). `mesh_motion` is `eulerian` or `lagrangian`; `smoothed` and ALE `couplings` to
+structures are 2D/3D only.
 
 An **SPH part** in an axisymmetric deck is a set of rings: its geometry (a box, ball or polygon in
 x = r >= 0, y = z; a deck error if it reaches x < 0) is filled at `spacing` as in 2D, and each particle

@@ -43,7 +43,7 @@ class AleDomain(Domain):
             q2=o.q2, hourglass=o.hourglass, timestep_scale=o.timestep_scale, pressure_cutoff=o.pressure_cutoff,
             motion=motion)
         self.system = AleSystem(mesh.nodes, mesh.elements, rows, mesh.fractions, mesh.density, pressure=mesh.pressure,
-                                velocity=mesh.velocity, options=numerics)
+                                velocity=mesh.velocity, options=numerics, axisymmetric=model.axisymmetric)
         if o.burn:
             self.system.set_burn([j for j, _ in o.burn], [d for _, d in o.burn], list(o.detonations))
         for g in o.gravity:

@@ -89,6 +89,43 @@ def test_only_an_axisymmetric_deck_compiles_the_axisymmetric_element(deck, axisy
         assert not (compiled & _AXISYMMETRIC), f"{deck} compiled axisymmetric kernels {sorted(compiled & _AXISYMMETRIC)}"
 
 
+_AXISYMMETRIC_ALE = {"lagrange_forces_rz", "lagrange_energy_rz", "face_fluxes_rz"}  # ale/axisym.py
+_AXISYMMETRIC_ALE_DECK = """
+title: axisymmetric ALE, a gas ring in a closed can
+dimension: axisymmetric
+control: {end_time: 1.0e-3}
+equations_of_state:
+  air: {type: ideal_gas, gamma: 1.4}
+materials:
+  air: {type: fluid, density: 1.0, eos: air}
+sections:
+  ale: {type: ale_multi_material}
+parts:
+  can:
+    material: air
+    section: ale
+    geometry: {box: {min: [0.0, 0.0], max: [1.0, 1.0], divisions: [4, 4]}}
+    fill:
+      - {material: air, box: {min: [0.0, 0.25], max: [0.5, 0.75]}, pressure: 5.0e5}
+boundaries:
+  - {type: ale_boundary, part: can, sides: [right, bottom, top], condition: slip}
+"""
+
+
+@pytest.mark.parametrize("axisymmetric", [False, True])
+def test_only_an_axisymmetric_deck_compiles_the_ring_ale_kernels(axisymmetric, tmp_path):
+    deck = DECKS / "water_air_shock_tube.yaml"
+    if axisymmetric:
+        deck = tmp_path / "can.yaml"
+        deck.write_text(_AXISYMMETRIC_ALE_DECK)
+    compiled = set(_compiled(deck)["ale"]["compiled"])
+    if axisymmetric:
+        assert _AXISYMMETRIC_ALE <= compiled and not (compiled & {"lagrange_forces", "lagrange_energy", "face_fluxes"}), \
+            sorted(compiled)
+    else:
+        assert not (compiled & (_AXISYMMETRIC_ALE | {"ring_volumes"})), f"compiled {sorted(compiled)}"
+
+
 _AXISYMMETRIC_SPH = {"axisymmetric_rates", "_axisymmetric_rates", "ring_smoothing_lengths"}  # sph/axisymmetric.py
 
 

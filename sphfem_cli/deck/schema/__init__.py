@@ -109,24 +109,27 @@ RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")
 """Tables the solver writes itself (histories/<name>.csv); a history or probe cannot take these names."""
 
 
-AXISYMMETRIC_ONLY_SOLIDS = ("axisymmetric models support solid and SPH parts only for now (ALE and rigid parts are "
+AXISYMMETRIC_ONLY_SOLIDS = ("axisymmetric models support solid, SPH and ALE parts only for now (rigid parts are "
                             "2D/3D only, issue 15)")
+AXISYMMETRIC_ALE = ("axisymmetric ALE parts are eulerian or lagrangian meshes without couplings to structures for now "
+                    "(smoothed ALE meshes and ALE-structure couplings are 2D/3D only, issue 15)")
 AXISYMMETRIC_CONTACT = ("axisymmetric models support contacts of SPH particles on solid parts only for now "
                         "(node-to-surface contact between solids and ALE couplings are 2D/3D only)")
 AXISYMMETRIC_SPH = "axisymmetric SPH supports inviscid fluids with slip ghost walls only for now (issue 15)"
 
 
 def _check_axisymmetric(deck: Deck) -> None:
-    """What an axisymmetric deck cannot hold yet: ALE parts, rigid parts, contacts other than SPH particles
-    on a solid part's faces (contact.system, rings), ALE couplings; SPH
+    """What an axisymmetric deck cannot hold yet: rigid parts, smoothed ALE meshes (an ALE part is
+    eulerian or lagrangian, ale/axisym.py), contacts other than SPH particles on a solid part's faces
+    (contact.system, rings), ALE couplings; SPH
     parts only of inviscid non-explosive fluids, with slip ghost walls (sph/axisymmetric.py)."""
     sph = False
     for pname, part in deck.parts.items():
         section = deck.sections.get(part.section)
         kind = getattr(section, "type", "solid")
         material = deck.materials.get(part.material)
-        if kind == "ale_multi_material":
-            raise ValueError(f"@parts.{pname}.section: {AXISYMMETRIC_ONLY_SOLIDS}; '{part.section}' is {kind}")
+        if kind == "ale_multi_material" and section.mesh_motion == "smoothed":
+            raise ValueError(f"@sections.{part.section}.mesh_motion: {AXISYMMETRIC_ALE}; '{part.section}' is smoothed")
         if kind == "sph":
             sph = True
             _check_meridian_half_plane(pname, part)
