@@ -112,8 +112,8 @@ def part_masses(model) -> list[float]:
         elif p.kind == "ale":
             from .model.mesh import element_jacobian_sign_check
 
-            if model.axisymmetric:  # rings, for the full 2 pi (ale/axisym.py)
-                from .ale.axisym import quad_ring_volumes
+            if model.axisymmetric:  # rings, for the full 2 pi (ale/axisymmetric.py)
+                from .ale.axisymmetric import quad_ring_volumes
 
                 x = model.ale.nodes[model.ale.elements]
                 volume = np.abs(quad_ring_volumes(x[:, 0], x[:, 1], x[:, 2], x[:, 3]))

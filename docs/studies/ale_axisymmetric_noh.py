@@ -1,5 +1,5 @@
 """Noh's implosion on Eulerian ALE meshes: the spherical problem in r-z (dimension: axisymmetric,
-ale/axisym.py) and, for comparison, the cylindrical one in x-y with the plane kernels.
+ale/axisymmetric.py) and, for comparison, the cylindrical one in x-y with the plane kernels.
 
     python docs/studies/ale_axisymmetric_noh.py [--planar] N [N ...]
 

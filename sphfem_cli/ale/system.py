@@ -106,9 +106,9 @@ class AleSystem:
         self.topo = build_topology(self.conn, n_nodes)
         self.mesh = MeshMover(opt.motion, self.x0, self.conn, self.topo)
         if axisymmetric:
-            from . import axisym  # ring kernels: compiled only for an axisymmetric mesh
+            from . import axisymmetric as rings  # ring kernels: compiled only for an axisymmetric mesh
             self.vol0 = np.empty(n_elem)
-            axisym.ring_volumes(self.x0, self.conn, self.vol0)
+            rings.ring_volumes(self.x0, self.conn, self.vol0)
         elif dim == 2:
             # on contiguous corner columns (not the (E, 4, 2) gather: fresh memory is the set-up's cost)
             xs, ys = np.ascontiguousarray(self.x0[:, 0]), np.ascontiguousarray(self.x0[:, 1])
@@ -191,10 +191,10 @@ class AleSystem:
         self.v_mid = np.zeros((n_nodes, dim))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last Lagrangian phase
         # the kernels that differ between quad4 and hex8 (twins: the generic forms measured slower, ale/kernels.py)
         if self.axisymmetric:
-            from . import axisym
-            self._k_forces, self._k_nodal, self._k_energy = axisym.lagrange_forces_rz, K.nodal_update, \
-                axisym.lagrange_energy_rz
-            self._k_faces, self._k_finish = axisym.face_fluxes_rz, K.finish_remap_nodes
+            from . import axisymmetric as rings
+            self._k_forces, self._k_nodal, self._k_energy = rings.lagrange_forces_rz, K.nodal_update, \
+                rings.lagrange_energy_rz
+            self._k_faces, self._k_finish = rings.face_fluxes_rz, K.finish_remap_nodes
         elif dim == 2:
             self._k_forces, self._k_nodal, self._k_energy = K.lagrange_forces, K.nodal_update, K.lagrange_energy
             self._k_faces, self._k_finish = K.face_fluxes, K.finish_remap_nodes
@@ -348,7 +348,7 @@ class AleSystem:
                     np.add.at(f[:, k], fnodes[:, a], -0.25 * p * area[:, k])
             return f
         if self.axisymmetric:
-            from .axisym import face_pressure_forces
+            from .axisymmetric import face_pressure_forces
             return face_pressure_forces(self.x, n0, n1, p, f)
         t = self.x[n1] - self.x[n0]
         # the outside, a copy of the inside, pushes inward with its pressure: -p n L / 2 per node
@@ -434,7 +434,7 @@ class AleSystem:
             n0, n1 = self.topo["face_nodes"][faces].T
             l0, l1, w0, w1 = x_lag[n0], x_lag[n1], x_new[n0], x_new[n1]
             if self.axisymmetric:
-                from .axisym import quad_ring_volumes
+                from .axisymmetric import quad_ring_volumes
                 dv = quad_ring_volumes(l0, w0, w1, l1)
             else:
                 # quad (l0, w0, w1, l1): half the cross product of its diagonals (kernels.quad_area)

@@ -157,7 +157,7 @@ nodes (solid on solid), ALE `couplings` and smoothed ALE meshes are deck errors 
 Flanagan-Belytschko hourglass control; the hoop strain rate v_r/r at the element centre is the
 stress's `zz` component (docs/theory/fem.md, `sphfem_cli/fem/axisymmetric.py`).
 
-An **ALE part** in an axisymmetric deck is a mesh of rings (`sphfem_cli/ale/axisym.py`, docs/theory/ale.md
+An **ALE part** in an axisymmetric deck is a mesh of rings (`sphfem_cli/ale/axisymmetric.py`, docs/theory/ale.md
 "Axisymmetric"): every element is the ring its quad sweeps (exact volume 2 pi r_bar A), its forces the
 derivative of that volume times the pressure and viscosity (the volume-weighted form, which holds the hoop
 stress and conserves mass, axial momentum and total energy to round-off), its remap fluxes the ring volumes

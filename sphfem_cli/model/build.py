@@ -310,7 +310,7 @@ def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
     part = deck.parts[name]
     mesh = _mesh_part(name, part, model.dim, deck_path)
     checks.elements(name, part, mesh)  # an ALE mesh too (a box 5e-324 wide failed later in AleSystem; found by fuzzing)
-    if deck.axisymmetric:  # rings about the axis (ale/axisym.py): x = r >= 0, near-axis nodes put on it
+    if deck.axisymmetric:  # rings about the axis (ale/axisymmetric.py): x = r >= 0, near-axis nodes put on it
         checks.radii(name, mesh)
     nodes, conn = mesh.nodes, mesh.elements
     names = [part.material] + [f.material for f in part.fill if f.material != part.material]

@@ -1,4 +1,4 @@
-"""ALE in r-z (ale/axisym.py): ring volumes and their gradient, swept ring volumes, conservation in a
+"""ALE in r-z (ale/axisymmetric.py): ring volumes and their gradient, swept ring volumes, conservation in a
 closed axisymmetric box, a uniform state at rest, the axis, and an axisymmetric ALE deck end to end."""
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from sphfem_cli.ale import AleOptions, AleSystem, build_topology, fill_fractions
-from sphfem_cli.ale import axisym as A
+from sphfem_cli.ale import axisymmetric as A
 from sphfem_cli.ale import kernels as K
 from sphfem_cli.ale.options import MeshMotion
 from sphfem_cli.materials.tables import gas_row

@@ -89,7 +89,7 @@ def test_only_an_axisymmetric_deck_compiles_the_axisymmetric_element(deck, axisy
         assert not (compiled & _AXISYMMETRIC), f"{deck} compiled axisymmetric kernels {sorted(compiled & _AXISYMMETRIC)}"
 
 
-_AXISYMMETRIC_ALE = {"lagrange_forces_rz", "lagrange_energy_rz", "face_fluxes_rz"}  # ale/axisym.py
+_AXISYMMETRIC_ALE = {"lagrange_forces_rz", "lagrange_energy_rz", "face_fluxes_rz"}  # ale/axisymmetric.py
 _AXISYMMETRIC_ALE_DECK = """
 title: axisymmetric ALE, a gas ring in a closed can
 dimension: axisymmetric

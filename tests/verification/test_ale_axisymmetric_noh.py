@@ -1,4 +1,4 @@
-"""Spherical Noh implosion in r-z on Eulerian ALE meshes (ale/axisym.py; set-up tests/verification/ale_cases.noh_rz).
+"""Spherical Noh implosion in r-z on Eulerian ALE meshes (ale/axisymmetric.py; set-up tests/verification/ale_cases.noh_rz).
 
 Exact: shock at R = t/3, density 64 behind it, (1 + t/R)^2 ahead. Observed (docs/studies/ale_axisymmetric_noh.py,
 docs/theory/ale.md "Axisymmetric"): the L1 error over 0.1 < R < 0.4 is pre-asymptotic on 20^2 and 40^2 (the shock

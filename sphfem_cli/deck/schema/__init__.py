@@ -120,7 +120,7 @@ AXISYMMETRIC_SPH = "axisymmetric SPH supports inviscid fluids with slip ghost wa
 
 def _check_axisymmetric(deck: Deck) -> None:
     """What an axisymmetric deck cannot hold yet: rigid parts, smoothed ALE meshes (an ALE part is
-    eulerian or lagrangian, ale/axisym.py), contacts other than SPH particles on a solid part's faces
+    eulerian or lagrangian, ale/axisymmetric.py), contacts other than SPH particles on a solid part's faces
     (contact.system, rings), ALE couplings; SPH
     parts only of inviscid non-explosive fluids, with slip ghost walls (sph/axisymmetric.py)."""
     sph = False
