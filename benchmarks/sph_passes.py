@@ -46,6 +46,30 @@ The cell sort at 9e4 particles is 47 ns (binning 22, gather into cell order and 
 25), not the 116 of issue 17. From 1e4 to 5e5 the total grows +3 % by the minimum and +11 % by
 the median; the growth and the spread sit in the cell sort and the rates at 5e5 (memory bound,
 most sensitive to the other processes' load).
+
+Branch sphrates (issue 17), 3 December 2026 13:32 UTC, ``--sizes 212 --repeat 3``, main (bd62e13;
+9f53b3b, merged at 13:33, changes only sph/axisymmetric.py, off this path; main with its own numba
+cache) and the branch run alternately twice, load average 5.0-5.8; min / median, ns per
+particle-step:
+
+=========  ===============  ===============  ===============  ===============
+pass       main (1st)       branch (1st)     main (2nd)       branch (2nd)
+=========  ===============  ===============  ===============  ===============
+eos        85.4 / 85.5      86.5 / 88.2      72.7 / 80.3      81.2 / 82.3
+ghosts     13.8 / 14.3      13.9 / 14.1      11.9 / 13.3      10.3 / 10.6
+cell sort  51.4 / 52.5      53.2 / 53.6      45.3 / 51.7      40.3 / 44.2
+rates      681.7 / 685.8    550.6 / 565.0    572.7 / 679.0    428.3 / 476.5
+time step  17.9 / 18.3      17.9 / 18.0      15.8 / 17.5      14.4 / 15.0
+leapfrog   41.2 / 42.5      43.1 / 43.6      35.9 / 40.1      30.6 / 33.2
+reorder    9.9 / 10.4       11.5 / 11.6      9.4 / 10.8       6.9 / 10.0
+rest       6.8 / 7.7        7.6 / 7.9        6.7 / 7.4        5.7 / 5.8
+total      910.0 / 919.0    788.2 / 812.8    770.4 / 905.8    617.7 / 692.4
+=========  ===============  ===============  ===============  ===============
+
+The rates pass is 19-25 % shorter (``search.neighbour_list``: the neighbour list grown before the
+scan instead of inside it, unsigned slots); the leapfrog is one pass (``advance_particles``), within
+the noise of the three it replaced (23.5 against 24.5 ns timed alone). Everything else is
+unchanged code. Results are bit-identical to main's.
 """
 from __future__ import annotations
 

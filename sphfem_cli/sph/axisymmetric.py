@@ -73,7 +73,7 @@ import numpy as np
 from numba import njit, prange
 
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_sigma
-from .search import cell_range
+from .search import neighbour_list
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GI_NX,
                     GI_NY, KIND_FLUID, KIND_GHOST, KIND_WALL, ND, SF_ALPHA, SF_BETA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
                     SI_DELTA_HYDROSTATIC, SI_KERNEL, SI_CONTINUITY, CONTINUITY_MASS)
@@ -119,6 +119,7 @@ def axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i,
 _SHAPES = {1: np.empty(0), 2: np.empty((0, 0))}
 _BLOCK = 32
 _PAD = 4
+_PLANE = np.empty((0, 0))  # the dimension of the meridian plane, 2, for search.neighbour_list
 _FMV = {"nsz", "arcp", "reassoc"}  # for the neighbour sums only (as rates._FMV)
 
 
@@ -230,7 +231,6 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i
     inv_cell = 1.0 / cell
     sig = kernel_sigma(kernel, 2)
     npts = cell_start[-1]
-    sentinel = sx.shape[0] - 1
     sxf = sx.reshape(-1)
     sdf = sd.reshape(-1)
     for b in prange((npts + _BLOCK - 1) // _BLOCK):
@@ -240,28 +240,13 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i
             if (mki & 3) != KIND_FLUID:
                 continue
             xi, yi, hi = sx[k, 0], sx[k, 1], sx[k, 3]
-            reach = sreach[k]  # bounds every 2 h_kj (search.search_reach)
-            x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
-            y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
-            cnt = 0
-            for cy in range(y0, y1 + 1):
-                base = cy * nx
-                j0 = cell_start[base + x0]
-                j1 = cell_start[base + x1 + 1]
-                if cnt + (j1 - j0) + _PAD > nbj.shape[0]:
-                    grown = np.empty(2 * (cnt + (j1 - j0) + _PAD), dtype=np.uint64)
-                    for t in range(cnt):
-                        grown[t] = nbj[t]
-                    nbj = grown
-                for j in range(j0, j1):
-                    dx = xi - sx[j, 0]
-                    dy = yi - sx[j, 1]
-                    hs = hi + sx[j, 3]  # 2 h_ij
-                    nbj[cnt] = j
-                    cnt += (dx * dx + dy * dy < hs * hs) & (j != k)
-            npad = (cnt + _PAD - 1) // _PAD * _PAD
-            for t in range(cnt, npad):
-                nbj[t] = sentinel
+            # every 2 h_kj is below sreach[k] (search.search_reach)
+            cnt, npad = neighbour_list(nbj, k, xi, yi, 0.0, hi, sreach[k], sxf, cell_start, (ox, oy, 0.0), inv_cell,
+                                       (nx, ny, 1), _PLANE, _PAD)
+            if cnt < 0:  # the list is too short for the candidates: a longer one, and again
+                nbj = np.empty(-2 * cnt, dtype=np.uint64)
+                cnt, npad = neighbour_list(nbj, k, xi, yi, 0.0, hi, sreach[k], sxf, cell_start, (ox, oy, 0.0),
+                                           inv_cell, (nx, ny, 1), _PLANE, _PAD)
             ui, vi = sd[k, D_VX], sd[k, D_VY]
             rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]  # pri = p_i / rho_i^2
             qi = pri * INV_TWO_PI / xi  # Q_i = p_i / (2 pi r_i rho_i^2)

@@ -14,7 +14,7 @@ from numba import njit, prange
 
 from ..materials.slots import P_VISCOSITY
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, inv_pow, kernel_shape, kernel_f, kernel_sigma, kernel_w
-from .search import cell_range
+from .search import cell_range, neighbour_list
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
                     GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, ND, SF_ALPHA, SF_BETA,
                     SF_DELTA, SF_DILATATIONAL_VISCOSITY, SF_EPS, SF_GX, SF_GY, SF_GZ, SF_XSPH, SI_DELTA_HYDROSTATIC,
@@ -322,7 +322,6 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i,
     inv_cell = 1.0 / cell
     sig = kernel_sigma(kernel, dim)
     npts = cell_start[-1]
-    sentinel = sx.shape[0] - 1
     sxf = sx.reshape(-1)
     sdf = sd.reshape(-1)
     for b in prange((npts + _BLOCK - 1) // _BLOCK):
@@ -332,36 +331,13 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i,
             if (mki & 3) != KIND_FLUID:
                 continue
             xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
-            reach = sreach[k]  # bounds every 2 h_kj (search.search_reach)
-            x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
-            y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
-            z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)
-            cnt = 0
-            for cz in range(z0, z1 + 1):
-                for cy in range(y0, y1 + 1):
-                    base = (cz * ny + cy) * nx
-                    j0 = cell_start[base + x0]
-                    j1 = cell_start[base + x1 + 1]
-                    if cnt + (j1 - j0) + _PAD > nbj.shape[0]:
-                        grown = np.empty(2 * (cnt + (j1 - j0) + _PAD), dtype=np.uint64)
-                        for t in range(cnt):  # an explicit loop: slices inside prange trip numba's array analysis
-                            grown[t] = nbj[t]
-                        nbj = grown
-                    for j in range(j0, j1):
-                        dx = xi - sx[j, 0]
-                        r2 = dx * dx
-                        if dim > 1:
-                            dy = yi - sx[j, 1]
-                            r2 += dy * dy
-                        if dim > 2:
-                            dz = zi - sx[j, 2]
-                            r2 += dz * dz
-                        hs = hi + sx[j, 3]  # 2 h_ij
-                        nbj[cnt] = j
-                        cnt += (r2 < hs * hs) & (j != k)
-            npad = (cnt + _PAD - 1) // _PAD * _PAD
-            for t in range(cnt, npad):
-                nbj[t] = sentinel
+            # every 2 h_kj is below sreach[k] (search.search_reach)
+            cnt, npad = neighbour_list(nbj, k, xi, yi, zi, hi, sreach[k], sxf, cell_start, (ox, oy, oz), inv_cell,
+                                       (nx, ny, nz), dshape, _PAD)
+            if cnt < 0:  # the list is too short for the candidates: a longer one, and again
+                nbj = np.empty(-2 * cnt, dtype=np.uint64)
+                cnt, npad = neighbour_list(nbj, k, xi, yi, zi, hi, sreach[k], sxf, cell_start, (ox, oy, oz), inv_cell,
+                                           (nx, ny, nz), dshape, _PAD)
             ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
             rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]
             ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw = _pair_sums(

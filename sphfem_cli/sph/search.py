@@ -313,6 +313,67 @@ def cell_range(v, reach, o, inv_cell, n):
     return lo, hi
 
 
+@njit(cache=True, inline="always", error_model="numpy")
+def neighbour_list(nbj, k, xi, yi, zi, hi, reach, sxf, cell_start, grid_o, inv_cell, grid_n, dshape, pad):
+    """Neighbour slots of slot ``k`` into ``nbj``, found without branches: returns ``(cnt, npad)``.
+
+    Scans the cell rows within ``reach`` of (xi, yi, zi) (a row of cells along x is one contiguous
+    slot range) and keeps, in slot order, every slot j != k with
+    |x_k - x_j|^2 < (h_k + h_j)^2 = (2 h_kj)^2: the index is always written, the count advances only
+    for a neighbour. Entries ``cnt .. npad - 1`` (npad: cnt rounded up to a multiple of ``pad``) are
+    the sentinel slot (the last row of ``sx``, ``sort_points``), whose pair terms are exactly 0.
+    When the candidates could overflow ``nbj`` nothing is scanned and ``(-need, 0)`` is returned:
+    the caller allocates a list of at least ``need`` entries and calls again. (Growing the list
+    inside the scan, as the loops of rates.py did before, kept LLVM from holding the list's pointer
+    in a register and cost about a third of the rates pass; so did returning the array, whose
+    reference count then changes at every call; issue 17.)
+
+    ``sxf``: ``sx`` flattened (rows of 4: x, y, z, h), read with unsigned slots (no negative-index
+    wrap-around in the loads); ``grid_o`` = (ox, oy, oz), ``grid_n`` = (nx, ny, nz);
+    ``dshape.ndim``: the dimension, a compile-time constant. The neighbours and their order are
+    those of the scan this replaces, so every sum over them is bit-identical. Inlined into the
+    caller's numba IR (``inline="always"``): it computes in the caller's floating-point flags, and
+    both callers (``rates._fluid_rates``, ``axisymmetric._axisymmetric_rates``) have none.
+    """
+    dim = dshape.ndim
+    ox, oy, oz = grid_o
+    nx, ny, nz = grid_n
+    x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
+    y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
+    z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)
+    need = pad
+    for cz in range(z0, z1 + 1):
+        for cy in range(y0, y1 + 1):
+            base = (cz * ny + cy) * nx
+            need += cell_start[base + x1 + 1] - cell_start[base + x0]
+    if need > nbj.shape[0]:
+        return -need, 0
+    ku = np.uint64(k)
+    cnt = np.uint64(0)
+    for cz in range(z0, z1 + 1):
+        for cy in range(y0, y1 + 1):
+            base = (cz * ny + cy) * nx
+            for j in range(np.uint64(cell_start[base + x0]), np.uint64(cell_start[base + x1 + 1])):
+                jx = j * np.uint64(4)
+                dx = xi - sxf[jx]
+                r2 = dx * dx
+                if dim > 1:
+                    dy = yi - sxf[jx + np.uint64(1)]
+                    r2 += dy * dy
+                if dim > 2:
+                    dz = zi - sxf[jx + np.uint64(2)]
+                    r2 += dz * dz
+                hs = hi + sxf[jx + np.uint64(3)]  # 2 h_kj
+                nbj[cnt] = j
+                cnt += np.uint64((r2 < hs * hs) & (j != ku))
+    n = np.int64(cnt)
+    npad = (n + pad - 1) // pad * pad
+    sentinel = np.uint64(sxf.shape[0] // 4 - 1)
+    for t in range(n, npad):
+        nbj[t] = sentinel
+    return n, npad
+
+
 @njit(cache=True)
 def count_neighbours(sx, cell_start, sreach, grid_f, grid_i, counts):
     """Number of points j != k with |x_k - x_j| < 2 h_kj, for every slot k (cells within ``sreach[k]``)."""

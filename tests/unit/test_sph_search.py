@@ -211,3 +211,38 @@ def test_reordering_changes_only_the_storage_order(single_thread):
             assert not np.array_equal(ps.ids, np.arange(ps.n))
     for a, b in zip(*results):
         np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-12)
+
+
+@pytest.mark.parametrize("dim", [1, 2, 3])
+def test_rates_neighbour_list_is_the_csr_list_in_order_padded_with_the_sentinel(dim, single_thread):
+    """``search.neighbour_list`` (the scan of the rates loops) gives, slot by slot, exactly the
+    neighbours of ``SphSystem.neighbour_lists`` in the same order, pads to a multiple of the vector
+    width with the sentinel slot, and asks for a longer list (returns -need) instead of overflowing."""
+    from sphfem_cli.sph import search
+    from sphfem_cli.sph.rates import _SHAPES
+    from sphfem_cli.sph.slots import GF_CELL, GF_OX, GF_OY, GF_OZ, GI_NX, GI_NY, GI_NZ
+
+    s = large_h_state(dim, seed=60 + dim)
+    ps = build(s, full_options(dim, s["L"]), None)
+    ps.compute_rates()
+    offsets, nb, perm = ps.neighbour_lists()
+    pts = ps._sorted
+    sx, cs, sreach, gf, gi = pts["sx"], pts["cell_start"], pts["sreach"], pts["grid_f"], pts["grid_i"]
+    sxf = sx.reshape(-1)
+    sentinel = len(sx) - 1
+    grid_o = (gf[GF_OX], gf[GF_OY], gf[GF_OZ])
+    grid_n = (int(gi[GI_NX]), int(gi[GI_NY]), int(gi[GI_NZ]))
+    args = (sxf, cs, grid_o, 1.0 / gf[GF_CELL], grid_n, _SHAPES[dim], 4)
+    short = np.empty(1, dtype=np.uint64)
+    grown = 0
+    for k in range(len(perm)):
+        xi, yi, zi, hi = sx[k]
+        need, _ = search.neighbour_list(short, k, xi, yi, zi, hi, sreach[k], *args)
+        assert need < 0  # the candidates (at least the padding) never fit in one entry
+        nbj = np.empty(-need, dtype=np.uint64)
+        cnt, npad = search.neighbour_list(nbj, k, xi, yi, zi, hi, sreach[k], *args)
+        assert cnt >= 0 and npad % 4 == 0 and cnt <= npad < cnt + 4
+        assert nbj[:cnt].tolist() == nb[offsets[k]:offsets[k + 1]].tolist()
+        assert (nbj[cnt:npad] == sentinel).all()
+        grown += cnt > 0
+    assert grown > 0.9 * len(perm)
