@@ -647,3 +647,150 @@ def fluid_side_depth_3d(x, conn, e, px, py, pz, nx, ny, nz, fraction):
         if b - a <= 1e-12 * (hi - lo):
             break
     return tp - 0.5 * (a + b)
+
+
+@njit(cache=True)
+def face_shares(xs, faces, nquad, share):
+    """share (S nquad^2,): the area share of every coupling point (point qr nquad + qs of face s)."""
+    for s in range(faces.shape[0]):
+        for qr in range(nquad):
+            for qs in range(nquad):
+                share[(s * nquad + qr) * nquad + qs] = face_point(xs, faces[s], nquad, qr, qs)[3]
+
+
+@njit(cache=True)
+def _hex_weights(xi, eta, zeta, w):
+    for k in range(8):
+        w[k] = 0.125 * (1.0 + _HXI[k] * xi) * (1.0 + _HETA[k] * eta) * (1.0 + _HZETA[k] * zeta)
+
+
+@njit(cache=True)
+def _host_3d(xa, conn, start, items, origin, cell, nb, frac, min_fraction, probe, leakage, pushing, p, n):
+    """(element, xi, eta, zeta) hosting a coupling point at p with outward normal n, element -1 for none.
+
+    The 2D kernel's rules (coupling_forces): a point in contact at the last pass (``pushing``)
+    keeps the element at p if it holds >= min_fraction, else the one at p + probe n, else with
+    ``leakage`` the one at p - probe n; a free point couples once it touches or has entered the
+    fluid of the element at p, else of the element at p + probe n that p touches.
+    """
+    e, xi, eta, zeta = locate_3d(xa, conn, start, items, origin, cell, nb[0], nb[1], nb[2], p[0], p[1], p[2])
+    if not pushing:
+        touch = -TOUCH_TOL * probe
+        entered = touch - 1.0
+        if e >= 0 and frac[e] >= min_fraction:
+            entered = fluid_side_depth_3d(xa, conn, e, p[0], p[1], p[2], n[0], n[1], n[2], frac[e])
+        if entered < touch:
+            e, xi, eta, zeta = locate_3d(xa, conn, start, items, origin, cell, nb[0], nb[1], nb[2],
+                                         p[0] + probe * n[0], p[1] + probe * n[1], p[2] + probe * n[2])
+            if e >= 0 and frac[e] >= min_fraction:
+                xi, eta, zeta = natural_coords_3d(xa, conn, e, p[0], p[1], p[2])
+                if max(abs(xi), abs(eta), abs(zeta)) <= 1.0 + TOUCH_TOL:
+                    entered = fluid_side_depth_3d(xa, conn, e, p[0], p[1], p[2], n[0], n[1], n[2], frac[e])
+            if entered < touch:
+                e = -1
+    elif e < 0 or frac[e] < min_fraction:
+        e, xi, eta, zeta = locate_3d(xa, conn, start, items, origin, cell, nb[0], nb[1], nb[2],
+                                     p[0] + probe * n[0], p[1] + probe * n[1], p[2] + probe * n[2])
+        if e >= 0 and frac[e] >= min_fraction:
+            xi, eta, zeta = natural_coords_3d(xa, conn, e, p[0], p[1], p[2])
+        elif leakage:
+            e, xi, eta, zeta = locate_3d(xa, conn, start, items, origin, cell, nb[0], nb[1], nb[2],
+                                         p[0] - probe * n[0], p[1] - probe * n[1], p[2] - probe * n[2])
+            if e >= 0 and frac[e] >= min_fraction:
+                xi, eta, zeta = natural_coords_3d(xa, conn, e, p[0], p[1], p[2])
+            else:
+                e = -1
+        else:
+            e = -1
+    return e, _clamp(xi), _clamp(eta), _clamp(zeta)
+
+
+@njit(cache=True)
+def coupling_forces_3d(faces, xs, vs, ms, nquad, xa, va, ma, conn, start, items, origin, cell, nb,
+                       frac, bulk, vol, min_fraction, pfac, damping, probe, leakage, dt_prev,
+                       depth, host, stiff, fs, fa):
+    """Penalty coupling forces of state n in 3D; returns the number of coupled points.
+
+    The 2D ``coupling_forces`` on quad faces (S, 4) and hex8 ALE elements: point (qr, qs) of face
+    s (``face_point``: position, bilinear weights N_a..N_d, outward normal n, area share A) is
+    entry (s nquad + qr) nquad + qs of depth, host and stiff; nb (3,) the bucket counts, vol (E,)
+    the elements' volumes. d^n = max(0, d^{n-1} + dt^{n-1/2} (v_s - v_f) . n), k = pfac K A^2 / V,
+    f = k d + zeta 2 sqrt(k m_f m_s / (m_f + m_s)) (v_s - v_f) . n >= 0; +N_I f n to the host's
+    eight nodes, -N_j f n to the face's four.
+    """
+    coupled = 0
+    wa = np.empty(8)
+    for s in range(faces.shape[0]):
+        f = faces[s]
+        for qr in range(nquad):
+            for qs in range(nquad):
+                i = (s * nquad + qr) * nquad + qs
+                w, p, n, share = face_point(xs, f, nquad, qr, qs)
+                if share == 0.0:
+                    continue
+                pushing = depth[i] > 0.0 or host[i] >= 0
+                e, xi, eta, zeta = _host_3d(xa, conn, start, items, origin, cell, nb, frac, min_fraction, probe,
+                                            leakage, pushing, p, n)
+                if e < 0:
+                    depth[i] = 0.0
+                    host[i] = -1
+                    stiff[i] = 0.0
+                    continue
+                _hex_weights(xi, eta, zeta, wa)
+                rate = 0.0  # closing speed of the fluid onto the face, (v_s - v_f) . n
+                mf = 0.0
+                for k in range(8):
+                    node = conn[e, k]
+                    mf += wa[k] * ma[node]
+                    for d in range(3):
+                        rate += wa[k] * va[node, d] * n[d]
+                rate = -rate
+                msp = 0.0
+                for j in range(4):
+                    msp += w[j] * ms[f[j]]
+                    for d in range(3):
+                        rate += w[j] * vs[f[j], d] * n[d]
+                dn = depth[i] + dt_prev * rate
+                if dn < 0.0:
+                    dn = 0.0
+                depth[i] = dn
+                host[i] = e
+                k_pen = pfac * bulk[e] * share * share / vol[e]
+                stiff[i] = k_pen
+                if dn <= 0.0:
+                    continue
+                fn = k_pen * dn
+                if damping > 0.0 and mf > 0.0 and msp > 0.0:
+                    fn += damping * 2.0 * math.sqrt(k_pen * mf * msp / (mf + msp)) * rate
+                if fn <= 0.0:
+                    continue
+                coupled += 1
+                for d in range(3):
+                    fd = fn * n[d]
+                    for k in range(8):
+                        fa[conn[e, k], d] += wa[k] * fd
+                    for j in range(4):
+                        fs[f[j], d] -= w[j] * fd
+    return coupled
+
+
+@njit(cache=True)
+def stiffness_sums_3d(faces, nquad, conn, host, stiff, xs, xa, sum_s, sum_a):
+    """The 3D ``stiffness_sums``: per node, sum over coupled points of shape weight x stiffness."""
+    wa = np.empty(8)
+    for s in range(faces.shape[0]):
+        f = faces[s]
+        for qr in range(nquad):
+            for qs in range(nquad):
+                i = (s * nquad + qr) * nquad + qs
+                e = host[i]
+                if e < 0:
+                    continue
+                k_pen = stiff[i]
+                w, p, _, _ = face_point(xs, f, nquad, qr, qs)
+                for j in range(4):
+                    sum_s[f[j]] += w[j] * k_pen
+                xi, eta, zeta = natural_coords_3d(xa, conn, e, p[0], p[1], p[2])
+                _hex_weights(_clamp(xi), _clamp(eta), _clamp(zeta), wa)
+                for k in range(8):
+                    sum_a[conn[e, k]] += wa[k] * k_pen
