@@ -144,3 +144,37 @@ def test_fluid_side_depth_of_an_extruded_quad_is_the_2d_depth():
         d2 = ck.fluid_side_depth(quad, conn2, 0, 0.4, 0.5, *n2, fraction)
         d3 = ck.fluid_side_depth_3d(nodes, conn3, 0, 0.4, 0.5, 0.25, *n2, 0.0, fraction)
         assert abs(d3 - d2) < 1e-10
+
+
+@pytest.mark.parametrize("nquad", [1, 2])
+def test_coupling_forces_3d_penalty_and_scatter(nquad):
+    """A face of 0.4 x 0.4 at mid-height of a full unit water hex, closing at 2 m/s for 1e-3 s: each
+    point's force is k d, k = pfac K A^2 / V, A = 0.16 / nquad^2, along the face's normal; the hex's
+    eight nodes take the opposite of what the face's four lose."""
+    hexes = np.array([[x, y, z] for z in (0.0, 1.0) for y in (0.0, 1.0) for x in (0.0, 1.0)])
+    xa = hexes[[0, 1, 3, 2, 4, 5, 7, 6]]  # VTK order
+    conn = np.arange(8, dtype=np.int64)[None, :]
+    xs = np.array([[0.3, 0.3, 0.5], [0.7, 0.3, 0.5], [0.7, 0.7, 0.5], [0.3, 0.7, 0.5]])  # normal +z
+    faces = np.arange(4, dtype=np.int64)[None, :]
+    vs = np.tile([0.0, 0.0, 2.0], (4, 1))
+    ms, ma, va = np.ones(4), np.ones(8), np.zeros((8, 3))
+    origin, cell = np.array([-1.0, -1.0, -1.0]), 1.0
+    nb = np.array([3, 3, 3], dtype=np.int64)
+    start, items = ck.build_bins_3d(xa, conn, origin, cell, 3, 3, 3)
+    pfac, bulk, dt = 0.1, 2.2e9, 1e-3
+    n_pts = nquad * nquad
+    depth, host, stiff = np.zeros(n_pts), -np.ones(n_pts, dtype=np.int64), np.zeros(n_pts)
+    fs, fa = np.zeros((4, 3)), np.zeros((8, 3))
+    coupled = ck.coupling_forces_3d(faces, xs, vs, ms, nquad, xa, va, ma, conn, start, items, origin, cell, nb,
+                                    np.ones(1), np.array([bulk]), np.ones(1), 0.5, pfac, 0.0, 0.25, True, dt,
+                                    depth, host, stiff, fs, fa)
+    share = 0.16 / n_pts
+    k = pfac * bulk * share ** 2 / 1.0
+    assert coupled == n_pts and np.all(host == 0)
+    np.testing.assert_allclose(depth, 2.0 * dt, rtol=1e-14)
+    np.testing.assert_allclose(stiff, k, rtol=1e-13)
+    total = n_pts * k * 2.0 * dt
+    np.testing.assert_allclose(fa.sum(axis=0), [0.0, 0.0, total], rtol=1e-13, atol=1e-9 * total)
+    np.testing.assert_allclose(fs.sum(axis=0), -fa.sum(axis=0), rtol=1e-14, atol=1e-12 * total)
+    np.testing.assert_allclose(fs[:, 2], -total / 4, rtol=1e-13)  # a centred face: a quarter per node
+    np.testing.assert_allclose(fa[:, 2], total / 8, rtol=1e-13)  # at the hex's centre plane: an eighth
