@@ -74,8 +74,11 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
         order = np.argsort(layer)
         cum = np.cumsum(length[order])
         typical = float(layer[order][np.searchsorted(cum, 0.5 * cum[-1])])
-        lines.append(f"  coupling {c.name}: penalty layer L_c = n h / pfac = {typical:.3g} h (median over "
-                     f"the {'wetted ' if wetted else ''}faces' length; max {layer.max():.3g} h; pfac {c.spec.pfac:g}, nquad {c.nquad})")
+        # 3D: L_c = n^2 h / pfac (n = h / sqrt(A) per direction of a face, A a point's share of its area)
+        solid = getattr(c, "dim", 2) == 3
+        form, measure = ("n^2 h / pfac", "area") if solid else ("n h / pfac", "length")
+        lines.append(f"  coupling {c.name}: penalty layer L_c = {form} = {typical:.3g} h (median over "
+                     f"the {'wetted ' if wetted else ''}faces' {measure}; max {layer.max():.3g} h; pfac {c.spec.pfac:g}, nquad {c.nquad})")
         # n = h / l coupling points per fluid-element face (L_c / h = n / pfac), over the same median:
         # below one point per element, fluid elements along the face hold no coupling point and the
         # water passes between the points (LS-DYNA's guidance for *CONSTRAINED_LAGRANGE_IN_SOLID: two
@@ -84,6 +87,8 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
         # step arrives; the fluid alone refined to 1.25 mm (n = 0.5) 22 MPa, to 0.625 mm (n = 0.25)
         # 13 MPa, and the plate 50 us after arrival 19.8 and 7.5 m/s against 100.6 at n = 1.
         points = typical * float(c.spec.pfac)
+        if solid:
+            points = np.sqrt(points)
         if float(f"{points:.3g}") < 1.0:
             need = int(np.ceil(c.nquad / points - 1e-9))
             remedy = (f"raise nquad to {need} or refine the structure's segments with the fluid" if need <= NQUAD_MAX
@@ -92,8 +97,9 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
                             f"(n = h / l below 1): fluid elements along the structure hold no point and the "
                             f"fluid passes between them; {remedy}")
         if float(f"{typical:.3g}") > 0.5:  # as printed: a layer shown as 0.5 h does not warn
+            rule = "pfac >= 2 n^2" if solid else "pfac >= 2 n"
             warnings.append(f"warning: coupling {c.name}: the penalty acts as {typical:.3g} h of extra fluid "
-                            f"(L_c = n h / pfac above h/2); pfac >= 2 n keeps it below h/2 "
+                            f"(L_c = {form} above h/2); {rule} keeps it below h/2 "
                             f"(n = h / l coupling points per fluid-element face)")
     lines.append(f"  memory estimate {model.memory_bytes() / 2**20:.1f} MiB")
     lines += _counts(deck)

@@ -1,10 +1,11 @@
-"""``LagrangeInSolidCoupling``: an ALE fluid pushing on a Lagrangian structure by penalty (2D).
+"""``LagrangeInSolidCoupling``: an ALE fluid pushing on a Lagrangian structure by penalty (2D and 3D).
 
 The deck's ``couplings: {type: lagrange_in_solid}`` (LS-DYNA *CONSTRAINED_LAGRANGE_IN_SOLID with
 CTYPE 4, penalty coupling). Equations and references: docs/theory/coupling.md.
 
 Each outer face (segment) of the structure carries ``nquad`` coupling points at the midpoints of
-equal sub-segments. Each step, on the state n of both sides (kernels in coupling_kernels):
+equal sub-segments; in 3D each quad face carries nquad x nquad, at the centres of equal cells of
+its parameter square, each with its cell's area (coupling_kernels.face_point). Each step, on the state n of both sides (kernels in coupling_kernels):
 
 1. every point is located in the ALE mesh (a bucket search, any quad4 mesh). A free point
    (penetration 0) couples only once it has entered fluid: its host is the element containing it
@@ -22,7 +23,7 @@ equal sub-segments. Each step, on the state n of both sides (kernels in coupling
    -5e-4 of the impact energy instead of -2e-4) and the step-mean velocities the work uses (-8e-3);
 3. force f = k d (+ damping 2 zeta sqrt(k m1 m2 / (m1 + m2)) times the closing speed), no tension,
    with k = pfac K A^2 / V (2D per unit depth: A the point's share of the segment length, V the
-   host's area, K = rho0 c0^2 of the coupling fluid in the host); +f n to the host's nodes by its
+   host's area; 3D: A the point's share of the face's area, V the host's volume; K = rho0 c0^2 of the coupling fluid in the host); +f n to the host's nodes by its
    shape functions, -f n to the segment's two nodes by theirs.
 
 The ALE side receives the forces through ``AleSystem.f_couple`` with the impulse weight dt_avg of
@@ -47,8 +48,9 @@ class LagrangeInSolidCoupling:
 
     def __init__(self, sim, spec):
         model = sim.model
-        if model.dim != 2:
-            raise ValueError("lagrange_in_solid coupling is 2D so far")
+        if model.dim not in (2, 3):
+            raise ValueError("lagrange_in_solid coupling is 2D or 3D")
+        self.dim = model.dim
         self.sim = sim
         self.spec = spec
         self.name = f"{spec.fluid}->{spec.structure}"
@@ -69,17 +71,19 @@ class LagrangeInSolidCoupling:
             q = np.ascontiguousarray(row[EOS_OFFSET:])
             c0 = eos_sound_speed(int(row[P_EOS_TYPE]), q, 1.0, q[Q_E0])
             self.mat_bulk[j] = row[P_RHO0] * c0 * c0
-        size = np.sqrt(ale.vol0.min())
+        root = 1.0 / self.dim  # the element size h = V^(1/dim)
+        size = ale.vol0.min() ** root
         self.probe = 0.5 * size
-        self.cell = float(np.sqrt(ale.vol0.mean()))
-        n_points = len(self.segments) * self.nquad
+        self.cell = float(ale.vol0.mean() ** root)
+        self.points_per_face = self.nquad ** (self.dim - 1)
+        n_points = len(self.segments) * self.points_per_face
         self.depth = np.zeros(n_points)
         self.host = -np.ones(n_points, dtype=np.int64)
         self.stiff = np.zeros(n_points)
-        self.f_solid = np.zeros((model.n_nodes, 2))
+        self.f_solid = np.zeros((model.n_nodes, self.dim))
         self.n_coupled = 0
         self.f_fluid = np.zeros_like(ale.f_couple)
-        self.v_solid_mid = np.zeros((model.n_nodes, 2))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last step
+        self.v_solid_mid = np.zeros((model.n_nodes, self.dim))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last step
         self.work = 0.0
         self.penetration_limit = None
 
@@ -113,20 +117,34 @@ class LagrangeInSolidCoupling:
         lo = x.min(axis=0) - self.cell
         hi = x.max(axis=0) + self.cell
         nb = np.maximum(np.ceil((hi - lo) / self.cell).astype(np.int64), 1)
-        start, items = ck.build_bins(x, ale.conn, lo, self.cell, int(nb[0]), int(nb[1]))
-        return lo, int(nb[0]), int(nb[1]), start, items
+        if self.dim == 3:
+            start, items = ck.build_bins_3d(x, ale.conn, lo, self.cell, int(nb[0]), int(nb[1]), int(nb[2]))
+        else:
+            start, items = ck.build_bins(x, ale.conn, lo, self.cell, int(nb[0]), int(nb[1]))
+        return lo, nb, start, items
 
     def forces(self, st) -> None:
         """Add the coupling forces of state n to st.f_contact and the ALE's f_couple."""
         ale = self.sim.ale.system
         frac, bulk, area = self._fluid_fields(ale)
-        origin, nbx, nby, start, items = self._bins(ale)
+        origin, nb, start, items = self._bins(ale)
         self.f_solid[:] = 0.0
         f_ale = self.f_fluid
         f_ale[:] = 0.0
+        if self.dim == 3:
+            self.n_coupled = ck.coupling_forces_3d(
+                self.segments, st.x, st.v, self.sim.model.mass, self.nquad, ale.x, ale.velocity, ale.node_mass,
+                ale.conn, start, items, origin, self.cell, nb, frac, bulk, area,
+                float(self.spec.min_fraction), float(self.spec.pfac), float(self.spec.damping), self.probe,
+                bool(self.spec.leakage_control), float(st.dt_prev), self.depth, self.host, self.stiff,
+                self.f_solid, f_ale,
+            )
+            st.f_contact += self.f_solid
+            ale.f_couple += f_ale
+            return
         self.n_coupled = ck.coupling_forces(
             self.segments, st.x, st.v, self.sim.model.mass, self.nquad, ale.x, ale.velocity, ale.node_mass,
-            ale.conn, start, items, origin, self.cell, nbx, nby, frac, bulk, area,
+            ale.conn, start, items, origin, self.cell, int(nb[0]), int(nb[1]), frac, bulk, area,
             float(self.spec.min_fraction), float(self.spec.pfac), float(self.spec.damping), self.probe,
             bool(self.spec.leakage_control), float(st.dt_prev), self.depth, self.host, self.stiff,
             self.f_solid, f_ale,
@@ -146,6 +164,10 @@ class LagrangeInSolidCoupling:
         front of the segment's midpoint. The segments returned are those whose host holds at least
         min_fraction of coupling fluid (``wetted`` True), else, when none does (a structure that
         enters the fluid later), every segment within one element size of a centroid.
+
+        3D: per quad face (area F), k = pfac K A^2 / V with A = F / nquad^2 is, per unit area,
+        pfac K A / V, so L_c = V / (pfac A) = n^2 h / pfac with h = V^(1/3), n = h / sqrt(A); the
+        second array is then the faces' areas.
         """
         from scipy.spatial import cKDTree
 
@@ -155,6 +177,22 @@ class LagrangeInSolidCoupling:
             return np.zeros(0), np.zeros(0), False
         frac, _, _ = self._fluid_fields(ale)
         centroid = ale.x[ale.conn].mean(axis=1)
+        if self.dim == 3:
+            f = self.segments
+            # (x_c - x_a) x (x_d - x_b) = 4 x_r x x_s at the face's centre: outward, |.| / 2 its area
+            # when plane (the face's area by its points' shares below)
+            diag = np.cross(x[f[:, 2]] - x[f[:, 0]], x[f[:, 3]] - x[f[:, 1]])
+            normal = diag / np.maximum(np.linalg.norm(diag, axis=1), 1e-300)[:, None]
+            front = x[f].mean(axis=1) + self.probe * normal
+            dist, e = cKDTree(centroid).query(front)
+            vol = np.abs(ale.vol0[e])
+            h = np.cbrt(vol)
+            face_area = self._point_shares(x).reshape(len(f), -1).sum(axis=1)
+            share = face_area / self.points_per_face
+            near = (dist <= h) & (share > 0)
+            wet = near & (frac[e] >= float(self.spec.min_fraction))
+            keep = wet if wet.any() else near
+            return vol[keep] / (float(self.spec.pfac) * share[keep] * h[keep]), face_area[keep], bool(wet.any())
         t = x[self.segments[:, 1]] - x[self.segments[:, 0]]
         length = np.linalg.norm(t, axis=1)
         normal = np.stack([t[:, 1], -t[:, 0]], axis=1) / np.maximum(length, 1e-300)[:, None]
@@ -167,6 +205,15 @@ class LagrangeInSolidCoupling:
         wet = near & (frac[e] >= float(self.spec.min_fraction))
         keep = wet if wet.any() else near
         return area[keep] / (float(self.spec.pfac) * ell[keep] * h[keep]), length[keep], bool(wet.any())
+
+    def _point_shares(self, x: np.ndarray) -> np.ndarray:
+        """Each coupling point's share of its face: length / nquad in 2D, its cell's area in 3D."""
+        if self.dim == 3:
+            share = np.zeros(len(self.segments) * self.points_per_face)
+            ck.face_shares(x, self.segments, self.nquad, share)
+            return share
+        ell = np.linalg.norm(x[self.segments[:, 1]] - x[self.segments[:, 0]], axis=1) / self.nquad
+        return np.repeat(ell, self.nquad)
 
     def stable_dt(self) -> float:
         """sqrt(2 m_i / S_i) (1 + zeta^2)^(1/2) - zeta) over the nodes the coupled points load.
@@ -184,14 +231,13 @@ class LagrangeInSolidCoupling:
         # bound (a host emptied by the remap: k of before over 1e-17 kg of after)
         _, bulk, area = self._fluid_fields(ale)
         x = self.sim.state.x
-        ell = np.linalg.norm(x[self.segments[:, 1]] - x[self.segments[:, 0]], axis=1) / self.nquad
-        ell = np.repeat(ell, self.nquad)
+        ell = self._point_shares(x)
         h = np.maximum(self.host, 0)
         stiff = np.where(self.host >= 0, float(self.spec.pfac) * bulk[h] * ell * ell / area[h], 0.0)
         sum_s = np.zeros(model.n_nodes)
         sum_a = np.zeros(ale.x.shape[0])
-        ck.stiffness_sums(self.segments, self.nquad, ale.conn, self.host, stiff, x, ale.x,
-                          sum_s, sum_a)
+        sums = ck.stiffness_sums_3d if self.dim == 3 else ck.stiffness_sums
+        sums(self.segments, self.nquad, ale.conn, self.host, stiff, x, ale.x, sum_s, sum_a)
         ratios = [sum_a[sum_a > 0] / ale.node_mass[sum_a > 0]]
         mass_s = model.mass.copy()
         rigid = np.zeros(model.n_nodes, dtype=bool)
@@ -224,8 +270,11 @@ class LagrangeInSolidCoupling:
         if self.depth.size == 0:
             return 0.0, f"coupling {self.name}"
         i = int(np.argmax(self.depth))
-        s, q = divmod(i, self.nquad)
+        s, q = divmod(i, self.points_per_face)
         x = self.sim.state.x[self.segments[s]].mean(axis=0)
+        if self.dim == 3:
+            return float(self.depth[i]), (f"coupling point {q} of face {s} (near x = {x[0]:.4g}, y = {x[1]:.4g}, "
+                                          f"z = {x[2]:.4g}) of coupling {self.name}")
         return float(self.depth[i]), (f"coupling point {q} of segment {s} (near x = {x[0]:.4g}, y = {x[1]:.4g}) "
                                       f"of coupling {self.name}")
 

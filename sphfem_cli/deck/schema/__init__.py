@@ -438,8 +438,6 @@ def _check_interactions(deck: Deck, sph_parts: set, ale_parts: set) -> None:
         _ref(c.fluid, deck.parts, f"{path}.fluid", "part")
         if c.fluid not in ale_parts:
             raise ValueError(f"@{path}.fluid: '{c.fluid}' is not an ALE part")
-        if deck.dimension != 2:
-            raise ValueError(f"@{path}: ALE-structure coupling (lagrange_in_solid) is 2D so far")
         for j, mname in enumerate(c.materials or []):
             groups = [deck.parts[c.fluid].material] + [f.material for f in deck.parts[c.fluid].fill]
             if mname not in groups:

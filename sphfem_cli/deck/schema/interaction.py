@@ -54,17 +54,19 @@ class LagrangeInSolid(DeckModel):
         None, description="Fluid materials that couple. Default all non-void materials of the ALE part."
     )
     nquad: int = Field(2, ge=1, le=5, description=(
-        "Coupling points per segment direction [-]. Keep at least one per fluid element along the face "
-        "(n = h / l >= 1, l = segment length / nquad): below, the fluid passes between the points "
-        "(`sphfem check` warns); refine nquad or the structure with the fluid. Default 2."))
+        "Coupling points per segment direction [-] (nquad per 2D segment, nquad x nquad per 3D face). Keep at "
+        "least one per fluid element along the face (n = h / l >= 1, l = segment length / nquad): below, the fluid "
+        "passes between the points (`sphfem check` warns); refine nquad or the structure with the fluid. Default 2."))
     min_fraction: float = Field(
         0.5, gt=0.0, le=1.0, description="Fluid volume fraction from which an ALE element couples [-]. Default 0.5."
     )
     pfac: PositiveFloat = Field(0.1, description=(
         "Scale of the penalty stiffness from the fluid's bulk modulus [-]: k = pfac K l^2 / V per coupling point "
-        "(LS-DYNA's PFAC; l the point's share of the segment, V the host element's area). The penalty acts as an "
-        "extra fluid layer L_c = n h / pfac (h the fluid element size, n = h / l the coupling points per fluid-element "
-        "face); use pfac >= 2 n to keep L_c below h/2 (`sphfem check` prints L_c). Default 0.1."))
+        "(LS-DYNA's PFAC; l the point's share of the segment, V the host element's area; 3D: k = pfac K A^2 / V, "
+        "A the point's share of the face's area, V the host's volume). The penalty acts as an extra fluid layer "
+        "L_c = n h / pfac (h the fluid element size, n = h / l the coupling points per fluid-element face; 3D: "
+        "L_c = n^2 h / pfac, n = h / sqrt(A)); use pfac >= 2 n (3D: 2 n^2) to keep L_c below h/2 (`sphfem check` "
+        "prints L_c). Default 0.1."))
     damping: NonNegativeFloat = Field(
         0.0, le=1.0, description="Viscous coupling damping, fraction of critical [-]. Default 0."
     )
