@@ -3,7 +3,7 @@
 - `surface`: master segments (outer faces of solid parts, or segment sets) with their owners.
 - `kernels`: the compiled search and penalty kernels of nodes-to-surface contact.
 - `system`: `NodesToSurfaceContact`, the deck's `contacts` inside the explicit loop.
-- `coupling`, `coupling_kernels`: `LagrangeInSolidCoupling`, the deck's ALE-to-structure `couplings`.
+- `coupling`, `coupling_kernels`, `coupling_kernels_3d`: `LagrangeInSolidCoupling`, the deck's ALE-to-structure `couplings`.
 
 Imported only when a deck has contacts or couplings (see solver.explicit for the interface).
 """

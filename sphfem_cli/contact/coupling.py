@@ -5,7 +5,7 @@ CTYPE 4, penalty coupling). Equations and references: docs/theory/coupling.md.
 
 Each outer face (segment) of the structure carries ``nquad`` coupling points at the midpoints of
 equal sub-segments; in 3D each quad face carries nquad x nquad, at the centres of equal cells of
-its parameter square, each with its cell's area (coupling_kernels.face_point). Each step, on the state n of both sides (kernels in coupling_kernels):
+its parameter square, each with its cell's area (coupling_kernels_3d.face_point). Each step, on the state n of both sides (kernels in coupling_kernels, coupling_kernels_3d):
 
 1. every point is located in the ALE mesh (a bucket search, any quad4 mesh). A free point
    (penetration 0) couples only once it has entered fluid: its host is the element containing it
@@ -40,6 +40,7 @@ from ..materials.kernels import eos_sound_speed
 from ..materials.slots import EOS_OFFSET, P_EOS_TYPE, P_RHO0, Q_E0
 from ..model.build import VOID
 from . import coupling_kernels as ck
+from . import coupling_kernels_3d as ck3
 from .surface import master_segments
 
 
@@ -118,7 +119,7 @@ class LagrangeInSolidCoupling:
         hi = x.max(axis=0) + self.cell
         nb = np.maximum(np.ceil((hi - lo) / self.cell).astype(np.int64), 1)
         if self.dim == 3:
-            start, items = ck.build_bins_3d(x, ale.conn, lo, self.cell, int(nb[0]), int(nb[1]), int(nb[2]))
+            start, items = ck3.build_bins_3d(x, ale.conn, lo, self.cell, int(nb[0]), int(nb[1]), int(nb[2]))
         else:
             start, items = ck.build_bins(x, ale.conn, lo, self.cell, int(nb[0]), int(nb[1]))
         return lo, nb, start, items
@@ -132,7 +133,7 @@ class LagrangeInSolidCoupling:
         f_ale = self.f_fluid
         f_ale[:] = 0.0
         if self.dim == 3:
-            self.n_coupled = ck.coupling_forces_3d(
+            self.n_coupled = ck3.coupling_forces_3d(
                 self.segments, st.x, st.v, self.sim.model.mass, self.nquad, ale.x, ale.velocity, ale.node_mass,
                 ale.conn, start, items, origin, self.cell, nb, frac, bulk, area,
                 float(self.spec.min_fraction), float(self.spec.pfac), float(self.spec.damping), self.probe,
@@ -210,7 +211,7 @@ class LagrangeInSolidCoupling:
         """Each coupling point's share of its face: length / nquad in 2D, its cell's area in 3D."""
         if self.dim == 3:
             share = np.zeros(len(self.segments) * self.points_per_face)
-            ck.face_shares(x, self.segments, self.nquad, share)
+            ck3.face_shares(x, self.segments, self.nquad, share)
             return share
         ell = np.linalg.norm(x[self.segments[:, 1]] - x[self.segments[:, 0]], axis=1) / self.nquad
         return np.repeat(ell, self.nquad)
@@ -236,7 +237,7 @@ class LagrangeInSolidCoupling:
         stiff = np.where(self.host >= 0, float(self.spec.pfac) * bulk[h] * ell * ell / area[h], 0.0)
         sum_s = np.zeros(model.n_nodes)
         sum_a = np.zeros(ale.x.shape[0])
-        sums = ck.stiffness_sums_3d if self.dim == 3 else ck.stiffness_sums
+        sums = ck3.stiffness_sums_3d if self.dim == 3 else ck.stiffness_sums
         sums(self.segments, self.nquad, ale.conn, self.host, stiff, x, ale.x, sum_s, sum_a)
         ratios = [sum_a[sum_a > 0] / ale.node_mass[sum_a > 0]]
         mass_s = model.mass.copy()

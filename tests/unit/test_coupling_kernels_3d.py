@@ -1,4 +1,4 @@
-"""3D kernels of the ALE -> structure coupling (contact.coupling_kernels, hex8 ALE against quad faces).
+"""3D kernels of the ALE -> structure coupling (contact.coupling_kernels_3d, hex8 ALE against quad faces).
 
 locate: natural coordinates round-trip through the buckets on a distorted hex8 mesh; face points:
 the area shares of a face sum to its area (exact on a plane face) and reduce to the 2D kernel's
@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from sphfem_cli.contact import coupling_kernels as ck
+from sphfem_cli.contact import coupling_kernels_3d as ck3
 
 CORNERS = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
                     [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
@@ -41,23 +42,23 @@ def test_locate_round_trips_natural_coordinates_on_a_distorted_hex_mesh():
     cell = float(np.cbrt(1.0 / len(conn)))
     lo = nodes.min(axis=0) - cell
     nb = np.ceil((nodes.max(axis=0) + cell - lo) / cell).astype(np.int64)
-    start, items = ck.build_bins_3d(nodes, conn, lo, cell, int(nb[0]), int(nb[1]), int(nb[2]))
+    start, items = ck3.build_bins_3d(nodes, conn, lo, cell, int(nb[0]), int(nb[1]), int(nb[2]))
     rng = np.random.default_rng(1)
     worst = 0.0
     for e in range(len(conn)):
         for nat in rng.uniform(-0.9, 0.9, (4, 3)):
             p = _shape(nat) @ nodes[conn[e]]
-            found, *back = ck.locate_3d(nodes, conn, start, items, lo, cell, int(nb[0]), int(nb[1]), int(nb[2]), *p)
+            found, *back = ck3.locate_3d(nodes, conn, start, items, lo, cell, int(nb[0]), int(nb[1]), int(nb[2]), *p)
             assert found == e
             worst = max(worst, float(np.abs(np.array(back) - nat).max()))
     assert worst < 1e-10  # measured 2.3e-15
-    outside = ck.locate_3d(nodes, conn, start, items, lo, cell, int(nb[0]), int(nb[1]), int(nb[2]), 0.5, 0.5, 1.2)
+    outside = ck3.locate_3d(nodes, conn, start, items, lo, cell, int(nb[0]), int(nb[1]), int(nb[2]), 0.5, 0.5, 1.2)
     assert outside[0] == -1
 
 
 def _points(xs, nquad):
     f = np.arange(4, dtype=np.int64)
-    return [ck.face_point(xs, f, nquad, i, j) for i in range(nquad) for j in range(nquad)]
+    return [ck3.face_point(xs, f, nquad, i, j) for i in range(nquad) for j in range(nquad)]
 
 
 @pytest.mark.parametrize("nquad", [1, 2, 3, 4])
@@ -84,7 +85,7 @@ def test_area_shares_of_a_warped_face_converge_to_its_area():
     r, w = np.polynomial.legendre.leggauss(40)  # the area by a 40 x 40 Gauss rule
     exact = 0.0
     for (ri, wi), (sj, wj) in itertools.product(zip(r, w), zip(r, w)):
-        xr, xq = ck._face_tangents(xs, np.arange(4, dtype=np.int64), ri, sj)
+        xr, xq = ck3._face_tangents(xs, np.arange(4, dtype=np.int64), ri, sj)
         exact += wi * wj * np.linalg.norm(np.cross(xr, xq))
     errors = [abs(sum(p[3] for p in _points(xs, nq)) / exact - 1.0) for nq in (1, 2, 4)]
     assert errors[0] < 1e-4 and errors[2] < errors[1] < errors[0]  # measured 2.3e-5, 1.4e-6, 8.6e-8
@@ -127,10 +128,10 @@ def test_fluid_side_depth_cuts_off_the_fraction_of_a_rotated_cube(fraction):
     n_cube /= np.linalg.norm(n_cube)
     n = rot @ n_cube
     p = np.array([0.6, 0.2, 0.4]) @ rot.T + shift
-    depth = ck.fluid_side_depth_3d(nodes, conn, 0, *p, *n, fraction)
+    depth = ck3.fluid_side_depth_3d(nodes, conn, 0, *p, *n, fraction)
     level = float(p @ n) - depth - float(shift @ n)  # the interface in the cube's frame
     assert abs(_cube_volume_beyond(n_cube, level) - fraction) < 1e-10
-    assert abs(ck.hex_volume_beyond(nodes, *n, level + float(shift @ n)) - fraction) < 1e-10
+    assert abs(ck3.hex_volume_beyond(nodes, *n, level + float(shift @ n)) - fraction) < 1e-10
 
 
 def test_fluid_side_depth_of_an_extruded_quad_is_the_2d_depth():
@@ -142,7 +143,7 @@ def test_fluid_side_depth_of_an_extruded_quad_is_the_2d_depth():
     n2 = np.array([0.6, -0.8])
     for fraction in (0.0, 0.2, 0.6, 1.0):
         d2 = ck.fluid_side_depth(quad, conn2, 0, 0.4, 0.5, *n2, fraction)
-        d3 = ck.fluid_side_depth_3d(nodes, conn3, 0, 0.4, 0.5, 0.25, *n2, 0.0, fraction)
+        d3 = ck3.fluid_side_depth_3d(nodes, conn3, 0, 0.4, 0.5, 0.25, *n2, 0.0, fraction)
         assert abs(d3 - d2) < 1e-10
 
 
@@ -160,12 +161,12 @@ def test_coupling_forces_3d_penalty_and_scatter(nquad):
     ms, ma, va = np.ones(4), np.ones(8), np.zeros((8, 3))
     origin, cell = np.array([-1.0, -1.0, -1.0]), 1.0
     nb = np.array([3, 3, 3], dtype=np.int64)
-    start, items = ck.build_bins_3d(xa, conn, origin, cell, 3, 3, 3)
+    start, items = ck3.build_bins_3d(xa, conn, origin, cell, 3, 3, 3)
     pfac, bulk, dt = 0.1, 2.2e9, 1e-3
     n_pts = nquad * nquad
     depth, host, stiff = np.zeros(n_pts), -np.ones(n_pts, dtype=np.int64), np.zeros(n_pts)
     fs, fa = np.zeros((4, 3)), np.zeros((8, 3))
-    coupled = ck.coupling_forces_3d(faces, xs, vs, ms, nquad, xa, va, ma, conn, start, items, origin, cell, nb,
+    coupled = ck3.coupling_forces_3d(faces, xs, vs, ms, nquad, xa, va, ma, conn, start, items, origin, cell, nb,
                                     np.ones(1), np.array([bulk]), np.ones(1), 0.5, pfac, 0.0, 0.25, True, dt,
                                     depth, host, stiff, fs, fa)
     share = 0.16 / n_pts
