@@ -138,9 +138,12 @@ def test_numba_rates_equal_numpy_reference(dim, mixed, single_thread):
         np.testing.assert_allclose(got, r[key], rtol=0, atol=1e-12 * scale, err_msg=key)
 
 
-@pytest.mark.parametrize("dim", [1, 2, 3])
+@pytest.mark.parametrize("dim", [2])
 def test_numba_rates_equal_numpy_reference_wendland_cutoff(dim, single_thread):
-    """Wendland C2 at h/dx = 1.5 with a pressure cut-off (plain ghosts, plain delta-SPH)."""
+    """Wendland C2 at h/dx = 1.5 with a pressure cut-off (plain ghosts, plain delta-SPH). Plane 2D only:
+    each (kernel, dimension) pair is its own compile of the rates loop (rates._fluid_rates), no shipped
+    deck uses Wendland, its normalisation in 1D/2D/3D is checked in test_sph_kernels.py and the
+    dimension-dependent parts of the loop by the cubic-spline tests above in 1D/2D/3D."""
     s = random_state(dim, seed=20 + dim)
     s["rho"] *= np.where(np.arange(len(s["rho"])) % 3 == 0, 0.97, 1.0)  # some tension to cut off
     opt = full_options(dim, s["L"])
