@@ -1,4 +1,4 @@
-"""``LagrangeInSolidCoupling``: an ALE fluid pushing on a Lagrangian structure by penalty (2D and 3D).
+"""``LagrangeInSolidCoupling``: an ALE fluid pushing on a Lagrangian structure by penalty (2D, r-z and 3D).
 
 The deck's ``couplings: {type: lagrange_in_solid}`` (LS-DYNA *CONSTRAINED_LAGRANGE_IN_SOLID with
 CTYPE 4, penalty coupling). Equations and references: docs/theory/coupling.md.
@@ -26,6 +26,15 @@ its parameter square, each with its cell's area (coupling_kernels_3d.face_point)
    host's area; 3D: A the point's share of the face's area, V the host's volume; K = rho0 c0^2 of the coupling fluid in the host); +f n to the host's nodes by its
    shape functions, -f n to the segment's two nodes by theirs.
 
+Axisymmetric (``dimension: axisymmetric``, x = r, y = the axis): the 2D segments and kernels, each
+point standing for the ring it sweeps. A = 2 pi r_p l (the ring's area), V the host's ring volume,
+the masses ring masses: every force is for the full 2 pi, as the FEM (fem.axisymmetric) and ALE
+(ale.axisymmetric) r-z forces, and the penalty layer L_c = V / (pfac A) = n h / pfac as in the plane
+(h the meridian element size). A point on the axis (r_p = 0) carries no force; axis nodes of either
+side keep u_r = 0 through their own conditions, so no radial force acts there. The interface
+reconstruction behind the host search (``fluid_side_depth``) uses the meridian quad with the ring
+volume fraction: an O(h / r) shift of the level in a partly filled host near the axis.
+
 The ALE side receives the forces through ``AleSystem.f_couple`` with the impulse weight dt_avg of
 the structure's central difference, so the two impulses cancel exactly. The penetration state
 (``depth``, ``host``, ``stiff``) is plain numpy arrays, which a checkpoint saves and restores by name
@@ -52,6 +61,7 @@ class LagrangeInSolidCoupling:
         if model.dim not in (2, 3):
             raise ValueError("lagrange_in_solid coupling is 2D or 3D")
         self.dim = model.dim
+        self.ring = bool(getattr(model, "axisymmetric", False))  # r-z: points stand for rings
         self.sim = sim
         self.spec = spec
         self.name = f"{spec.fluid}->{spec.structure}"
@@ -72,10 +82,12 @@ class LagrangeInSolidCoupling:
             q = np.ascontiguousarray(row[EOS_OFFSET:])
             c0 = eos_sound_speed(int(row[P_EOS_TYPE]), q, 1.0, q[Q_E0])
             self.mat_bulk[j] = row[P_RHO0] * c0 * c0
-        root = 1.0 / self.dim  # the element size h = V^(1/dim)
-        size = ale.vol0.min() ** root
+        root = 1.0 / self.dim  # the element size h = V^(1/dim); r-z: h = (meridian area)^(1/2)
+        self.meridian = _meridian_areas(ale.x, ale.conn) if self.ring else None
+        measure = self.meridian if self.ring else ale.vol0
+        size = measure.min() ** root
         self.probe = 0.5 * size
-        self.cell = float(ale.vol0.mean() ** root)
+        self.cell = float(measure.mean() ** root)
         self.points_per_face = self.nquad ** (self.dim - 1)
         n_points = len(self.segments) * self.points_per_face
         self.depth = np.zeros(n_points)
@@ -147,7 +159,7 @@ class LagrangeInSolidCoupling:
             self.segments, st.x, st.v, self.sim.model.mass, self.nquad, ale.x, ale.velocity, ale.node_mass,
             ale.conn, start, items, origin, self.cell, int(nb[0]), int(nb[1]), frac, bulk, area,
             float(self.spec.min_fraction), float(self.spec.pfac), float(self.spec.damping), self.probe,
-            bool(self.spec.leakage_control), float(st.dt_prev), self.depth, self.host, self.stiff,
+            bool(self.spec.leakage_control), float(st.dt_prev), self.ring, self.depth, self.host, self.stiff,
             self.f_solid, f_ale,
         )
         st.f_contact += self.f_solid
@@ -169,6 +181,9 @@ class LagrangeInSolidCoupling:
         3D: per quad face (area F), k = pfac K A^2 / V with A = F / nquad^2 is, per unit area,
         pfac K A / V, so L_c = V / (pfac A) = n^2 h / pfac with h = V^(1/3), n = h / sqrt(A); the
         second array is then the faces' areas.
+
+        r-z: A = 2 pi r l at the segment's midpoint and V the host's ring volume, h = sqrt of the
+        host's meridian area: L_c = V / (pfac A) = n h / pfac again (V = 2 pi r h^2 near the face).
         """
         from scipy.spatial import cKDTree
 
@@ -202,19 +217,29 @@ class LagrangeInSolidCoupling:
         area = np.abs(ale.vol0[e])
         h = np.sqrt(area)
         ell = length / self.nquad
+        if self.ring:  # ring area over ring volume; the element size from the meridian area
+            h = np.sqrt(self.meridian[e])
+            ell = ell * (2.0 * np.pi * 0.5 * (x[self.segments[:, 0], 0] + x[self.segments[:, 1], 0]))
         near = (dist <= h) & (ell > 0)
         wet = near & (frac[e] >= float(self.spec.min_fraction))
         keep = wet if wet.any() else near
         return area[keep] / (float(self.spec.pfac) * ell[keep] * h[keep]), length[keep], bool(wet.any())
 
     def _point_shares(self, x: np.ndarray) -> np.ndarray:
-        """Each coupling point's share of its face: length / nquad in 2D, its cell's area in 3D."""
+        """Each coupling point's share of its face: length / nquad in 2D, its cell's area in 3D,
+        the area 2 pi r_p length / nquad of its ring in r-z."""
         if self.dim == 3:
             share = np.zeros(len(self.segments) * self.points_per_face)
             ck3.face_shares(x, self.segments, self.nquad, share)
             return share
         ell = np.linalg.norm(x[self.segments[:, 1]] - x[self.segments[:, 0]], axis=1) / self.nquad
-        return np.repeat(ell, self.nquad)
+        share = np.repeat(ell, self.nquad)
+        if self.ring:
+            r = -1.0 + (2.0 * np.arange(self.nquad) + 1.0) / self.nquad  # the kernel's point positions
+            ra = x[self.segments[:, 0], 0][:, None]
+            rb = x[self.segments[:, 1], 0][:, None]
+            share *= 2.0 * np.pi * (0.5 * (1.0 - r) * ra + 0.5 * (1.0 + r) * rb).ravel()
+        return share
 
     def stable_dt(self) -> float:
         """sqrt(2 m_i / S_i) (1 + zeta^2)^(1/2) - zeta) over the nodes the coupled points load.
@@ -282,3 +307,10 @@ class LagrangeInSolidCoupling:
     def coupled_points(self) -> int:
         """Points that pushed at the last force pass."""
         return self.n_coupled
+
+
+def _meridian_areas(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
+    """Shoelace area of every quad4 of the meridian plane (E,): the element size of an r-z mesh."""
+    px = x[conn, 0]
+    py = x[conn, 1]
+    return 0.5 * np.abs((px * np.roll(py, -1, axis=1) - np.roll(px, -1, axis=1) * py).sum(axis=1))

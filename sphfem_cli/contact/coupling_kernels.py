@@ -24,6 +24,7 @@ _XI = np.array([-1.0, 1.0, 1.0, -1.0])
 _ETA = np.array([-1.0, -1.0, 1.0, 1.0])
 INSIDE_TOL = 1e-9  # natural-coordinate tolerance of "inside an element"
 TOUCH_TOL = 1e-6  # a free point within this fraction of the probe distance of the fluid touches it
+TWO_PI = 2.0 * math.pi
 
 
 @njit(cache=True)
@@ -183,7 +184,7 @@ def fluid_side_depth(x, conn, e, px, py, nx, ny, fraction):
 
 @njit(cache=True)
 def coupling_forces(seg, xs, vs, ms, nquad, xa, va, ma, conn, start, items, origin, cell, nbx, nby,
-                    frac, bulk, area, min_fraction, pfac, damping, probe, leakage, dt_prev,
+                    frac, bulk, area, min_fraction, pfac, damping, probe, leakage, dt_prev, ring,
                     depth, host, stiff, fs, fa):
     """Penalty coupling forces of state n; returns the number of coupled points.
 
@@ -192,6 +193,11 @@ def coupling_forces(seg, xs, vs, ms, nquad, xa, va, ma, conn, start, items, orig
     area (E,) element areas; probe the distance of the front / behind probes. Point q of segment
     s is entry s * nquad + q of depth (penetration, updated in place), host (element, -1 when not
     coupled) and stiff (penalty stiffness). Forces are added to fs (structure) and fa (ALE).
+
+    ring (``dimension: axisymmetric``, x = r): a point at radius r_p stands for the ring it sweeps,
+    of area A = 2 pi r_p l, area (E,) holds the hosts' ring volumes V and masses are ring masses,
+    so k = pfac K A^2 / V and every force is for the full 2 pi (as the FEM and ALE r-z forces).
+    A point on the axis (r_p = 0) has A = 0 and carries no force. Plane (ring False): A = l.
     """
     n_seg = seg.shape[0]
     coupled = 0
@@ -273,7 +279,10 @@ def coupling_forces(seg, xs, vs, ms, nquad, xa, va, ma, conn, start, items, orig
                 d = 0.0
             depth[i] = d
             host[i] = e
-            k_pen = pfac * bulk[e] * ell * ell / area[e]
+            share = ell  # the point's share of the face: its length, or its ring's area
+            if ring:
+                share = TWO_PI * px * ell
+            k_pen = pfac * bulk[e] * share * share / area[e]
             stiff[i] = k_pen
             if d <= 0.0:
                 continue

@@ -111,17 +111,17 @@ RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")
 
 AXISYMMETRIC_ONLY_SOLIDS = ("axisymmetric models support solid, SPH and ALE parts only for now (rigid parts are "
                             "2D/3D only, issue 15)")
-AXISYMMETRIC_ALE = ("axisymmetric ALE parts are eulerian or lagrangian meshes without couplings to structures for now "
-                    "(smoothed ALE meshes and ALE-structure couplings are 2D/3D only, issue 15)")
+AXISYMMETRIC_ALE = ("axisymmetric ALE parts are eulerian or lagrangian meshes for now "
+                    "(smoothed ALE meshes are 2D/3D only, issue 15)")
 AXISYMMETRIC_CONTACT = ("axisymmetric models support contacts of SPH particles on solid parts only for now "
-                        "(node-to-surface contact between solids and ALE couplings are 2D/3D only)")
+                        "(node-to-surface contact between solids is 2D/3D only)")
 AXISYMMETRIC_SPH = "axisymmetric SPH supports inviscid fluids with slip ghost walls only for now (issue 15)"
 
 
 def _check_axisymmetric(deck: Deck) -> None:
     """What an axisymmetric deck cannot hold yet: rigid parts, smoothed ALE meshes (an ALE part is
     eulerian or lagrangian, ale/axisymmetric.py), contacts other than SPH particles on a solid part's faces
-    (contact.system, rings), ALE couplings; SPH
+    (contact.system, rings); SPH
     parts only of inviscid non-explosive fluids, with slip ghost walls (sph/axisymmetric.py)."""
     sph = False
     for pname, part in deck.parts.items():
@@ -155,8 +155,6 @@ def _check_axisymmetric(deck: Deck) -> None:
         kind = getattr(deck.sections.get(slave.section), "type", "solid") if slave is not None else "node set"
         if kind != "sph":
             raise ValueError(f"@contacts.{i}.nodes: {AXISYMMETRIC_CONTACT}; '{contact.nodes}' is {kind}")
-    if deck.couplings:
-        raise ValueError(f"@couplings.0: {AXISYMMETRIC_CONTACT}")
 
 
 def _check_meridian_half_plane(pname: str, part) -> None:

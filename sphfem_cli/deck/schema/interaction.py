@@ -63,7 +63,8 @@ class LagrangeInSolid(DeckModel):
     pfac: PositiveFloat = Field(0.1, description=(
         "Scale of the penalty stiffness from the fluid's bulk modulus [-]: k = pfac K l^2 / V per coupling point "
         "(LS-DYNA's PFAC; l the point's share of the segment, V the host element's area; 3D: k = pfac K A^2 / V, "
-        "A the point's share of the face's area, V the host's volume). The penalty acts as an extra fluid layer "
+        "A the point's share of the face's area, V the host's volume; axisymmetric: A = 2 pi r l the point's ring, "
+        "V the host's ring volume, forces for the full 2 pi). The penalty acts as an extra fluid layer "
         "L_c = n h / pfac (h the fluid element size, n = h / l the coupling points per fluid-element face; 3D: "
         "L_c = n^2 h / pfac, n = h / sqrt(A)); use pfac >= 2 n (3D: 2 n^2) to keep L_c below h/2 (`sphfem check` "
         "prints L_c). Default 0.1."))
