@@ -12,7 +12,8 @@ Python) are differences of the passes' minima, one figure. Passes:
 * ``element kernel``: ``fem.kernels.solid_element_forces`` (the step's element pass), and inside it,
   measured by separate loops over the same elements that call the kernel's own functions:
   ``  gather x, v``: the element's corner coordinates, velocities and mid-step coordinates;
-  ``  B matrix (2x)``: that gather plus ``hex8_gradient`` at mid-step and at x^{n+1}, less the gather;
+  ``  B matrix (2x)``: that gather plus ``hex8_gradient_faces`` (the kernel's) at mid-step and at
+  x^{n+1}, less the gather;
   ``  char. length``: ``hex8_char_length``;
   ``  material``: ``rotate_stress`` + the stress update and sound speed (elastic: ``elastic_stress_update``
   and ``elastic_sound_speed``, as the kernel chooses);
@@ -97,7 +98,7 @@ def stage_kernels():
     import numpy as np
     from numba import njit
 
-    from sphfem_cli.fem.geometry import hex8_char_length, hex8_gradient
+    from sphfem_cli.fem.geometry import hex8_char_length, hex8_gradient_faces
     from sphfem_cli.fem.kernels import rotate_stress
     from sphfem_cli.materials.ids import ELASTIC, EOS_NONE
     from sphfem_cli.materials.kernels import elastic_sound_speed, elastic_stress_update, sound_speed, update_stress
@@ -134,7 +135,7 @@ def stage_kernels():
                     xe[a, k] = x[n, k]
                     ve[a, k] = v[n, k]
                     xm[a, k] = x[n, k] - 0.5 * dt * v[n, k]
-            acc += hex8_gradient(xm, bm) + hex8_gradient(xe, b) + b[1, 3] + bm[2, 5] + ve[1, 1]
+            acc += hex8_gradient_faces(xm, bm) + hex8_gradient_faces(xe, b) + b[1, 3] + bm[2, 5] + ve[1, 1]
         out[0] = acc
 
     @njit
