@@ -56,6 +56,22 @@ the other passes) than alone. The "before" derived items were differences of med
 Before/after in one run (``--against`` a copy of main 76efb01, 3 interleaved child pairs, load
 0.3-0.5): step 2397 -> 920 ns (speed-up min 2.50, median 2.61), element kernel 2144 -> 729 (2.85 /
 2.94). Every change keeps the results bit for bit (commit messages).
+
+Branch hexspeed2 (factored gradient ``hex8_gradient_faces``, results moved at round-off), 3 December
+2026 17:28 UTC, main 2ff2903 and the branch run alternately twice (``--reps 7``), load 3.8-4.1,
+min ns per element-step of each run (two figures: run 1, run 2):
+
+| pass | main | branch |
+|---|---|---|
+| step | 739, 975 | 730, 597 |
+| element kernel | 666, 879 | 605, 501 |
+|   B matrix (2x) | 205, 265 | 140, 107 |
+|   hourglass | 210, 298 | 201, 193 |
+|   material | 69, 82 | 57, 53 |
+| scatter to nodes | 33, 39 | 38, 21 |
+
+Only the B matrix moves beyond the run-to-run spread of this shared machine (an earlier pair at
+load 4-5: 159 -> 102); the hourglass (the largest pass now) is unchanged.
 """
 from __future__ import annotations
 
