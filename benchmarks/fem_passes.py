@@ -12,7 +12,8 @@ Python) are differences of the passes' minima, one figure. Passes:
 * ``element kernel``: ``fem.kernels.solid_element_forces`` (the step's element pass), and inside it,
   measured by separate loops over the same elements that call the kernel's own functions:
   ``  gather x, v``: the element's corner coordinates, velocities and mid-step coordinates;
-  ``  B matrix (2x)``: that gather plus ``hex8_gradient`` at mid-step and at x^{n+1}, less the gather;
+  ``  B matrix (2x)``: that gather plus ``hex8_gradient_faces`` (the kernel's) at mid-step and at
+  x^{n+1}, less the gather;
   ``  char. length``: ``hex8_char_length``;
   ``  material``: ``rotate_stress`` + the stress update and sound speed (elastic: ``elastic_stress_update``
   and ``elastic_sound_speed``, as the kernel chooses);
@@ -55,6 +56,22 @@ the other passes) than alone. The "before" derived items were differences of med
 Before/after in one run (``--against`` a copy of main 76efb01, 3 interleaved child pairs, load
 0.3-0.5): step 2397 -> 920 ns (speed-up min 2.50, median 2.61), element kernel 2144 -> 729 (2.85 /
 2.94). Every change keeps the results bit for bit (commit messages).
+
+Branch hexspeed2 (factored gradient ``hex8_gradient_faces``, results moved at round-off), 3 December
+2026 17:28 UTC, main 2ff2903 and the branch run alternately twice (``--reps 7``), load 3.8-4.1,
+min ns per element-step of each run (two figures: run 1, run 2):
+
+| pass | main | branch |
+|---|---|---|
+| step | 739, 975 | 730, 597 |
+| element kernel | 666, 879 | 605, 501 |
+|   B matrix (2x) | 205, 265 | 140, 107 |
+|   hourglass | 210, 298 | 201, 193 |
+|   material | 69, 82 | 57, 53 |
+| scatter to nodes | 33, 39 | 38, 21 |
+
+Only the B matrix moves beyond the run-to-run spread of this shared machine (an earlier pair at
+load 4-5: 159 -> 102); the hourglass (the largest pass now) is unchanged.
 """
 from __future__ import annotations
 
@@ -97,7 +114,7 @@ def stage_kernels():
     import numpy as np
     from numba import njit
 
-    from sphfem_cli.fem.geometry import hex8_char_length, hex8_gradient
+    from sphfem_cli.fem.geometry import hex8_char_length, hex8_gradient_faces
     from sphfem_cli.fem.kernels import rotate_stress
     from sphfem_cli.materials.ids import ELASTIC, EOS_NONE
     from sphfem_cli.materials.kernels import elastic_sound_speed, elastic_stress_update, sound_speed, update_stress
@@ -134,7 +151,7 @@ def stage_kernels():
                     xe[a, k] = x[n, k]
                     ve[a, k] = v[n, k]
                     xm[a, k] = x[n, k] - 0.5 * dt * v[n, k]
-            acc += hex8_gradient(xm, bm) + hex8_gradient(xe, b) + b[1, 3] + bm[2, 5] + ve[1, 1]
+            acc += hex8_gradient_faces(xm, bm) + hex8_gradient_faces(xe, b) + b[1, 3] + bm[2, 5] + ve[1, 1]
         out[0] = acc
 
     @njit

@@ -4,7 +4,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sphfem_cli.fem.geometry import hex8_gradient, hex8_gradient_rows, quad4_gradient
+from sphfem_cli.fem.geometry import (HEX_DV, HEX_FACES, hex8_gradient, hex8_gradient_faces, hex8_gradient_rows,
+                                     quad4_gradient)
 from sphfem_cli.fem.kernels import rotate_stress
 
 HEX_SIGNS = np.array([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
@@ -61,6 +62,42 @@ def test_hex8_gradient_written_out_is_the_table_sum_bit_for_bit():
         volume, volume_rows = hex8_gradient(x, b), hex8_gradient_rows(x, b_rows)
         assert np.float64(volume).tobytes() == np.float64(volume_rows).tobytes()
         assert b.tobytes() == b_rows.tobytes()
+
+
+def test_hex8_gradient_faces_grouping_is_the_table():
+    """Each node's nine HEX_DV rows are, face by face, +([a, b] + [a, c] + [b, c]) with a, b, c the
+    face's corners after the node in HEX_FACES's order: the identity hex8_gradient_faces is built on."""
+    for node in range(8):
+        rows = {(int(j), int(k)): int(s) for i, j, k, s in HEX_DV if i == node}
+        grouped = {}
+        for face in HEX_FACES.tolist():
+            if node in face:
+                p = face.index(node)
+                a, b, c = face[(p + 1) % 4], face[(p + 2) % 4], face[(p + 3) % 4]
+                for j, k in ((a, b), (a, c), (b, c)):
+                    grouped[(j, k) if j < k else (k, j)] = 1 if j < k else -1
+        assert grouped == rows
+
+
+def test_hex8_gradient_faces_is_the_table_form_to_round_off():
+    """The factored gradient: hex8_gradient's numbers to round-off, the Gauss reference, a linear field's
+    exact gradient, at scales 1e-3..1e3; an inverted hex gives a negative volume and b = 0."""
+    rng = np.random.default_rng(7)
+    b, b_ref = np.empty((3, 8)), np.empty((3, 8))
+    for i in range(200):
+        scale = rng.uniform(1e-3, 1e3)
+        x = distorted_hex(rng) * scale
+        volume, volume_ref = hex8_gradient_faces(x, b), hex8_gradient(x, b_ref)
+        assert volume == pytest.approx(volume_ref, rel=1e-13)
+        assert np.allclose(b * scale, b_ref * scale, rtol=0, atol=1e-13)
+        assert np.allclose(x.T @ b.T, np.eye(3), atol=1e-13)
+        if i < 20:
+            ref_v, ref_dvdx = hex_volume_and_dvdx(x / scale)
+            assert volume / scale**3 == pytest.approx(ref_v, rel=1e-13)
+            assert np.allclose(b * scale * ref_v, ref_dvdx, rtol=0, atol=1e-13)
+    inverted = distorted_hex(rng)[[4, 5, 6, 7, 0, 1, 2, 3]]
+    assert hex8_gradient_faces(inverted, b) < 0.0
+    assert not b.any()
 
 
 def test_quad4_gradient():
