@@ -44,6 +44,7 @@ def test_identical_run_after_run_and_on_1_or_2_threads(tmp_path, kind):
     numba.set_num_threads(1)
 
 
+@pytest.mark.cold_cache
 def test_a_run_that_compiles_its_kernels_equals_one_that_loads_them(tmp_path):
     """The first run after a kernel change compiles the kernels and writes numba's cache, later runs
     load it: both must give the same bits (FMA contraction, then reassociation outside the neighbour
@@ -96,6 +97,7 @@ print(json.dumps([float(v).hex() for v in out]))
 """
 
 
+@pytest.mark.cold_cache
 def test_a_shared_kernel_compiles_the_same_whoever_calls_it_first(tmp_path):
     """numba compiles a callee that states no fastmath with the flags of the caller that first needs
     it and caches that version; the functions the fast-math SPH kernels call state fastmath=False
