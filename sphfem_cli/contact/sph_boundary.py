@@ -130,7 +130,12 @@ class SphBoundaryCoupling:
         self.f_fluid[:] = 0.0
         self._power = 0.0
         if len(self.ws) and pts is not None:
-            args = (pts["sx"], pts["sd"])
+            # the slots of this coupling's SPH part (another part has its own coupling)
+            perm = pts["perm"]
+            mine = np.zeros(len(pts["sx"]), dtype=np.bool_)
+            real = np.flatnonzero(perm < ps.n)
+            mine[real] = self.sim.model.particles.part[ps.ids[perm[real]]] == self.part_index
+            args = (pts["sx"], pts["sd"], mine)
             sw.wall_state(self.ws, self.material, *args, pts["cell_start"], ps.settings_f, ps.settings_i,
                           pts["grid_f"], pts["grid_i"], ps.params)
             self._power = sw.wall_pairs(self.ws, self.slip, *args, pts["perm"], pts["cell_start"], ps.settings_f,

@@ -47,12 +47,12 @@ def _on_side(ws, w, x, y, z):
 
 
 @njit(cache=True, parallel=True, fastmath=False, error_model="numpy")
-def wall_state(ws, mat, sx, sd, cell_start, settings_f, settings_i, grid_f, grid_i, params):
+def wall_state(ws, mat, sx, sd, mine, cell_start, settings_f, settings_i, grid_f, grid_i, params):
     """Adami, Hu & Adams (2012, J. Comput. Phys. 231, 7057, eq. 27) pressure of every boundary particle.
 
       p_w = (sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
 
-    over the fluid points f within 2 h_wf on its face's side; a_w the wall's acceleration. p_w is
+    over the fluid points f within 2 h_wf on its face's side (and of the coupled part: ``mine[slot]``); a_w the wall's acceleration. p_w is
     bounded below by the pressure cut-off; rho_w inverts the fluid material ``mat``'s EOS at p_w
     (initial energy), c_w its sound speed there. A particle with no fluid neighbour gets p = 0 and
     the reference density. Writes ``ws[:, W_RHO]``, ``ws[:, W_P]``, ``ws[:, W_C]``.
@@ -80,7 +80,7 @@ def wall_state(ws, mat, sx, sd, cell_start, settings_f, settings_i, grid_f, grid
             for cy in range(y0, y1 + 1):
                 base = (cz * ny + cy) * nx
                 for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
-                    if (int(sd[j, D_MK]) & 3) != KIND_FLUID:
+                    if (int(sd[j, D_MK]) & 3) != KIND_FLUID or not mine[j]:
                         continue
                     if not _on_side(ws, w, sx[j, 0], sx[j, 1], sx[j, 2]):
                         continue
@@ -106,11 +106,11 @@ def wall_state(ws, mat, sx, sd, cell_start, settings_f, settings_i, grid_f, grid
 
 
 @njit(cache=True, fastmath=False, error_model="numpy")
-def wall_pairs(ws, slip, sx, sd, perm, cell_start, settings_f, settings_i, grid_f, grid_i, f_fluid, drho, de,
+def wall_pairs(ws, slip, sx, sd, mine, perm, cell_start, settings_f, settings_i, grid_f, grid_i, f_fluid, drho, de,
                f_wall):
     """The pair terms between every boundary particle w and the fluid on its face's side.
 
-    For fluid point i within 2 h_iw (grad_i W_iw = F_iw (x_i - x_w), v_iw = v_i - v_w, Pi_iw the
+    For fluid point i within 2 h_iw on w's face's side, of the coupled part (``mine[slot]``) (grad_i W_iw = F_iw (x_i - x_w), v_iw = v_i - v_w, Pi_iw the
     Monaghan viscosity of ``rates.fluid_rates`` with the same alpha, beta, eps; with ``slip`` it sees
     only the normal part (v_iw . n_w) n_w of the relative velocity):
 
@@ -148,7 +148,7 @@ def wall_pairs(ws, slip, sx, sd, perm, cell_start, settings_f, settings_i, grid_
             for cy in range(y0, y1 + 1):
                 base = (cz * ny + cy) * nx
                 for k in range(cell_start[base + x0], cell_start[base + x1 + 1]):
-                    if (int(sd[k, D_MK]) & 3) != KIND_FLUID:
+                    if (int(sd[k, D_MK]) & 3) != KIND_FLUID or not mine[k]:
                         continue
                     if not _on_side(ws, w, sx[k, 0], sx[k, 1], sx[k, 2]):
                         continue
