@@ -106,7 +106,7 @@ def test_free_plate_conserves_momentum_and_energy(tmp_path):
     assert np.abs(coupling.f_nodes).max() > 0.0
     np.testing.assert_allclose(_momentum(sim), p0, rtol=0.0, atol=1e-12 * np.linalg.norm(p0))
     row = sim.energy_row()
-    assert abs(row.ratio - 1.0) < 0.01, row  # 1.0019 measured on the section 4.1 scene at 0.1 ms
+    assert abs(row.ratio - 1.0) < 1e-3, row  # 0.99991 measured after these 40 steps
 
 
 @pytest.mark.validation
