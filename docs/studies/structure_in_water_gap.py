@@ -8,7 +8,8 @@ Each case writes a variant of decks/structure_in_water_{ale,sph}.yaml into study
 the code-to-code settings of the study: ALE Lagrangian mesh with L_c = h / 2, i.e. pfac 16 / 16 / 10 at nquad
 2 / 4 / 5 for 10 / 5 / 2.5 mm; SPH at ratios 2 / 3 / 4 of the 10 mm ALE size), runs it on one thread and appends
 its CPU seconds to study_siw_gap/log.txt. "gap" is the shipped scene (water under the plate's driven bottom end,
-0 < y < 0.05, joining the two sides); "nogap" raises the tank floor to the plate's bottom (y = 0.05), so the two
+0 < y < 0.05, joining the two sides); "sb" is the SPH variant with the
+sph_boundary coupling (boundary particles carried by the plate) in place of the penalty contact. "nogap" raises the tank floor to the plate's bottom (y = 0.05), so the two
 sides are closed chambers and no water flows round the plate's end (the bottom nodes slide on the slip floor).
 Every variant records the x force of the contact / coupling on three bands of each face of the plate
 (y 0.05-0.10, 0.10-0.15, 0.15-0.20) and on its bottom face; `--summary` prints the mid-height peaks and the
@@ -23,7 +24,8 @@ import yaml
 ROOT = Path(__file__).resolve().parents[2]
 WORK = Path("study_siw_gap")
 LEVELS = {"ale": {"10": (0.01, 2, 16.0), "5": (0.005, 4, 16.0), "2.5": (0.0025, 5, 10.0)},  # size, nquad, pfac
-          "sph": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025}}
+          "sph": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025},
+          "sb": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025}}  # SPH with the sph_boundary coupling
 CASES = [f"{kind}_{level}_{geo}" for geo in ("gap", "nogap") for kind in LEVELS for level in LEVELS[kind]]
 BANDS = ((0.0499, 0.1001), (0.1002, 0.1501), (0.1502, 0.2001))  # node boxes: each face node in exactly one band
 WINDOWS = {"drive": (0.0, 0.75e-3), "rebound": (0.75e-3, 1.6e-3)}
@@ -31,7 +33,8 @@ WINDOWS = {"drive": (0.0, 0.75e-3), "rebound": (0.75e-3, 1.6e-3)}
 
 def variant(name: str) -> Path:
     kind, level, geo = name.split("_")
-    d = copy.deepcopy(yaml.safe_load(open(ROOT / f"decks/structure_in_water_{kind}.yaml")))
+    base = "sph" if kind == "sb" else kind
+    d = copy.deepcopy(yaml.safe_load(open(ROOT / f"decks/structure_in_water_{base}.yaml")))
     d["control"]["end_time"] = 0.002
     d["parts"]["plate"]["geometry"]["box"]["divisions"] = [4, 60]
     sets, hist = d["sets"], d["output"]["histories"]
@@ -47,7 +50,7 @@ def variant(name: str) -> Path:
         box.update(min=[0.0, floor], element_size=size)
         d["couplings"][0].update(nquad=nquad, pfac=pfac)
     else:
-        dx = LEVELS["sph"][level]
+        dx = LEVELS[kind][level]
         tank = d["parts"]["tank"]
         tank["spacing"] = dx
         d["boundaries"][-1]["min"] = [0.0, floor]
@@ -57,6 +60,9 @@ def variant(name: str) -> Path:
             right["geometry"] = {"polygon": {"vertices": [[0.21, 0.05], [0.4, 0.05], [0.4, 0.2], [0.21, 0.2], [0.21, 0.05]]}}
             d["parts"]["tank"], d["parts"]["tank_right"] = left, right
             d["contacts"].append(dict(d["contacts"][0], nodes="tank_right"))
+        if kind == "sb":  # boundary particles carried by the plate instead of the penalty contact
+            d["couplings"] = [{"type": "sph_boundary", "structure": "plate", "fluid": c["nodes"]} for c in d["contacts"]]
+            d["contacts"] = []
     WORK.mkdir(exist_ok=True)
     path = WORK / f"{name}.yaml"
     yaml.safe_dump(d, open(path, "w"), sort_keys=False)

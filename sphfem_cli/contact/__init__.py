@@ -4,6 +4,8 @@
 - `kernels`: the compiled search and penalty kernels of nodes-to-surface contact.
 - `system`: `NodesToSurfaceContact`, the deck's `contacts` inside the explicit loop.
 - `coupling`, `coupling_kernels`, `coupling_kernels_3d`: `LagrangeInSolidCoupling`, the deck's ALE-to-structure `couplings`.
+- `sph_boundary`: `SphBoundaryCoupling`, SPH-to-structure `couplings` by boundary particles the structure carries
+  (kernels in sph/structure_walls.py).
 
 Imported only when a deck has contacts or couplings (see solver.explicit for the interface).
 """

@@ -92,7 +92,13 @@ class Simulation:
         if options.couplings:
             from ..contact.coupling import LagrangeInSolidCoupling
 
-            self.interactions += [LagrangeInSolidCoupling(self, spec) for spec in options.couplings]
+            for spec in options.couplings:
+                if spec.type == "sph_boundary":
+                    from ..contact.sph_boundary import SphBoundaryCoupling
+
+                    self.interactions.append(SphBoundaryCoupling(self, spec))
+                else:
+                    self.interactions.append(LagrangeInSolidCoupling(self, spec))
         self._dt_first: float | None = None
         self.limiter = "solid"  # the kind of domain that set the last step, or contact, dt_max, none
         self._energy_scale = 0.0  # the energy in play, largest so far (guards.energy_out_of_band)

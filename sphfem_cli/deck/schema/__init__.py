@@ -61,7 +61,7 @@ class Deck(DeckModel):
     initial: list[Initial] = Field(default_factory=list, description="Initial conditions.")
     loads: list[Load] = Field(default_factory=list, description="Loads.")
     contacts: list[Contact] = Field(default_factory=list, description="Penalty contacts (SPH or nodes to surfaces).")
-    couplings: list[Coupling] = Field(default_factory=list, description="ALE fluid to structure couplings.")
+    couplings: list[Coupling] = Field(default_factory=list, description="Fluid to structure couplings: ALE (lagrange_in_solid) or SPH (sph_boundary).")
     detonations: list[Detonation] = Field(
         default_factory=list,
         description="Detonation points of the high explosives (programmed burn); none: every explosive lights at t = 0.",
@@ -434,6 +434,19 @@ def _check_interactions(deck: Deck, sph_parts: set, ale_parts: set) -> None:
         path = f"couplings.{i}"
         surface(c.structure, f"{path}.structure")
         _ref(c.fluid, deck.parts, f"{path}.fluid", "part")
+        if c.type == "sph_boundary":
+            if c.fluid not in sph_parts:
+                raise ValueError(f"@{path}.fluid: '{c.fluid}' is not an SPH part (sph_boundary couples SPH particles; "
+                                 "an ALE part takes lagrange_in_solid)")
+            if deck.dimension != 2:
+                raise ValueError(f"@{path}.type: sph_boundary couplings are 2D plane only for now (3D: use a "
+                                 "nodes_to_surface contact)")
+            material = deck.materials.get(deck.parts[c.fluid].material)
+            if getattr(material, "viscosity", 0.0):
+                raise ValueError(f"@{path}.fluid: sph_boundary couples inviscid fluids only for now (the viscous "
+                                 f"stress does not see the boundary particles); '{deck.parts[c.fluid].material}' "
+                                 "is viscous")
+            continue
         if c.fluid not in ale_parts:
             raise ValueError(f"@{path}.fluid: '{c.fluid}' is not an ALE part")
         for j, mname in enumerate(c.materials or []):

@@ -3,7 +3,7 @@
 `contacts` are penalty contacts with points as slaves (SPH particles or the nodes of a solid part)
 and the outer faces of a solid part as master segments (LS-DYNA *CONTACT_AUTOMATIC_NODES_TO_SURFACE).
 `couplings` join an ALE fluid to a Lagrangian structure (LS-DYNA *CONSTRAINED_LAGRANGE_IN_SOLID,
-penalty form).
+penalty form), or an SPH fluid to a structure by boundary particles the structure carries (``sph_boundary``).
 """
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ from pydantic import Field
 
 from .base import DeckModel, NonNegativeFloat, PositiveFloat
 
-__all__ = ["NodesToSurface", "LagrangeInSolid", "Contact", "Coupling"]
+__all__ = ["NodesToSurface", "LagrangeInSolid", "SphBoundary", "Contact", "Coupling"]
 
 
 class NodesToSurface(DeckModel):
@@ -76,5 +76,29 @@ class LagrangeInSolid(DeckModel):
     )
 
 
+class SphBoundary(DeckModel):
+    """SPH fluid on a structure through dummy boundary particles carried by the structure's wetted faces."""
+
+    type: Literal["sph_boundary"] = Field(description=(
+        "Coupling selector: SPH fluid to structure by boundary (dummy) particles the structure carries (Adami, Hu & "
+        "Adams 2012 pressure with the wall's acceleration; DualSPHysics' boundary particles of a floating or driven "
+        "body). Layers of particles at the fluid's spacing lie inside the structure along each outer face, tied to "
+        "the face's nodes; each interacts only with fluid on its face's side, and the fluid's forces on them are "
+        "scattered to the nodes. 2D plane models only for now (3D and axisymmetric decks are refused)."))
+    structure: str = Field(description="The structure: a solid or rigid part (its outer faces) or a segment set.")
+    fluid: str = Field(description="The SPH part.")
+    layers: int | None = Field(None, ge=1, le=8, description=(
+        "Layers of boundary particles behind each face [-]. Default enough to cover the kernel support: "
+        "ceil(2 h / dx), 3 for the cubic spline at h/dx = 1.2."))
+    condition: Literal["no_slip", "slip"] = Field("no_slip", description=(
+        "The artificial viscosity between fluid and boundary particles: no_slip takes the face's velocity, slip only "
+        "its normal component (the tangential relative velocity is dropped). Default no_slip."))
+    wall_acceleration: bool = Field(False, description=(
+        "Use the nodes' accelerations (from their last two velocities) in the boundary pressure p_w = (sum p_f W + "
+        "(g - a_w) . sum rho_f r_wf W) / sum W. Off by default: on the paper's section 4.1 plate (4 x 60 "
+        "elements, dx 5 mm) the nodes' step-to-step accelerations made the run blow up within 23 steps; "
+        "off, a_w = 0 and only gravity enters."))
+
+
 Contact = Annotated[Union[NodesToSurface], Field(discriminator="type")]
-Coupling = Annotated[Union[LagrangeInSolid], Field(discriminator="type")]
+Coupling = Annotated[Union[LagrangeInSolid, SphBoundary], Field(discriminator="type")]

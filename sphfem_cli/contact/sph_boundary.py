@@ -1,0 +1,168 @@
+"""``SphBoundaryCoupling``: an SPH fluid on a structure through boundary particles the structure carries (2D).
+
+The deck's ``couplings: {type: sph_boundary}``. Behind every outer face of the structure (segment
+a -> b, outward normal n to the right of a -> b, contact/surface.py) lie ``layers`` rows of boundary
+particles at the fluid's spacing dx: round(L_0 / dx) particles along the face at parameters
+s_k = (k + 1/2) / n_s and depths d_l = (l + 1/2) dx, l = 0 .. layers - 1, each of mass
+rho_0 (L_0 / n_s) dx. Each step, at state n, every particle is placed from the face's nodes,
+
+    x_w = (1 - s) x_a + s x_b - d n,      v_w = (1 - s) v_a + s v_b,      a_w = (1 - s) a_a + s a_b
+
+(a_w from the nodes' velocities of the last two steps with ``wall_acceleration``, else 0; the rotation
+of n is not in v_w), its
+pressure is extrapolated from the fluid on its face's side (``sph.structure_walls.wall_state``,
+Adami et al. 2012 with g - a_w), and the pair terms with that fluid are added to the particles'
+rates (``wall_pairs``): the forces to ``f_ext``, the continuity and energy terms to ``drho`` and
+``de``. The reaction on each boundary particle goes to its face's nodes with weights 1 - s and s,
+so fluid + structure momentum is conserved to round-off.
+
+Energy: the fluid's internal-energy gain from the wall pairs, q = sum_i m_i de_i (``wall_pairs``), is
+no work of f_ext, so it is booked on the fluid's side (subtracted from ``SphSystem.wall_energy``,
+which the fluid's work subtracts); the interaction's ``work`` is the work of its forces on the
+particles and the nodes (as the loop's integrators weigh them) plus q, and the energy table books
+-work as contact energy: the share of the pair work the boundary absorbs, as ``wall_energy`` does
+for fixed dummy walls.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..deck.schema.interaction import SphBoundary
+from ..materials.kernels import P_RHO0
+from ..sph import structure_walls as sw
+from .surface import master_segments
+
+
+class SphBoundaryCoupling:
+    """One ``sph_boundary`` coupling inside the explicit loop (solver.explicit's interface)."""
+
+    def __init__(self, sim, spec: SphBoundary):
+        model = sim.model
+        self.sim, self.spec, self.name = sim, spec, f"{spec.fluid}->{spec.structure}"
+        if model.dim != 2 or getattr(model, "axisymmetric", False):
+            raise ValueError("sph_boundary coupling is 2D plane only")
+        self.dim = model.dim
+        self.faces, _ = master_segments(model, spec.structure)
+        ps = sim.particles.system
+        self.part_index = model.part_index(spec.fluid)
+        mine = model.particles.part == self.part_index
+        self.spacing = dx = float(np.median(model.particles.spacing[mine]))
+        self.material = int(np.bincount(model.particles.material[mine]).argmax())
+        ratio = float(ps.options.smoothing_ratio)
+        self.layers = spec.layers or int(math.ceil(2.0 * ratio - 1e-9))
+        self.slip = spec.condition == "slip"
+        x0 = model.coordinates
+        length0 = np.linalg.norm(x0[self.faces[:, 1]] - x0[self.faces[:, 0]], axis=1)
+        per_face = np.maximum(1, np.round(length0 / dx)).astype(np.int64)
+        seg, s, depth, mass = [], [], [], []
+        rho0 = float(ps.params[self.material, P_RHO0])
+        for f in range(len(self.faces)):
+            n_s = int(per_face[f])
+            for l in range(self.layers):
+                for k in range(n_s):
+                    seg.append(f)
+                    s.append((k + 0.5) / n_s)
+                    depth.append((l + 0.5) * dx)
+                    mass.append(rho0 * length0[f] / n_s * dx)
+        self.seg = np.asarray(seg, dtype=np.int64)
+        self.s = np.asarray(s, dtype=np.float64)
+        self.depth = np.asarray(depth, dtype=np.float64)
+        self.ws = np.zeros((len(self.seg), sw.NW))
+        self.ws[:, sw.W_M] = mass
+        self.ws[:, sw.W_H] = ratio * dx
+        self.ws[:, sw.W_RHO] = rho0
+        self.f_wall = np.zeros((len(self.seg), 3))
+        self.f_nodes = np.zeros((model.n_nodes, self.dim))
+        self.f_fluid = np.zeros((ps.n, self.dim))
+        self._v_prev = None
+        self._dt_prev = 0.0
+        self.work = 0.0
+        self._power = 0.0
+        self._v_start = None
+        x0 = np.asarray(model.coordinates, dtype=np.float64)
+        self.place(x0, np.zeros_like(x0), np.zeros_like(x0))
+
+    # ------------------------------------------------------------------ particles from nodes
+
+    def place(self, x: np.ndarray, v: np.ndarray, a: np.ndarray) -> None:
+        """Positions, velocities, accelerations, face points and normals of the particles from the nodes."""
+        ia, ib = self.faces[self.seg, 0], self.faces[self.seg, 1]
+        t = x[ib] - x[ia]
+        length = np.linalg.norm(t, axis=1)
+        normal = np.stack([t[:, 1], -t[:, 0]], axis=1) / np.maximum(length, 1e-300)[:, None]
+        s = self.s[:, None]
+        face = (1.0 - s) * x[ia] + s * x[ib]
+        ws = self.ws
+        ws[:, sw.W_FX:sw.W_FY + 1] = face
+        ws[:, sw.W_NX:sw.W_NY + 1] = normal
+        ws[:, sw.W_X:sw.W_Y + 1] = face - self.depth[:, None] * normal
+        ws[:, sw.W_VX:sw.W_VY + 1] = (1.0 - s) * v[ia] + s * v[ib]
+        ws[:, sw.W_AX:sw.W_AY + 1] = (1.0 - s) * a[ia] + s * a[ib]
+
+    def particles(self) -> np.ndarray:
+        """(Nw, 2) positions of the boundary particles now."""
+        return self.ws[:, sw.W_X:sw.W_Y + 1].copy()
+
+    # ----------------------------------------------------------------------------- loop
+
+    def stable_dt(self) -> float:
+        """No step of its own: the boundary particles carry the fluid's sound speed (the fluid's CFL)."""
+        return np.inf
+
+    def forces(self, st) -> None:
+        """Place the particles at state n, extrapolate their pressures, add the pair terms to the fluid's
+        rates (of state n, computed by the SPH domain's stable_dt) and the reactions to the nodes."""
+        ps = self.sim.particles.system
+        # wall acceleration from the nodes' last two velocities v^{n-1/2}, v^{n-3/2}
+        if not self.spec.wall_acceleration or self._v_prev is None or self._dt_prev <= 0.0:
+            acc = np.zeros_like(st.v)
+        else:
+            acc = (st.v - self._v_prev) / (0.5 * (self._dt_prev + st.dt_prev))
+        self._dt_prev = st.dt_prev
+        self._v_prev = st.v.copy()
+        self.place(st.x, st.v, acc)
+        pts = ps._sorted
+        self.f_wall[:] = 0.0
+        if self.f_fluid.shape[0] != ps.n:
+            self.f_fluid = np.zeros((ps.n, self.dim))
+        self.f_fluid[:] = 0.0
+        self._power = 0.0
+        if len(self.ws) and pts is not None:
+            # the slots of this coupling's SPH part (another part has its own coupling)
+            perm = pts["perm"]
+            mine = np.zeros(len(pts["sx"]), dtype=np.bool_)
+            real = np.flatnonzero(perm < ps.n)
+            mine[real] = self.sim.model.particles.part[ps.ids[perm[real]]] == self.part_index
+            args = (pts["sx"], pts["sd"], mine)
+            sw.wall_state(self.ws, self.material, *args, pts["cell_start"], ps.settings_f, ps.settings_i,
+                          pts["grid_f"], pts["grid_i"], ps.params)
+            self._power = sw.wall_pairs(self.ws, self.slip, *args, pts["perm"], pts["cell_start"], ps.settings_f,
+                                        ps.settings_i, pts["grid_f"], pts["grid_i"], self.f_fluid, ps.drho, ps.de,
+                                        self.f_wall)
+        ps.f_ext += self.f_fluid
+        self.f_nodes[:] = 0.0
+        fw = self.f_wall[:, : self.dim]
+        np.add.at(self.f_nodes, self.faces[self.seg, 0], (1.0 - self.s)[:, None] * fw)
+        np.add.at(self.f_nodes, self.faces[self.seg, 1], self.s[:, None] * fw)
+        st.f_contact += self.f_nodes
+        self._v_start = ps.v_half.copy() if ps.nsteps else ps.v.copy()  # v^{n-1/2} (v^0 at the start)
+
+    def record_work(self, dt: float, dt_avg: float, v_old: np.ndarray, st) -> None:
+        """Work of the forces on nodes and particles over the step, as the loop's integrators weigh them, plus
+        the fluid's internal energy from the wall pairs (the kick's weight dt_avg)."""
+        ps = self.sim.particles.system
+        w = float(np.sum(self.f_nodes * (v_old + st.v))) * 0.5 * dt_avg
+        w += float(np.sum(self.f_fluid * (self._v_start + ps.v_half))) * 0.5 * dt_avg
+        heat = self._power * dt_avg
+        self.work += w + heat
+        # the fluid's internal energy from the wall pairs is no work of f_ext: book it on the fluid's side
+        # as the dummy walls' share is booked (SphSystem.wall_energy, subtracted from the fluid's work)
+        ps.wall_energy -= heat
+
+    # --------------------------------------------------------------------------- output
+
+    def coupled_points(self) -> int:
+        """Boundary particles of the coupling."""
+        return len(self.ws)

@@ -1,0 +1,195 @@
+"""Boundary (dummy) particles carried by a structure: their Adami pressure and their pair terms with the fluid.
+
+The particles lie inside the structure in layers behind its wetted faces (``contact/sph_boundary.py``
+places them and moves them with the face's nodes). They are not points of the SPH evaluation
+(``sph/search.py``): these kernels read the fluid slots of the last evaluation's cell-sorted point set
+(``sx``, ``sd``, ``cell_start``, the grid) and add the wall pairs' terms to the fluid's rates afterwards.
+
+One-sided: a boundary particle w of a face with outward normal n_w through the point x_fw (its
+projection on the face) sees only fluid particles f with (x_f - x_fw) . n_w > 0, so a plate thinner
+than the kernel support carries on each face the pressure of the water on that face, and the
+layers of one face may lie beyond the other face.
+
+Equations: docs/theory/coupling.md ("SPH boundary particles on a structure").
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit, prange
+
+from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0
+from ..materials.slots import Q_E0
+from .eos import density_from_pressure, sound_speed
+from .kernel_functions import kernel_f, kernel_w
+from .search import cell_range
+from .slots import (CONTINUITY_MASS, D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX,
+                    GF_OY, GF_OZ, GI_NX, GI_NY, GI_NZ, KIND_FLUID, SF_ALPHA, SF_BETA, SF_EPS, SF_GX, SF_GY, SF_GZ,
+                    SF_PRESSURE_CUTOFF, SI_CONTINUITY, SI_DIM, SI_KERNEL)
+
+# columns of the boundary particles' state array ``ws`` (one row per particle)
+W_X, W_Y, W_Z = 0, 1, 2          # position
+W_VX, W_VY, W_VZ = 3, 4, 5       # velocity
+W_AX, W_AY, W_AZ = 6, 7, 8       # acceleration of the wall
+W_NX, W_NY, W_NZ = 9, 10, 11     # outward unit normal of its face
+W_FX, W_FY, W_FZ = 12, 13, 14    # its projection on the face
+W_M, W_H = 15, 16                # mass, smoothing length
+W_RHO, W_P, W_C = 17, 18, 19     # density, pressure, sound speed (wall_state writes them)
+NW = 20
+
+
+@njit(cache=True, fastmath=False)
+def _on_side(ws, w, x, y, z):
+    """(x - x_fw) . n_w > 0: the fluid point lies on the side of particle w's face."""
+    return ((x - ws[w, W_FX]) * ws[w, W_NX] + (y - ws[w, W_FY]) * ws[w, W_NY]
+            + (z - ws[w, W_FZ]) * ws[w, W_NZ]) > 0.0
+
+
+@njit(cache=True, parallel=True, fastmath=False, error_model="numpy")
+def wall_state(ws, mat, sx, sd, mine, cell_start, settings_f, settings_i, grid_f, grid_i, params):
+    """Adami, Hu & Adams (2012, J. Comput. Phys. 231, 7057, eq. 27) pressure of every boundary particle.
+
+      p_w = (sum_f p_f W_wf + (g - a_w) . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf
+
+    over the fluid points f within 2 h_wf on its face's side (and of the coupled part: ``mine[slot]``); a_w the wall's acceleration. p_w is
+    bounded below by the pressure cut-off; rho_w inverts the fluid material ``mat``'s EOS at p_w
+    (initial energy), c_w its sound speed there. A particle with no fluid neighbour gets p = 0 and
+    the reference density. Writes ``ws[:, W_RHO]``, ``ws[:, W_P]``, ``ws[:, W_C]``.
+    """
+    kernel, dim = settings_i[SI_KERNEL], settings_i[SI_DIM]
+    nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
+    hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
+    ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
+    cutoff = settings_f[SF_PRESSURE_CUTOFF]
+    inv_cell = 1.0 / cell
+    rho0 = params[mat, P_RHO0]
+    eos = int(params[mat, P_EOS_TYPE])
+    q = params[mat, EOS_OFFSET:]
+    for w in prange(ws.shape[0]):
+        xw, yw, zw, hw = ws[w, W_X], ws[w, W_Y], ws[w, W_Z], ws[w, W_H]
+        gx = settings_f[SF_GX] - ws[w, W_AX]
+        gy = settings_f[SF_GY] - ws[w, W_AY]
+        gz = settings_f[SF_GZ] - ws[w, W_AZ]
+        reach = hw + hmax  # bounds every 2 h_wf
+        x0, x1 = cell_range(xw, reach, ox, inv_cell, nx)
+        y0, y1 = cell_range(yw, reach, oy, inv_cell, ny)
+        z0, z1 = cell_range(zw, reach, oz, inv_cell, nz)
+        sw = spw = srx = sry = srz = 0.0
+        for cz in range(z0, z1 + 1):
+            for cy in range(y0, y1 + 1):
+                base = (cz * ny + cy) * nx
+                for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
+                    if (int(sd[j, D_MK]) & 3) != KIND_FLUID or not mine[j]:
+                        continue
+                    if not _on_side(ws, w, sx[j, 0], sx[j, 1], sx[j, 2]):
+                        continue
+                    dx, dy, dz = xw - sx[j, 0], yw - sx[j, 1], zw - sx[j, 2]
+                    hij = 0.5 * (hw + sx[j, 3])
+                    r2 = dx * dx + dy * dy + dz * dz
+                    if r2 >= 4.0 * hij * hij:
+                        continue
+                    wv = kernel_w(kernel, dim, math.sqrt(r2), hij)
+                    rj = sd[j, D_RHO]
+                    sw += wv
+                    spw += sd[j, D_PR] * rj * rj * wv  # sd holds p / rho^2
+                    srx += rj * wv * dx
+                    sry += rj * wv * dy
+                    srz += rj * wv * dz
+        pw = (spw + gx * srx + gy * sry + gz * srz) / sw if sw > 0.0 else 0.0
+        if pw < cutoff:
+            pw = cutoff
+        rw = density_from_pressure(eos, q, rho0, pw, q[Q_E0], rho0) if sw > 0.0 else rho0
+        ws[w, W_RHO] = rw
+        ws[w, W_P] = pw
+        ws[w, W_C] = sound_speed(eos, q, rw / rho0, q[Q_E0])
+
+
+@njit(cache=True, fastmath=False, error_model="numpy")
+def wall_pairs(ws, slip, sx, sd, mine, perm, cell_start, settings_f, settings_i, grid_f, grid_i, f_fluid, drho, de,
+               f_wall):
+    """The pair terms between every boundary particle w and the fluid on its face's side.
+
+    For fluid point i within 2 h_iw on w's face's side, of the coupled part (``mine[slot]``) (grad_i W_iw = F_iw (x_i - x_w), v_iw = v_i - v_w, Pi_iw the
+    Monaghan viscosity of ``rates.fluid_rates`` with the same alpha, beta, eps; with ``slip`` it sees
+    only the normal part (v_iw . n_w) n_w of the relative velocity):
+
+      F_i      = -m_i m_w (p_i/rho_i^2 + p_w/rho_w^2 + Pi_iw) grad_i W_iw     (added to f_fluid[i])
+      drho_i  += rho_i V_w v_iw . grad_i W_iw      [mass form: m_w v_iw . grad_i W_iw]
+      de_i    += 1/2 m_w (p_i/rho_i^2 + p_w/rho_w^2 + Pi_iw) v_iw . grad_i W_iw
+
+    (the fluid's half of the pair work, as for fixed dummy walls in ``fluid_rates``), and the
+    reaction -F_i on the boundary particle (added to f_wall[w]), so the pair forces cancel. Serial
+    over the boundary particles: each fluid row is written by every particle near it.
+
+    Returns the fluid's internal power sum_i m_i (its de increments), the energy table's share.
+    """
+    kernel, dim = settings_i[SI_KERNEL], settings_i[SI_DIM]
+    mform = settings_i[SI_CONTINUITY] == CONTINUITY_MASS
+    alpha, beta, eps = settings_f[SF_ALPHA], settings_f[SF_BETA], settings_f[SF_EPS]
+    nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
+    hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
+    ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
+    inv_cell = 1.0 / cell
+    power = 0.0
+    for w in range(ws.shape[0]):
+        xw, yw, zw, hw = ws[w, W_X], ws[w, W_Y], ws[w, W_Z], ws[w, W_H]
+        uw, vw, ww = ws[w, W_VX], ws[w, W_VY], ws[w, W_VZ]
+        nxw, nyw, nzw = ws[w, W_NX], ws[w, W_NY], ws[w, W_NZ]
+        mw, rw, cw = ws[w, W_M], ws[w, W_RHO], ws[w, W_C]
+        sw = ws[w, W_P] / (rw * rw)
+        volw = mw / rw
+        reach = hw + hmax
+        x0, x1 = cell_range(xw, reach, ox, inv_cell, nx)
+        y0, y1 = cell_range(yw, reach, oy, inv_cell, ny)
+        z0, z1 = cell_range(zw, reach, oz, inv_cell, nz)
+        fx = fy = fz = 0.0
+        for cz in range(z0, z1 + 1):
+            for cy in range(y0, y1 + 1):
+                base = (cz * ny + cy) * nx
+                for k in range(cell_start[base + x0], cell_start[base + x1 + 1]):
+                    if (int(sd[k, D_MK]) & 3) != KIND_FLUID or not mine[k]:
+                        continue
+                    if not _on_side(ws, w, sx[k, 0], sx[k, 1], sx[k, 2]):
+                        continue
+                    dx, dy, dz = sx[k, 0] - xw, sx[k, 1] - yw, sx[k, 2] - zw  # x_i - x_w
+                    hij = 0.5 * (hw + sx[k, 3])
+                    r2 = dx * dx + dy * dy + dz * dz
+                    if r2 >= 4.0 * hij * hij or r2 == 0.0:
+                        continue
+                    f = kernel_f(kernel, dim, math.sqrt(r2), hij)
+                    gx, gy, gz = f * dx, f * dy, f * dz
+                    du, dv, dw = sd[k, D_VX] - uw, sd[k, D_VY] - vw, sd[k, D_VZ] - ww
+                    vdotg = du * gx + dv * gy + dw * gz
+                    vr = du * dx + dv * dy + dw * dz
+                    if slip:  # the normal part of v_iw only, in the viscosity
+                        vn = du * nxw + dv * nyw + dw * nzw
+                        rn = dx * nxw + dy * nyw + dz * nzw
+                        vr = vn * rn
+                    vr = min(vr, 0.0)
+                    rhoi = sd[k, D_RHO]
+                    dd = r2 + eps * hij * hij
+                    rij = 0.5 * (rhoi + rw)
+                    cij = 0.5 * (sd[k, D_C] + cw)
+                    hv = hij * vr
+                    pi_iw = hv * (beta * hv - alpha * cij * dd) / (dd * dd * rij)
+                    s = sd[k, D_PR] + sw + pi_iw
+                    i = perm[k]
+                    mi = sd[k, D_VOL] * rhoi
+                    c = mi * mw * s
+                    f_fluid[i, 0] -= c * gx
+                    fx += c * gx
+                    if dim > 1:
+                        f_fluid[i, 1] -= c * gy
+                        fy += c * gy
+                    if dim > 2:
+                        f_fluid[i, 2] -= c * gz
+                        fz += c * gz
+                    drho[i] += (mw if mform else rhoi * volw) * vdotg
+                    dei = 0.5 * mw * s * vdotg
+                    de[i] += dei
+                    power += mi * dei
+        f_wall[w, 0] += fx
+        f_wall[w, 1] += fy
+        f_wall[w, 2] += fz
+    return power
