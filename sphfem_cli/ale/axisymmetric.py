@@ -1,8 +1,11 @@
-"""ALE in r-z (``dimension: axisymmetric``): the quad4 kernels whose geometry is the ring, not the plane.
+"""ALE in r-z (``dimension: axisymmetric``): the ring geometry of the quad4 kernels.
 
 The meridian plane holds x = r >= 0 and y = z (the axis). An element is the ring its quad sweeps
-about the axis; every volume, mass, force and energy is for the full 2 pi. Imported only by an
-axisymmetric ``AleSystem``: a plane or 3D mesh compiles none of these kernels.
+about the axis; every volume, mass, force and energy is for the full 2 pi. The plane quad4 kernels
+``lagrange.lagrange_energy`` and ``remap.face_fluxes`` take the ring geometry (``ring_geometry``)
+when called with ``ring`` True (one compiled form serves plane and r-z; the branch is per element or
+face); the forces keep a ring twin here, ``lagrange_forces_rz`` (the flagged plane kernel measured
+slower), compiled, with ``ring_volumes``, only for an axisymmetric mesh.
 
 Formulation: volume-weighted, with the exact ring volume of the straight-sided quad
 (Green's theorem over its four edges, i -> j = i + 1)
@@ -49,35 +52,10 @@ import numpy as np
 from numba import njit, prange
 
 from ..fem.geometry import QUAD_GAMMA, bulk_viscosity, quad4_gradient, stable_dt
-from .lagrange import _closure_energy, _mixture_pressure, _quad_char_length
-from .remap import _face_flux
+from .lagrange import _mixture_pressure, _quad_char_length
+from .ring_geometry import PI_3, ring_gradient, ring_volume
 
-PI_3 = math.pi / 3.0
 TWO_PI = 2.0 * math.pi
-
-
-@njit(cache=True, inline="always")
-def ring_volume(r0, z0, r1, z1, r2, z2, r3, z3):
-    """Signed ring volume 2 pi int r dA of the quad (0, 1, 2, 3) (counter-clockwise positive): (pi/3) S."""
-    s = (r0 + r1) * (r0 * z1 - r1 * z0)
-    s += (r1 + r2) * (r1 * z2 - r2 * z1)
-    s += (r2 + r3) * (r2 * z3 - r3 * z2)
-    s += (r3 + r0) * (r3 * z0 - r0 * z3)
-    return PI_3 * s
-
-
-@njit(cache=True, inline="always")
-def ring_gradient(x, g):
-    """dV/dx_a (2, 4) of the ring volume of the quad with corners x (4, 2) (module docstring); returns V."""
-    for a in range(4):
-        nxt = (a + 1) % 4
-        prv = (a + 3) % 4
-        ra, za = x[a, 0], x[a, 1]
-        rn, zn = x[nxt, 0], x[nxt, 1]
-        rp, zp = x[prv, 0], x[prv, 1]
-        g[0, a] = PI_3 * (2.0 * ra * (zn - zp) + rn * (zn - za) + rp * (za - zp))
-        g[1, a] = PI_3 * (rp - rn) * (rp + ra + rn)
-    return ring_volume(x[0, 0], x[0, 1], x[1, 0], x[1, 1], x[2, 0], x[2, 1], x[3, 0], x[3, 1])
 
 
 @njit(parallel=True, cache=True)
@@ -91,7 +69,8 @@ def ring_volumes(x, conn, out):
 @njit(parallel=True, cache=True)
 def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                        phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
-    """``lagrange.lagrange_forces`` on rings: f_a = (p_mix + q) dV/dx_a - hourglass (module docstring).
+    """``lagrange.lagrange_forces`` on rings (a twin: the plane kernel with a ring flag measured slower,
+    the comment there): f_a = (p_mix + q) dV/dx_a - hourglass (module docstring).
 
     Arguments and outputs as the plane kernel's; vol_m and mass_m are ring volumes and masses.
     """
@@ -155,78 +134,6 @@ def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
                     g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
                     f_elem[e, a, 0] -= coef * hq0 * g
                     f_elem[e, a, 1] -= coef * hq1 * g
-
-
-@njit(parallel=True, cache=True)
-def lagrange_energy_rz(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, q_elem,
-                       closure, alpha, beta, phi_eps, work_elem):
-    """``lagrange.lagrange_energy`` on rings: the compatible work W_e, the Lagrangian ring volume at
-    x + dt v^{n+1/2}, then the mixed-element closure (``lagrange._closure_energy``)."""
-    n_elem = conn.shape[0]
-    n_mat = vol_m.shape[1]
-    n_chunks = min(n_elem, 512)
-    for chunk in prange(n_chunks):
-        start = chunk * n_elem // n_chunks
-        stop = (chunk + 1) * n_elem // n_chunks
-        dvm = np.empty(n_mat)
-        dev = np.empty(n_mat)
-        px = np.empty(4)
-        py = np.empty(4)
-        for e in range(start, stop):
-            w = 0.0
-            for a in range(4):
-                n = conn[e, a]
-                w -= f_elem[e, a, 0] * 0.5 * (v_old[n, 0] + v_new[n, 0]) + f_elem[e, a, 1] * 0.5 * (v_old[n, 1] + v_new[n, 1])
-                px[a] = x[n, 0] + dt * v_new[n, 0]
-                py[a] = x[n, 1] + dt * v_new[n, 1]
-            w *= dt
-            work_elem[e] = w
-            v_lag = ring_volume(px[0], py[0], px[1], py[1], px[2], py[2], px[3], py[3])
-            _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps,
-                            dvm, dev)
-
-
-@njit(parallel=True, cache=True)
-def face_fluxes_rz(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x_lag, x_new,
-                   vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener):
-    """``remap.face_fluxes`` with the swept ring volume of the quad (l0, w0, w1, l1) (module docstring)."""
-    nf = faces.shape[0]
-    n_mat = vol_m.shape[1]
-    n_chunks = min(nf, 512)
-    for chunk in prange(n_chunks):
-        start = chunk * nf // n_chunks
-        stop = (chunk + 1) * nf // n_chunks
-        dvm = np.empty(n_mat)
-        g = np.empty(n_mat)
-        used = np.empty(n_mat, dtype=np.bool_)
-        for i in range(start, stop):
-            f = faces[i]
-            n0 = face_nodes[f, 0]
-            n1 = face_nodes[f, 1]
-            for m in range(n_mat):
-                fvol[f, m] = 0.0
-                fmass[f, m] = 0.0
-                fener[f, m] = 0.0
-            el = face_elem[f, 0]
-            er = face_elem[f, 1]
-            if er < 0 and not face_open[f]:
-                continue
-            dv = ring_volume(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
-                             x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
-            if dv == 0.0:
-                continue
-            if dv > 0.0:
-                donor = er
-                acc = el
-                sgn = 1.0
-                far = elem_nbr[er, (face_local[f, 1] + 2) % 4] if er >= 0 else -1
-            else:
-                donor = el
-                acc = er
-                sgn = -1.0
-                far = elem_nbr[el, (face_local[f, 0] + 2) % 4]
-            _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
-                       fvol, fmass, fener, dvm, g, used)
 
 
 def quad_ring_volumes(p0, p1, p2, p3):

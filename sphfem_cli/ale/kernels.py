@@ -30,9 +30,12 @@ One step (paper section 2, eqs. 2.5-2.8; Benson 1992):
    (DeBar's fix) so that total energy is conserved.
 
 3D (hex8): the same steps. Where the geometry differs (mean gradient and hourglass modes of the
-hex8, exact swept volume of a quad face, three sweep directions) a ``*_3d`` twin stands beside
-the quad4 kernel: folded dimension-generic forms of the five twins were measured slower (5-27 %
-per call on 1 thread; the comment above each pair). The mixture state, closure, face flux of a
+hex8, three sweep directions) a ``*_3d`` twin stands beside the quad4 kernel: folded
+dimension-generic forms of the four twins (forces, nodal update, energy, finish of the remap) were
+measured slower (6-27 % per call on 1 thread; the comment above each pair). ``face_fluxes`` serves
+quad4, ring and hex8 meshes (a branch per face on the swept volume; the flux itself is the shared
+``_face_flux``), and the r-z ring is the ``ring`` flag of the quad4 energy and face kernels;
+its forces keep a twin, ``axisymmetric.lagrange_forces_rz`` (the flagged form measured slower). The mixture state, closure, face flux of a
 given swept volume (``_mixture_pressure``, ``_closure_energy``, ``_face_flux``), the velocity
 conditions (``apply_bc``) and the element-face, dual-mesh and nodal-mass kernels are shared
 (their loops take the corner count and dimension from the arrays). The kernels live in
@@ -50,7 +53,7 @@ from .lagrange import (BC_FIXED, BC_FREE, BC_LINE, BC_SLIP, BC_VELOCITY, CLOSURE
                        lagrange_energy_3d, lagrange_forces, lagrange_forces_3d, material_state, nodal_update,
                        nodal_update_3d, quad_area)
 from .remap import (IFACE_DONOR, IFACE_SLIC, SLIC_JUMP, add_column_sums, apply_face_fluxes, face_fluxes,
-                    face_fluxes_3d, finish_remap_elements, finish_remap_nodes, finish_remap_nodes_3d, nodal_mass,
+                    finish_remap_elements, finish_remap_nodes, finish_remap_nodes_3d, nodal_mass,
                     remap_nodal_state, swept_volume_3d, swept_volumes_3d, van_leer)
 
 __all__ = [
@@ -58,7 +61,7 @@ __all__ = [
     "G_KIN", "G_MASS", "G_MOM", "IFACE_DONOR", "IFACE_SLIC", "RHO_CAVITATED", "RHO_VOID", "SLIC_JUMP",
     "add_column_sums", "apply_bc", "apply_bc_2d", "apply_dual_fluxes", "apply_face_fluxes", "dual_fluxes",
     "element_volumes_3d",
-    "face_fluxes", "face_fluxes_3d", "finish_remap_elements", "finish_remap_nodes", "finish_remap_nodes_3d",
+    "face_fluxes", "finish_remap_elements", "finish_remap_nodes", "finish_remap_nodes_3d",
     "lagrange_energy", "lagrange_energy_3d", "lagrange_forces", "lagrange_forces_3d", "material_state",
     "nodal_mass", "nodal_update", "nodal_update_3d", "node_velocities", "quad_area", "remap_nodal_state",
     "swept_volume_3d", "swept_volumes_3d", "van_leer",

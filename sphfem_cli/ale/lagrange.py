@@ -18,6 +18,7 @@ from numba import njit, prange
 from ..fem.geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient, hex8_volume,
                             quad4_gradient, stable_dt)
 from ..materials.kernels import EOS_GRUNEISEN, eos_state
+from .ring_geometry import ring_volume
 
 
 # boundary condition codes per node
@@ -116,6 +117,8 @@ def _quad_char_length(x, area):
 # quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
 # as in FEM solid_element_forces) measured 6-17 % (2D) and 13-20 % (3D) slower per call (benchmarks/ale_throughput.py cases,
 # 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
+# The r-z ring has its own twin too (axisymmetric.lagrange_forces_rz): this kernel with a ring flag measured
+# 14-17 % slower on the ring and 2-5 % on the plane (min / median of 30 alternated calls, report alefold).
 @njit(parallel=True, cache=True)
 def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                     phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
@@ -446,9 +449,12 @@ def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure,
 # quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
 # as in FEM solid_element_forces) measured 19-27 % (2D and 3D) slower per call (benchmarks/ale_throughput.py cases,
 # 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
+# The plane quad4 and the r-z ring share this one (the ``ring`` flag): against main's two kernels, min / median
+# of 30 alternated calls, 1 thread, load 4-5 (report alefold): plane 1.042 / 1.054, two materials 1.041 / 1.045,
+# ring 1.024 / 1.040, where the unchanged forces kernel read 0.985-1.034 in the same runs (the noise floor).
 @njit(parallel=True, cache=True)
 def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, q_elem,
-                    closure, alpha, beta, phi_eps, work_elem):
+                    closure, alpha, beta, phi_eps, work_elem, ring):
     """Internal energy and material volumes over the Lagrangian step (module docstring, step 3).
 
     work_elem (E,) receives W_e, the internal-energy increment of the element. Material volumes
@@ -456,7 +462,8 @@ def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pr
     CLOSURE_RELAX: dV_m = dV (V_m/K_m) / S + alpha V_m (p_m - pbar) / K_m, S = sum V_k/K_k,
     pbar = sum (V_k p_k / K_k) / S (equal pressure increments plus a relaxation towards a common
     pressure), its departure from equal strain scaled down so that no material loses more than a
-    fraction beta of its volume in one step.
+    fraction beta of its volume in one step. The Lagrangian volume is the quad's area (plane) or,
+    with ring True (r-z), its exact ring volume (``ring_geometry.ring_volume``).
     """
     n_elem = conn.shape[0]
     n_mat = vol_m.shape[1]
@@ -477,7 +484,10 @@ def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pr
                 py[a] = x[n, 1] + dt * v_new[n, 1]
             w *= dt
             work_elem[e] = w
-            v_lag = quad_area(px[0], py[0], px[1], py[1], px[2], py[2], px[3], py[3])
+            if ring:
+                v_lag = ring_volume(px[0], py[0], px[1], py[1], px[2], py[2], px[3], py[3])
+            else:
+                v_lag = quad_area(px[0], py[0], px[1], py[1], px[2], py[2], px[3], py[3])
             _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps,
                             dvm, dev)
 

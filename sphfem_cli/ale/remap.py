@@ -14,6 +14,7 @@ import numpy as np
 from numba import njit, prange
 
 from ..fem.geometry import hex8_volume
+from .ring_geometry import ring_volume
 from .lagrange import BC_VELOCITY, apply_bc, apply_bc_2d, quad_area
 
 
@@ -151,78 +152,45 @@ def _face_flux(f, amount, donor, acc, far, sgn, vol_m, mass_m, ener_m, order, if
         fener[f, m] = sgn * dener
 
 
-# quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
-# as in FEM solid_element_forces) measured about 5-10 % (2D and 3D) slower per call (benchmarks/ale_throughput.py cases,
-# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
 @njit(parallel=True, cache=True)
 def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x_lag, x_new,
-                vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener):
+                vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener, ring):
     """Fluxes through the listed faces, positive into the face's first element (its owner).
 
-    The volume through face (n0, n1) (owner orientation) is the signed area swept by it from the
-    Lagrangian position x_lag to the remapped position x_new: quad (l0, w0, w1, l1); positive when
-    the owner gains volume, the other element (or the outside, on open faces) being the donor.
+    The volume through a face (owner orientation) is the signed volume it sweeps from the
+    Lagrangian position x_lag to the remapped position x_new, positive when the owner gains volume,
+    the other element (or the outside, on open faces) being the donor: on quad4 meshes (face_nodes
+    (F, 2)) the signed area of the quad (l0, w0, w1, l1), or with ring True (r-z) its ring volume
+    (``ring_geometry.ring_volume``); on hex8 meshes (face_nodes (F, 4)) the exact swept volume of
+    the quad face (``swept_volume_3d``). The upwind element of a donor is its neighbour across the
+    opposite side: local face (k + 2) % 4 of a quad4, k ^ 1 of a hex8.
     Material volumes: IFACE_DONOR phi_m of the donor; IFACE_SLIC materials leave the donor in the
     order of their fraction gradient across it (acceptor minus upwind), the highest first, each
     at most its volume in the donor. Mass and energy: donor-cell (order 1) or van Leer (order 2)
-    values of rho_m and e_m. Boundary faces carry flux only when open (transmitting): the outside
-    state is a copy of the inside element. Writes fvol, fmass, fener rows of the listed faces.
+    values of rho_m and e_m (``_face_flux``). Boundary faces carry flux only when open
+    (transmitting): the outside state is a copy of the inside element. Writes fvol, fmass, fener
+    rows of the listed faces.
+
+    One kernel for the three geometries (plane, ring, hex8): the branch is per face, outside
+    ``_face_flux``, where the time goes. Against main's three kernels (min / median of 30 alternated
+    calls, 1 thread, load 4-5, two runs; report alefold): plane 0.999-1.023 / 0.954-1.039, hex8
+    0.999-1.034 / 0.982-1.004, ring 1.048-1.098 / 0.998-1.074 (the ring the one case possibly over
+    3 %, with unchanged kernels reading 0.94-1.17 in the same runs).
     """
     nf = faces.shape[0]
     n_mat = vol_m.shape[1]
+    hexa = face_nodes.shape[1] == 4
     n_chunks = min(nf, 512)
+    # the hex8 swept-volume scratch (8, 3) of each chunk, allocated once a call (unused on a quad4
+    # mesh): one more allocation in each of the 512 chunks cost the 2D call ~10 % (benchmark in the report)
+    swept = np.empty((n_chunks, 8, 3))
     for chunk in prange(n_chunks):
         start = chunk * nf // n_chunks
         stop = (chunk + 1) * nf // n_chunks
         dvm = np.empty(n_mat)
         g = np.empty(n_mat)
         used = np.empty(n_mat, dtype=np.bool_)
-        for i in range(start, stop):
-            f = faces[i]
-            n0 = face_nodes[f, 0]
-            n1 = face_nodes[f, 1]
-            for m in range(n_mat):
-                fvol[f, m] = 0.0
-                fmass[f, m] = 0.0
-                fener[f, m] = 0.0
-            el = face_elem[f, 0]
-            er = face_elem[f, 1]
-            if er < 0 and not face_open[f]:
-                continue
-            dv = quad_area(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
-                           x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
-            if dv == 0.0:
-                continue
-            if dv > 0.0:
-                donor = er
-                acc = el
-                sgn = 1.0
-                far = elem_nbr[er, (face_local[f, 1] + 2) % 4] if er >= 0 else -1
-            else:
-                donor = el
-                acc = er
-                sgn = -1.0
-                far = elem_nbr[el, (face_local[f, 0] + 2) % 4]
-            _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
-                       fvol, fmass, fener, dvm, g, used)
-
-
-@njit(parallel=True, cache=True)
-def face_fluxes_3d(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x_lag, x_new,
-                   vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener):
-    """``face_fluxes`` on hex8 meshes: the volume through a quad face is its exact swept volume
-    (``swept_volume_3d``), the upwind element of a donor is its neighbour across the opposite face
-    (local face k ^ 1); the rest is ``_face_flux``."""
-    nf = faces.shape[0]
-    n_mat = vol_m.shape[1]
-    n_chunks = min(nf, 512)
-    for chunk in prange(n_chunks):
-        start = chunk * nf // n_chunks
-        stop = (chunk + 1) * nf // n_chunks
-        dvm = np.empty(n_mat)
-        g = np.empty(n_mat)
-        used = np.empty(n_mat, dtype=np.bool_)
-        p = np.empty((8, 3))
+        p = swept[chunk]
         for i in range(start, stop):
             f = faces[i]
             for m in range(n_mat):
@@ -233,21 +201,38 @@ def face_fluxes_3d(faces, face_nodes, face_elem, face_local, elem_nbr, face_open
             er = face_elem[f, 1]
             if er < 0 and not face_open[f]:
                 continue
-            dv = swept_volume_3d(face_nodes, f, x_lag, x_new, p)
+            if hexa:
+                dv = swept_volume_3d(face_nodes, f, x_lag, x_new, p)
+            else:
+                n0 = face_nodes[f, 0]
+                n1 = face_nodes[f, 1]
+                if ring:
+                    dv = ring_volume(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
+                                     x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
+                else:
+                    dv = quad_area(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
+                                   x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
             if dv == 0.0:
                 continue
             if dv > 0.0:
                 donor = er
                 acc = el
                 sgn = 1.0
-                far = elem_nbr[er, face_local[f, 1] ^ 1] if er >= 0 else -1
+                far = elem_nbr[er, _opposite_face(face_local[f, 1], hexa)] if er >= 0 else -1
             else:
                 donor = el
                 acc = er
                 sgn = -1.0
-                far = elem_nbr[el, face_local[f, 0] ^ 1]
+                far = elem_nbr[el, _opposite_face(face_local[f, 0], hexa)]
             _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
                        fvol, fmass, fener, dvm, g, used)
+
+
+@njit(cache=True, inline="always")
+def _opposite_face(k, hexa):
+    """The local face opposite local face k: k ^ 1 on a hex8 (faces numbered in opposite pairs),
+    (k + 2) % 4 on a quad4 (sides counter-clockwise)."""
+    return k ^ 1 if hexa else (k + 2) % 4
 
 
 @njit(parallel=True, cache=True)

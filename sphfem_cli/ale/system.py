@@ -58,6 +58,7 @@ internal and kinetic energy per material); accessors ``fractions()``,
 from __future__ import annotations
 
 from collections.abc import Sequence
+from functools import partial
 
 import numpy as np
 
@@ -189,18 +190,21 @@ class AleSystem:
         self.coupling_work = 0.0
         self.v_lag = self.velocity.copy()  # v^{n+1/2} of the Lagrangian phase, before the remap
         self.v_mid = np.zeros((n_nodes, dim))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last Lagrangian phase
-        # the kernels that differ between quad4 and hex8 (twins: the generic forms measured slower, ale/kernels.py)
-        if self.axisymmetric:
-            from . import axisymmetric as rings
-            self._k_forces, self._k_nodal, self._k_energy = rings.lagrange_forces_rz, K.nodal_update, \
-                rings.lagrange_energy_rz
-            self._k_faces, self._k_finish = rings.face_fluxes_rz, K.finish_remap_nodes
+        # the kernels that differ between quad4 and hex8 (twins: the generic forms measured slower, ale/kernels.py);
+        # the plane and the r-z quad4 share the energy and face kernels (the ring flag), all three geometries face_fluxes
+        ring = self.axisymmetric
+        if ring:
+            from .axisymmetric import lagrange_forces_rz  # a twin (ale/lagrange.py, above lagrange_forces)
+            self._k_forces = lagrange_forces_rz
         elif dim == 2:
-            self._k_forces, self._k_nodal, self._k_energy = K.lagrange_forces, K.nodal_update, K.lagrange_energy
-            self._k_faces, self._k_finish = K.face_fluxes, K.finish_remap_nodes
+            self._k_forces = K.lagrange_forces
+        if dim == 2:
+            self._k_nodal, self._k_finish = K.nodal_update, K.finish_remap_nodes
+            self._k_energy = partial(K.lagrange_energy, ring=ring)
         else:
             self._k_forces, self._k_nodal, self._k_energy = K.lagrange_forces_3d, K.nodal_update_3d, K.lagrange_energy_3d
-            self._k_faces, self._k_finish = K.face_fluxes_3d, K.finish_remap_nodes_3d
+            self._k_finish = K.finish_remap_nodes_3d
+        self._k_faces = partial(K.face_fluxes, ring=ring)
 
     def set_burn(self, materials, velocities, detonations) -> None:
         """Programmed burn (``materials.burn``) of the given materials (indices) with detonation

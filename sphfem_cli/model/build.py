@@ -13,13 +13,14 @@ import numpy as np
 from ..deck.schema import Deck, SegmentSet
 from ..fem.slots import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2
 from ..materials.ids import RIGID
-from ..materials.slots import EOS_OFFSET, NPARAM, P_EOS_TYPE, P_G, P_K, P_RHO0, Q_E0
+from ..materials.slots import NPARAM, P_G, P_K, P_RHO0
 
 VOID = -1  # material type id of void (ALE only; no row in the kernels)
 from ..materials.tables import pack_material
 from . import checks
 from . import mesh as meshgen
 from . import sets as selection
+from .ale_build import AleMesh, ale_mesh
 from .options import RunOptions, resolve_options
 from .sizes import (BYTES_PER_ELEMENT, BYTES_PER_NODE, BYTES_PER_PARTICLE,  # noqa: F401 - re-exported
                     available_memory, check_memory)
@@ -82,24 +83,6 @@ class RigidBody:
     mass: float
     center: np.ndarray  # initial centre of mass
     inertia: np.ndarray  # 2D: polar moment (scalar array); 3D: (3, 3) about the centre
-
-
-@dataclass
-class AleMesh:
-    """The ALE part's mesh and initial material layout.
-
-    `materials` are indices into the model's material table; `fractions`, `density`, `pressure`
-    are (E, len(materials)); `velocity` (N, dim) nodal.
-    """
-
-    part: int
-    nodes: np.ndarray
-    elements: np.ndarray
-    materials: list[int]
-    fractions: np.ndarray
-    density: np.ndarray
-    pressure: np.ndarray
-    velocity: np.ndarray
 
 
 @dataclass
@@ -262,7 +245,13 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     if any(p.kind == "sph" for p in parts):
         model.particles = _particles(model, deck)
     if any(p.kind == "ale" for p in parts):
-        model.ale = _ale_mesh(model, deck, deck_path)
+        index = next(i for i, p in enumerate(parts) if p.kind == "ale")
+        name = parts[index].name
+        mesh = _mesh_part(name, deck.parts[name], dim, deck_path)
+        checks.elements(name, deck.parts[name], mesh)  # an ALE mesh too (a box 5e-324 wide failed later; fuzzing)
+        if deck.axisymmetric:  # rings about the axis (ale/axisymmetric.py): x = r >= 0, near-axis nodes put on it
+            checks.radii(name, mesh)
+        model.ale = ale_mesh(model, deck, index, mesh)
     model.options = resolve_options(deck, model)
     return model
 
@@ -301,143 +290,18 @@ def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarra
     return factor if np.any(factor < 1.0) else None
 
 
-def _ale_mesh(model: Model, deck: Deck, deck_path: Path) -> AleMesh:
-    """Mesh the ALE part and lay out its materials: the part's material, then each fill in order."""
-    from ..ale.fill import fill_fractions
-    from ..materials.kernels import eos_pressure
-    index = next(i for i, p in enumerate(model.parts) if p.kind == "ale")
-    name = model.parts[index].name
-    part = deck.parts[name]
-    mesh = _mesh_part(name, part, model.dim, deck_path)
-    checks.elements(name, part, mesh)  # an ALE mesh too (a box 5e-324 wide failed later in AleSystem; found by fuzzing)
-    if deck.axisymmetric:  # rings about the axis (ale/axisymmetric.py): x = r >= 0, near-axis nodes put on it
-        checks.radii(name, mesh)
-    nodes, conn = mesh.nodes, mesh.elements
-    names = [part.material] + [f.material for f in part.fill if f.material != part.material]
-    names = list(dict.fromkeys(names))
-    mats = [model.material_names.index(n) for n in names]
-    n_elem, n_mat = len(conn), len(mats)
-    rho0 = np.array([model.material_param[m, P_RHO0] for m in mats])
-
-    def state(m: int, density: float) -> float:
-        row = model.material_param[m]
-        if model.material_type[m] == VOID:
-            return 0.0
-        return float(eos_pressure(int(row[P_EOS_TYPE]), row[EOS_OFFSET:], density / row[P_RHO0],
-                                  row[EOS_OFFSET + Q_E0]))
-
-    fractions = np.zeros((n_elem, n_mat))
-    fractions[:, 0] = 1.0
-    density = np.tile(rho0, (n_elem, 1))
-    pressure = np.tile(np.array([state(m, rho0[j]) for j, m in enumerate(mats)], dtype=float), (n_elem, 1))
-    velocity = np.zeros((len(nodes), model.dim))
-    for j, fill in enumerate(part.fill):
-        inside = fill_region(fill)
-        try:
-            f = fill_fractions(nodes, conn, inside)
-        except ValueError as exc:
-            raise ModelError(f"parts.{name}.fill.{j}", str(exc)) from None
-        k = names.index(fill.material)
-        fractions *= (1.0 - f)[:, None]
-        fractions[:, k] += f
-        hit = f > 0
-        rho = fill.density if fill.density is not None else rho0[k]
-        density[hit, k] = rho
-        pressure[hit, k] = fill.pressure if fill.pressure is not None else state(mats[k], rho)
-        if fill.velocity is not None:
-            velocity[inside(*nodes.T)] = fill.velocity
-        if part.hydrostatic and model.material_type[mats[k]] != VOID:
-            _hydrostatic_fill(model, deck, name, j, nodes, conn, f, mats[k], density[:, k], pressure[:, k])
-    for k, m in enumerate(mats):
-        if model.material_type[m] != VOID:
-            checks.density_range(f"parts.{name}.material" if k == 0 else f"parts.{name}.fill", density[:, k])
-    return AleMesh(index, nodes, conn, mats, fractions, density, pressure, velocity)
-
-
-def _hydrostatic_fill(model: Model, deck: Deck, name: str, j: int, nodes, conn, f, m: int, density, pressure) -> None:
-    """Hydrostatic pressure and density of one ALE fill (in place, on the elements it touches).
-
-    Heights h are measured against gravity g. An element's part of the fill is taken as the lowest
-    fraction f of its height span [h_lo, h_hi] (a horizontal free surface in a level-layered
-    mesh); the fill's free surface s is the highest top h_lo + f (h_hi - h_lo) over its elements,
-    the element's pressure p = rho0 |g| (s - h_c) at the middle h_c = h_lo + f (h_hi - h_lo) / 2 of
-    its part, and its density solves p_eos(rho, e0) = p by Newton's method.
-    """
-    from ..deck.schema import Gravity
-    from ..materials.kernels import eos_pressure, eos_sound_speed
-
-    dim = nodes.shape[1]
-    g = sum((np.array(l.acceleration[:dim], dtype=float) for l in deck.loads
-             if isinstance(l, Gravity) and (l.parts is None or name in l.parts)), np.zeros(dim))
-    if not np.any(g):
-        raise ModelError(f"parts.{name}.hydrostatic", "a hydrostatic start needs a gravity load on the part")
-    up = -_unit(g)
-    hit = np.flatnonzero(f > 0)
-    if not len(hit):  # a fill that covers no element has no hydrostatic state (found by fuzzing)
-        return
-    heights = nodes[conn[hit]] @ up  # (n, corners)
-    lo, hi = heights.min(axis=1), heights.max(axis=1)
-    top = lo + f[hit] * (hi - lo)
-    surface = top.max()
-    mid = lo + 0.5 * f[hit] * (hi - lo)
-    row = model.material_param[m]
-    rho0, eos, q = row[P_RHO0], int(row[P_EOS_TYPE]), np.ascontiguousarray(row[EOS_OFFSET:])
-    for i, e in enumerate(hit):
-        p = rho0 * _norm(g) * (surface - mid[i])
-        rho = rho0
-        for _ in range(50):
-            r = rho / rho0
-            c = eos_sound_speed(eos, q, r, q[Q_E0])
-            if c <= 0.0:
-                raise ModelError(f"parts.{name}.fill.{j}", "hydrostatic start: the EOS has no sound speed at the "
-                                 "reference density")
-            step = (eos_pressure(eos, q, r, q[Q_E0]) - p) / (c * c)
-            rho -= step
-            if abs(step) <= 1e-14 * rho:
-                break
-        density[e] = rho
-        pressure[e] = p
-
-
-def _norm(v) -> float:
+def norm(v) -> float:
     """|v| without underflow or overflow of the squares (a gravity of 1e-300 has |g| = 1e-300, not 0)."""
     v = np.asarray(v, dtype=np.float64)
     scale = float(np.max(np.abs(v))) if v.size else 0.0
     return scale * float(np.linalg.norm(v / scale)) if scale > 0.0 else 0.0
 
 
-def _unit(v) -> np.ndarray:
-    """v / |v| for a nonzero finite v (see :func:`_norm`)."""
+def unit(v) -> np.ndarray:
+    """v / |v| for a nonzero finite v (see :func:`norm`)."""
     v = np.asarray(v, dtype=np.float64)
     scaled = v / np.max(np.abs(v))
     return scaled / np.linalg.norm(scaled)
-
-
-def fill_region(fill):
-    """inside(x, y) (2D) or inside(x, y, z) (3D) -> bool array for a fill's region."""
-    if fill.box is not None:
-        lo, hi = fill.box.min, fill.box.max
-        return lambda *c: np.logical_and.reduce([(ck >= a) & (ck <= b) for ck, a, b in zip(c, lo, hi)])
-    if fill.ball is not None:
-        center, r = fill.ball.center, fill.ball.radius
-        return lambda *c: sum((ck - a) ** 2 for ck, a in zip(c, center)) <= r * r
-    if fill.cylinder is not None:
-        cyl = fill.cylinder
-        axis = "xyz".index(cyl.axis)
-        center, r = cyl.center, cyl.radius
-        half = np.inf if cyl.length is None else 0.5 * cyl.length
-
-        def inside(*c):
-            radial = sum((ck - a) ** 2 for k, (ck, a) in enumerate(zip(c, center)) if k != axis)
-            return (radial <= r * r) & (np.abs(c[axis] - center[axis]) <= half)
-        return inside
-    if fill.polygon is not None:
-        from ..sph.lattice import inside_polygon
-
-        vertices = np.array(fill.polygon.vertices, dtype=float)
-        return lambda x, y: inside_polygon(np.stack([np.ravel(x), np.ravel(y)], axis=1), vertices).reshape(np.shape(x))
-    point, normal = fill.half_space.point, fill.half_space.normal
-    return lambda *c: sum((ck - a) * n for ck, a, n in zip(c, point, normal)) <= 0.0
 
 
 def _particles(model: Model, deck: Deck) -> SphParticles:
@@ -480,7 +344,7 @@ def _particles(model: Model, deck: Deck) -> SphParticles:
                           np.zeros(model.dim))
             if not np.any(gravity):
                 raise ModelError(f"parts.{p.name}.hydrostatic", "a hydrostatic start needs a gravity load")
-            up = -_unit(gravity)
+            up = -unit(gravity)
             surface = pts[np.argmax(pts @ up)] + 0.5 * dx * up
             density = lattice.hydrostatic_density(pts, model.material_param[used], np.full(len(pts), local),
                                                   gravity, surface)
@@ -571,7 +435,7 @@ def _resolve_sets(model: Model, deck: Deck) -> None:
             keep &= np.all((x >= lo - tol) & (x <= hi + tol), axis=1)
         if s.plane is not None:
             normal = np.array(s.plane.normal, dtype=float)
-            normal = _unit(normal)
+            normal = unit(normal)
             keep &= np.abs((x - np.array(s.plane.point)) @ normal) <= tol
         if s.sphere is not None:
             dist = np.linalg.norm(x - np.array(s.sphere.center), axis=1)

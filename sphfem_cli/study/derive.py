@@ -170,7 +170,7 @@ def sub_centres(info: AleInfo, ratio: int) -> tuple[np.ndarray, np.ndarray, floa
 
 def source_labels(deck, info: AleInfo, xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
     """(ny, nx) int: 0 where the base material is, j + 1 where fill j is (later fills win)."""
-    from ..model.build import fill_region
+    from ..model.ale_build import fill_region
 
     X, Y = np.meshgrid(xs, ys)
     labels = np.zeros(X.shape, dtype=np.int64)

@@ -1,5 +1,5 @@
 """No private name crosses a folder: what two physics folders share lives under a public name
-(fem/geometry.py, materials/kernels.eos_state, model/build.fill_region)."""
+(fem/geometry.py, materials/kernels.eos_state, model/ale_build.fill_region)."""
 from __future__ import annotations
 
 import ast
