@@ -63,7 +63,7 @@ def ale_mesh(model, deck: Deck, index: int, mesh: MeshData) -> AleMesh:
     for j, fill in enumerate(part.fill):
         inside = fill_region(fill)
         try:
-            f = fill_fractions(nodes, conn, inside)
+            f = fill_fractions(nodes, conn, inside, ring=model.axisymmetric)
         except ValueError as exc:
             raise build.ModelError(f"parts.{name}.fill.{j}", str(exc)) from None
         k = names.index(fill.material)
