@@ -322,8 +322,14 @@ def test_mutated_decks_exit_0_or_65(tmp_path, data):
     mutated = tmp_path / deck.name
     mutated.write_bytes(raw)
     CASES["check"] += 1
-    with _budget(MUTANT_SECONDS, what):
-        result = CliRunner().invoke(main, ["check", str(mutated)])
+    try:
+        with _budget(MUTANT_SECONDS, what):
+            result = CliRunner().invoke(main, ["check", str(mutated)])
+    except MutantTimeout:
+        # a first check of a kind may compile its kernels (an empty or stale numba cache on a loaded
+        # machine took longer than the budget); a second try loads them, and a hang hangs again
+        with _budget(MUTANT_SECONDS, what):
+            result = CliRunner().invoke(main, ["check", str(mutated)])
     output = result.output or ""
     assert "Traceback" not in output, f"{what}: {output}"
     assert result.exception is None or isinstance(result.exception, SystemExit), f"{what}: {result.exception!r}"

@@ -438,9 +438,9 @@ def _check_interactions(deck: Deck, sph_parts: set, ale_parts: set) -> None:
             if c.fluid not in sph_parts:
                 raise ValueError(f"@{path}.fluid: '{c.fluid}' is not an SPH part (sph_boundary couples SPH particles; "
                                  "an ALE part takes lagrange_in_solid)")
-            if deck.dimension != 2:
-                raise ValueError(f"@{path}.type: sph_boundary couplings are 2D plane only for now (3D: use a "
-                                 "nodes_to_surface contact)")
+            if deck.dimension != 2 or deck.axisymmetric:
+                raise ValueError(f"@{path}.type: sph_boundary couplings are 2D plane only for now (3D or "
+                                 "axisymmetric: use a nodes_to_surface contact)")
             material = deck.materials.get(deck.parts[c.fluid].material)
             if getattr(material, "viscosity", 0.0):
                 raise ValueError(f"@{path}.fluid: sph_boundary couples inviscid fluids only for now (the viscous "
