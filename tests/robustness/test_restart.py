@@ -51,13 +51,76 @@ def _fields(out: Path) -> list[tuple[str, np.ndarray]]:
 
 FUZZ = Path(__file__).parents[1] / "data" / "fuzz"
 
+AXISYMMETRIC = {
+    "axi_ale": """
+title: elastic disc into r-z ALE water (restart test)
+units: {length: m, mass: kg, time: s}
+dimension: axisymmetric
+control: {end_time: 1.5e-4}
+equations_of_state:
+  water: {type: linear_polynomial, c1: 2.2e9}
+materials:
+  water: {type: fluid, density: 1000.0, eos: water}
+  void: {type: void}
+  pmma: {type: elastic, density: 1200.0, youngs_modulus: 3.0e9, poisson_ratio: 0.35}
+sections:
+  ale: {type: ale_multi_material}
+  solid: {type: solid}
+parts:
+  tank:
+    material: void
+    section: ale
+    geometry: {box: {min: [0.0, 0.0], max: [0.05, 0.05], element_size: 0.005}}
+    fill: [{material: water, box: {min: [0.0, 0.0], max: [0.05, 0.025]}}]
+  disc:
+    material: pmma
+    section: solid
+    geometry: {box: {min: [0.0, 0.026], max: [0.025, 0.031], divisions: [5, 1]}}
+couplings: [{type: lagrange_in_solid, structure: disc, fluid: tank}]
+initial: [{type: velocity, part: disc, velocity: [0.0, -10.0]}]
+boundaries: [{type: ale_boundary, part: tank, sides: [right, bottom, top], condition: slip}]
+output: {interval: 5.0e-5, history_interval: 5.0e-6}
+""",
+    "axi_sph": """
+title: r-z SPH water column falling on an elastic disc (restart test)
+units: {length: m, mass: kg, time: s}
+dimension: axisymmetric
+control: {end_time: 0.01}
+equations_of_state:
+  water: {type: tait, reference_density: 1000.0, sound_speed: 15.0, gamma: 7.0}
+materials:
+  water: {type: fluid, density: 1000.0, eos: water}
+  rubber: {type: elastic, density: 1000.0, youngs_modulus: 1.0e6, poisson_ratio: 0.3}
+sections:
+  fluid: {type: sph, kernel: cubic_spline, smoothing_ratio: 1.2}
+  solid: {type: solid}
+parts:
+  column: {material: water, section: fluid, spacing: 0.01,
+           geometry: {box: {min: [0.0, 0.045], max: [0.05, 0.1]}}}
+  disc: {material: rubber, section: solid,
+         geometry: {box: {min: [0.0, 0.0], max: [0.06, 0.04], divisions: [3, 2]}}}
+sets:
+  disc_base: {type: node, part: disc, side: bottom}
+contacts:
+  - {type: nodes_to_surface, nodes: column, surface: disc, penalty_scale: 0.1}
+initial:
+  - {type: velocity, part: column, velocity: [0.0, -1.0]}
+boundaries:
+  - {type: fixed, set: disc_base}
+loads:
+  - {type: gravity, acceleration: [0.0, -9.81]}
+output: {interval: 0.005, history_interval: 0.0005}
+""",
+}
+
 
 @pytest.mark.parametrize("kind, stop_step", [("solid", 333), ("sph", 97), ("ale", 71),
-                                             ("fsi_sph", 31), ("fsi_ale", 7)])
+                                             ("fsi_sph", 31), ("fsi_ale", 7),
+                                             ("axi_ale", 9), ("axi_sph", 11)])
 def test_restart_is_bit_identical(tmp_path, monkeypatch, kind, stop_step):
     """fsi_sph has a nodes_to_surface contact, fsi_ale a lagrange_in_solid coupling (their state and work
-    travel in the checkpoint too)."""
-    text = (FUZZ / f"{kind}.yaml").read_text() if kind.startswith("fsi") else None
+    travel in the checkpoint too); axi_ale and axi_sph are the same in r-z (rings, the axis)."""
+    text = (FUZZ / f"{kind}.yaml").read_text() if kind.startswith("fsi") else AXISYMMETRIC.get(kind)
     deck = decks.write(tmp_path, kind, text)
     code, text = _run(deck, "-o", tmp_path / "whole")
     assert code == 0, text
