@@ -35,9 +35,9 @@ def test_at_rest_pass_is_the_kernels_bit_for_bit(deck):
         pytest.skip("no plane-strain solid elements")
     ours, ref = _state(m), _state(m)
     covered = not m.axisymmetric and at_rest_element_pass(
-        ours["x"], ours["v"], m.connectivity, m.element_active, m.element_material, m.material_type,
-        m.material_param, m.volume0, 0.0, ours["stress"], ours["hg_force"], ours["f_elem"], ours["dt_elem"],
-        ours["vol"], ours["q_visc"])
+        ours["x"], ours["v"], m.connectivity, m.element_active, m.element_material, m.element_section,
+        m.material_type, m.material_param, m.section_param, m.volume0, 0.0, ours["stress"], ours["hg_force"],
+        ours["f_elem"], ours["dt_elem"], ours["vol"], ours["q_visc"])
     if not covered:
         assert not any(ours["dt_elem"]), "declined but wrote"
         pytest.skip("not covered (EOS material, axisymmetric, ...): the kernel's")
@@ -58,6 +58,7 @@ def test_at_rest_pass_declines_a_moving_state():
     st = _state(m)
     st["v"][3, 1] = 1.0
     assert not at_rest_element_pass(st["x"], st["v"], m.connectivity, m.element_active, m.element_material,
-                                    m.material_type, m.material_param, m.volume0, 0.0, st["stress"],
-                                    st["hg_force"], st["f_elem"], st["dt_elem"], st["vol"], st["q_visc"])
+                                    m.element_section, m.material_type, m.material_param, m.section_param,
+                                    m.volume0, 0.0, st["stress"], st["hg_force"], st["f_elem"], st["dt_elem"],
+                                    st["vol"], st["q_visc"])
     assert not st["dt_elem"].any()
