@@ -278,7 +278,7 @@ def elastic_plane_stress_update(p, sig, deps):
     The hypoelastic increment gives sigma_zz' = sigma_zz + lambda (deps_xx + deps_yy + deps_zz) + 2G deps_zz,
     so sigma_zz' = 0 for deps_zz = -(sigma_zz + lambda (deps_xx + deps_yy)) / (lambda + 2G), lambda = K - 2G/3.
     The in-plane increments are then the plane-stress law (e.g. Timoshenko & Goodier, Theory of
-    Elasticity, 1970, sec. 16; Belytschko, Liu & Moran, Nonlinear Finite Elements, 2014, sec. 5.4):
+    Elasticity, 1970, ch. 2):
     dsigma_xx = E/(1 - nu^2) (deps_xx + nu deps_yy), dsigma_yy = E/(1 - nu^2) (deps_yy + nu deps_xx),
     dsigma_xy = 2G deps_xy (lambda_bar = 2G lambda / (lambda + 2G) = E nu / (1 - nu^2) in place of lambda).
     sigma_zz is then set to 0 exactly (the formula leaves round-off).
@@ -301,9 +301,9 @@ def plane_stress_update(mtype, p, sig, hist, deps, dt, rel_volume, e_int, sig_st
     plastic work like ``update_stress``.
 
     The standard approach for plane-stress plasticity with a 3D return map (the thickness strain as
-    the unknown of sigma_zz = 0: e.g. Hallquist, LS-DYNA Theory Manual, the iterative plane-stress
-    update of shells; de Souza Neto, Peric & Owen, Computational Methods for Plasticity, 2008,
-    sec. 9.4.2, "plane stress enforced at the Gauss point level"): secant iterations on
+    the unknown of sigma_zz = 0: de Souza Neto, Peric & Owen, Computational Methods for
+    Plasticity, 2008, ch. 9, the plane-stress constraint at the Gauss point; LS-DYNA's shell plasticity,
+    *CONTROL_SHELL MITER = 1, secant iterations): secant iterations on
     r(x) = sigma_zz after ``update_stress`` with deps_zz = x, started from the elastic value
     x0 = -(sigma_zz + lambda (deps_xx + deps_yy)) / (lambda + 2G) and a first step with the elastic
     slope lambda + 2G (an upper bound of dr/dx, so r is monotone and the secant converges), each trial
@@ -354,7 +354,7 @@ def plane_stress_sound_speed(p, rel_volume):
     sqrt(M / rho) with the plane-stress P-wave modulus M = lambda_bar + 2G = E / (1 - nu^2)
     = 4G (K + G/3) / (K + 4G/3), rho = rho0 / rel_volume (rel_volume with the thickness change).
     The plane-strain modulus K + 4G/3 = E (1 - nu) / ((1 + nu)(1 - 2 nu)) (``elastic_sound_speed``) is
-    (1 - nu)^2 / (1 - 2 nu) times M: its speed is 1.34 times this one at nu = 0.4, 1.10 at nu = 0.3.
+    (1 - nu)^2 / (1 - 2 nu) times M: its speed is 1.34 times this one at nu = 0.4, 1.11 at nu = 0.3.
     """
     rho = p[P_RHO0] / rel_volume
     k, g = p[P_K], p[P_G]

@@ -3,7 +3,7 @@
 1. Patch test: a linear velocity field on a distorted patch gives every element the exact
    plane-stress increment, dsigma_xx = E/(1 - nu^2) (deps_xx + nu deps_yy), dsigma_xy = 2G deps_xy,
    sigma_zz = 0, the thickness strain deps_zz = -nu/(1 - nu) (deps_xx + deps_yy), and self-equilibrated
-   forces (Timoshenko & Goodier, Theory of Elasticity, 1970, sec. 16; the patch test of
+   forces (Timoshenko & Goodier, Theory of Elasticity, 1970, ch. 2; the patch test of
    test_patch.py). Exact up to round-off: 1e-10 relative.
 2. One quad4 of bilinear elastic-plastic material in uniaxial tension (the plane-stress twin of
    test_uniaxial_plasticity.py): the true stress is the exact bilinear function of the log strain, and
