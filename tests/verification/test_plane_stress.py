@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from conftest import crossing_times
-from sphfem_cli.deck.schema.materials import Elastic, ElasticPlastic
+from sphfem_cli.deck.schema.materials import Elastic, ElasticPlastic, JohnsonCook
 from sphfem_cli.fem import kernels as fem
 from sphfem_cli.materials.slots import H_EPS, H_THICKNESS_STRAIN, NHIST
 from sphfem_cli.materials.tables import pack_material
@@ -146,6 +146,25 @@ def test_plastic_step_lands_on_the_plane_stress_yield_surface():
     assert eps_p.min() > 1e-3
     assert np.abs(mises - (sy + E * et / (E - et) * eps_p)).max() <= 1e-10 * sy
     assert np.all(hist[:, H_THICKNESS_STRAIN] < 0.0)
+
+
+def test_johnson_cook_step_lands_on_its_flow_stress_in_plane_stress():
+    """The same for Johnson-Cook (rate and temperature terms off: C = 0, no specific heat): the von Mises
+    stress of the in-plane state equals A + B eps_p^n, sigma_zz = 0, to round-off."""
+    a, b, n = 90e6, 292e6, 0.31
+    X, conn, _ = _patch()
+    dt = 1e-3
+    L = np.array([[4.0, 1.0], [0.5, -1.0]])
+    v = X @ L.T
+    material = JohnsonCook(type="johnson_cook", density=RHO, youngs_modulus=E, poisson_ratio=NU, A=a, B=b, n=n,
+                           melt_temperature=1356.0, room_temperature=294.0)
+    stress, hist, _, _, _ = _element_pass(X + dt * v, v, conn, dt, np.zeros(6), material)
+    sxx, syy, sxy = stress[:, 0], stress[:, 1], stress[:, 3]
+    mises = np.sqrt(sxx**2 + syy**2 - sxx * syy + 3 * sxy**2)
+    eps_p = hist[:, H_EPS]
+    assert np.all(stress[:, 2] == 0.0)
+    assert eps_p.min() > 1e-3
+    assert np.abs(mises - (a + b * eps_p**n)).max() <= 1e-10 * a
 
 
 # ------------------------------------------------------------------------- uniaxial plasticity
