@@ -32,6 +32,8 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
     mass_unit = f"{units.mass}{'/' + units.length if deck.dimension == 2 and not deck.axisymmetric else ''}"
     for p, mass in zip(model.parts, masses):
         kind = "rigid" if p.rigid else deck.parts[p.name].section
+        if not p.rigid and getattr(deck.sections[kind], "formulation", "plane_strain") == "plane_stress":
+            kind += " (plane stress)"
         material = model.material_names[p.material]
         if p.kind == "sph":
             lines.append(f"    {p.name}: {p.particles.stop - p.particles.start} particles, material {material}, {kind}, "

@@ -1,4 +1,4 @@
-"""Lagrangian solid elements: quad4 (plane strain) and hex8, one-point integration.
+"""Lagrangian solid elements: quad4 (plane strain or plane stress) and hex8, one-point integration.
 
 Per element and step (central difference, paper eqs. 2.5-2.8):
 
@@ -17,21 +17,32 @@ Per element and step (central difference, paper eqs. 2.5-2.8):
 6. stable step l / (Q + sqrt(Q^2 + c^2)), Q = Q2 c + Q1^2 l |tr d| in compression (the signal speed
    the viscosity q adds), l = V / largest face (area in 3D, edge in 2D).
 
+Plane stress (quad4 of a section with ``formulation: plane_stress``, ``SEC_FORMULATION`` = ``PLANE_STRESS``):
+the thickness strain increment d_zz dt is solved so that sigma_zz = 0 (``materials.kernels``
+``elastic_plane_stress_update``, ``plane_stress_update``), summed into the logarithmic thickness strain
+hist[H_THICKNESS_STRAIN] = ln(h/h0), and the element's volume per unit initial thickness A h/h0 takes the
+place of A in the forces, the energy, the density and the hourglass coefficients; the stable step
+takes the plane-stress wave speed sqrt(E / ((1 - nu^2) rho)) (``plane_stress_sound_speed``).
+
 Element results are written per element (forces per element node); `gather_nodal_forces` sums them
 at nodes through the node->element map, so results do not depend on the thread count.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit, prange
 
 from ..materials.ids import ELASTIC, EOS_NONE
-from ..materials.kernels import elastic_sound_speed, elastic_stress_update, sound_speed, update_stress
-from ..materials.slots import P_EOS_TYPE, P_G, P_RHO0
+from ..materials.kernels import (elastic_plane_stress_update, elastic_sound_speed, elastic_stress_update,
+                                 plane_stress_sound_speed, plane_stress_update, sound_speed, update_stress)
+from ..materials.slots import H_THICKNESS_STRAIN, P_EOS_TYPE, P_G, P_RHO0
 from .geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient, hex8_gradient_faces,
                        quad4_char_length, quad4_gradient, stable_dt)
 from .slots import (  # noqa: F401  (re-exported: declared in fem.slots)
-    HG_STIFFNESS, HG_VISCOUS, INVERTED, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2,
+    HG_STIFFNESS, HG_VISCOUS, INVERTED, NSEC, PLANE_STRAIN, PLANE_STRESS, SEC_FORMULATION, SEC_HG_COEF, SEC_HG_TYPE,
+    SEC_Q1, SEC_Q2,
 )
 
 
@@ -104,7 +115,9 @@ def solid_element_forces(
     and node count as constants, except the factored mean gradient ``hex8_gradient_faces``, equal
     up to round-off); the loop below is the quad4 one (and any dimension). In both, an elastic
     material without an equation of state takes ``elastic_stress_update`` / ``elastic_sound_speed``
-    (the same bits as ``update_stress`` / ``sound_speed``).
+    (the same bits as ``update_stress`` / ``sound_speed``). A quad4 of a plane-stress section
+    (``sec[SEC_FORMULATION] == PLANE_STRESS``) solves its thickness strain (module docstring); vol is
+    then A h/h0, the volume per unit initial thickness.
     """
     n_elem, npe = conn.shape
     dim = x.shape[1]
@@ -121,7 +134,8 @@ def solid_element_forces(
         start = chunk * n_elem // n_chunks
         stop = (chunk + 1) * n_elem // n_chunks
         nd = npe * dim
-        scratch = np.empty(5 * nd + 3 * 6 + npe + 2 * 3)  # one allocation per chunk, carved below
+        nh = hist.shape[1]
+        scratch = np.empty(5 * nd + 3 * 6 + npe + 2 * 3 + 6 + nh)  # one allocation per chunk, carved below
         xe = scratch[0:nd].reshape((npe, dim))
         xm = scratch[nd:2 * nd].reshape((npe, dim))
         ve = scratch[2 * nd:3 * nd].reshape((npe, dim))
@@ -133,6 +147,8 @@ def solid_element_forces(
         gam = scratch[5 * nd + 18:5 * nd + 18 + npe]
         gx = scratch[5 * nd + 18 + npe:5 * nd + 21 + npe]
         qv = scratch[5 * nd + 21 + npe:5 * nd + 24 + npe]
+        sig_start = scratch[5 * nd + 24 + npe:5 * nd + 30 + npe]  # plane stress: the trials' start
+        hist_start = scratch[5 * nd + 30 + npe:5 * nd + 30 + npe + nh]
         for e in range(start, stop):
             if not active[e]:
                 dt_elem[e] = np.inf
@@ -187,12 +203,29 @@ def solid_element_forces(
                 deps[c] = d[c] * dt
             rotate_stress(sig, 0.5 * (lxy - lyx), 0.5 * (lyz - lzy), 0.5 * (lzx - lxz), dt)
             rel_volume = ve_new / vol0[e]
-            if mat_type[m] == ELASTIC and p[P_EOS_TYPE] == EOS_NONE:  # the same numbers, inlined
+            # Thickness over initial thickness h/h0 at mid-step and end of step (1: plane strain, 3D).
+            thick_mid = 1.0
+            thick_new = 1.0
+            if dim == 2 and sec[SEC_FORMULATION] == PLANE_STRESS:
+                eps_zz = hist[e, H_THICKNESS_STRAIN]
+                if mat_type[m] == ELASTIC:
+                    elastic_plane_stress_update(p, sig, deps)
+                else:
+                    plane_stress_update(mat_type[m], p, sig, hist[e], deps, dt, rel_volume, energy[e] / vol0[e],
+                                        sig_start, hist_start)
+                hist[e, H_THICKNESS_STRAIN] = eps_zz + deps[2]  # ln(h/h0) += d_zz dt
+                thick_mid = math.exp(eps_zz + 0.5 * deps[2])
+                thick_new = math.exp(eps_zz + deps[2])
+                rel_volume = rel_volume * thick_new
+                c_snd = plane_stress_sound_speed(p, rel_volume)
+            elif mat_type[m] == ELASTIC and p[P_EOS_TYPE] == EOS_NONE:  # the same numbers, inlined
                 elastic_stress_update(p, sig, deps)
                 c_snd = elastic_sound_speed(p, rel_volume)
             else:
                 update_stress(mat_type[m], p, sig, hist[e], deps, dt, rel_volume, energy[e] / vol0[e])
                 c_snd = sound_speed(mat_type[m], p, rel_volume, energy[e] / vol0[e])
+            vol_t = ve_new * thick_new  # the volume per unit initial thickness (A h/h0); V in 3D
+            vol[e] = vol_t
             rho = p[P_RHO0] / rel_volume
             if dim == 2:
                 length = quad4_char_length(xe, ve_new)
@@ -202,9 +235,10 @@ def solid_element_forces(
             q_visc[e] = q
             dt_elem[e] = stable_dt(length, c_snd, trace_d, sec[SEC_Q1], sec[SEC_Q2])
 
-            # Internal energy: mid-step stress power plus bulk-viscosity work.
+            # Internal energy: mid-step stress power plus bulk-viscosity work (in plane stress
+            # sigma_zz = 0, so d_zz does no work, and q, driven by the in-plane trace, works on it).
             power = 0.5 * (_stress_power(sig_old, d) + _stress_power(sig, d)) - q * trace_d
-            energy[e] += power * vm * dt
+            energy[e] += power * (vm * thick_mid) * dt
 
             # f_I = -V (sigma - q I) . b_I
             sxx = sig[0] - q
@@ -212,12 +246,12 @@ def solid_element_forces(
             szz = sig[2] - q
             for a in range(npe):
                 if dim == 2:
-                    f_elem[e, a, 0] = -ve_new * (sxx * b[0, a] + sig[3] * b[1, a])
-                    f_elem[e, a, 1] = -ve_new * (sig[3] * b[0, a] + syy * b[1, a])
+                    f_elem[e, a, 0] = -vol_t * (sxx * b[0, a] + sig[3] * b[1, a])
+                    f_elem[e, a, 1] = -vol_t * (sig[3] * b[0, a] + syy * b[1, a])
                 else:
-                    f_elem[e, a, 0] = -ve_new * (sxx * b[0, a] + sig[3] * b[1, a] + sig[5] * b[2, a])
-                    f_elem[e, a, 1] = -ve_new * (sig[3] * b[0, a] + syy * b[1, a] + sig[4] * b[2, a])
-                    f_elem[e, a, 2] = -ve_new * (sig[5] * b[0, a] + sig[4] * b[1, a] + szz * b[2, a])
+                    f_elem[e, a, 0] = -vol_t * (sxx * b[0, a] + sig[3] * b[1, a] + sig[5] * b[2, a])
+                    f_elem[e, a, 1] = -vol_t * (sig[3] * b[0, a] + syy * b[1, a] + sig[4] * b[2, a])
+                    f_elem[e, a, 2] = -vol_t * (sig[5] * b[0, a] + sig[4] * b[1, a] + szz * b[2, a])
 
             # Flanagan-Belytschko hourglass control.
             qm = sec[SEC_HG_COEF]
@@ -225,13 +259,13 @@ def solid_element_forces(
                 n_modes = 1 if dim == 2 else 4
                 if sec[SEC_HG_TYPE] == HG_VISCOUS:
                     scale = ve_new ** ((dim - 1.0) / dim)
-                    coef = 0.25 * qm * rho * c_snd * scale
+                    coef = 0.25 * qm * rho * c_snd * scale * thick_new
                 else:
                     bb = 0.0
                     for k in range(dim):
                         for a in range(npe):
                             bb += b[k, a] * b[k, a]
-                    coef = 0.5 * qm * p[P_G] * ve_new * bb
+                    coef = 0.5 * qm * p[P_G] * vol_t * bb
                 for mode in range(n_modes):
                     # gamma_a = Gamma_a - (Gamma . x_k) b_k
                     gx[0] = gx[1] = gx[2] = 0.0

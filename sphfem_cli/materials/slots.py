@@ -57,7 +57,9 @@ Q_JWL_R2, Q_JWL_OMEGA
 ===================================  ==================  ====================================
 
 History row ``hist``: H_EPS effective plastic strain; H_BACK_XX .. H_BACK_ZX the back stress
-(6-vector order xx, yy, zz, xy, yz, zx); H_WP plastic work per unit initial volume.
+(6-vector order xx, yy, zz, xy, yz, zx); H_WP plastic work per unit initial volume;
+H_THICKNESS_STRAIN the logarithmic thickness strain ln(h/h0) of a plane-stress element (the sum of
+its d_zz dt; 0 in every other element).
 
 ``MODEL_SLOTS``, ``EOS_SLOTS`` and ``HISTORY_SLOTS`` list each layout's names in slot order; the unit
 tests check from them that no two names of one layout share a slot and that each stays in its range.
@@ -67,7 +69,7 @@ from __future__ import annotations
 __numba_folded__ = True  # numba folds these ints into kernels: part of the compiled-cache key
 
 NPARAM = 32
-NHIST = 8
+NHIST = 9
 
 # ---------------------------------------------------------------- parameter row p, common slots
 P_RHO0, P_E, P_NU, P_G, P_K = range(5)
@@ -101,6 +103,7 @@ Q_JWL_A, Q_JWL_B, Q_JWL_R1, Q_JWL_R2, Q_JWL_OMEGA = range(Q_MODEL, Q_MODEL + 5)
 H_EPS = 0
 H_BACK_XX, H_BACK_YY, H_BACK_ZZ, H_BACK_XY, H_BACK_YZ, H_BACK_ZX = range(1, 7)
 H_WP = 7
+H_THICKNESS_STRAIN = 8
 
 COMMON_SLOTS = ("P_RHO0", "P_E", "P_NU", "P_G", "P_K")
 MODEL_SLOTS = {
@@ -121,4 +124,4 @@ EOS_SLOTS = {
     "jwl": ("Q_JWL_A", "Q_JWL_B", "Q_JWL_R1", "Q_JWL_R2", "Q_JWL_OMEGA"),
 }
 HISTORY_SLOTS = ("H_EPS", "H_BACK_XX", "H_BACK_YY", "H_BACK_ZZ", "H_BACK_XY", "H_BACK_YZ", "H_BACK_ZX",
-                 "H_WP")
+                 "H_WP", "H_THICKNESS_STRAIN")

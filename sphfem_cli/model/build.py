@@ -11,7 +11,8 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..deck.schema import Deck, SegmentSet
-from ..fem.slots import HG_STIFFNESS, HG_VISCOUS, NSEC, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2
+from ..fem.slots import (HG_STIFFNESS, HG_VISCOUS, NSEC, PLANE_STRAIN, PLANE_STRESS, SEC_FORMULATION, SEC_HG_COEF,
+                         SEC_HG_TYPE, SEC_Q1, SEC_Q2)
 from ..materials.ids import RIGID
 from ..materials.slots import NPARAM, P_G, P_K, P_RHO0
 
@@ -181,6 +182,7 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
         section_param[i, SEC_HG_COEF] = s.hourglass.coefficient
         section_param[i, SEC_Q1] = s.bulk_viscosity.q1
         section_param[i, SEC_Q2] = s.bulk_viscosity.q2
+        section_param[i, SEC_FORMULATION] = PLANE_STRESS if s.formulation == "plane_stress" else PLANE_STRAIN
 
     coords, conns, parts, file_sets = [], [], [], {}
     n_nodes = n_elems = 0
@@ -229,7 +231,8 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     np.add.at(mass, connectivity, (material_param[element_material, P_RHO0] * volume0 / npe)[:, None])
 
     ptr, idx = _node_element_map(connectivity, len(coordinates))
-    dt_factor = free_dilatation_factor(connectivity, dim, material_param[element_material])
+    dt_factor = free_dilatation_factor(connectivity, dim, material_param[element_material],
+                                       section_param[element_section, SEC_FORMULATION] == PLANE_STRESS)
     model = Model(
         deck=deck, deck_path=deck_path, dim=dim, coordinates=coordinates, connectivity=connectivity,
         parts=parts, element_part=element_part, element_material=element_material,
@@ -259,7 +262,8 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
 K_MARGIN = 0.3  # see free_dilatation_factor
 
 
-def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarray) -> np.ndarray | None:
+def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarray,
+                           plane_stress: np.ndarray | None = None) -> np.ndarray | None:
     """Per element, the factor on its stable step V/A_max c for the directions it can dilate freely.
 
     An element whose two opposite faces are both exterior along k of its directions can stretch
@@ -274,6 +278,9 @@ def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarra
     and hourglass stiffness adds to it (the same plate struck at 10 m/s with stiffness hourglass
     control 0.1 still grew at a margin of 0.1, and runs at 0.3: benchmarks/stability_extremes.py,
     group "thin 3D parts"). With the margin a k = 1 element takes 0.941 of the step at nu = 0.3.
+    In plane-stress elements (``plane_stress`` (E,) True) lambda is the plane-stress
+    lambda_bar = 2 mu lambda / (lambda + 2 mu) = E nu / (1 - nu^2), with which lambda_bar + 2 mu is the
+    modulus of the element's wave speed (``materials.kernels.plane_stress_sound_speed``).
     None when every factor is 1 (a mesh without thin parts).
     """
     if not len(connectivity):
@@ -284,6 +291,9 @@ def free_dilatation_factor(connectivity: np.ndarray, dim: int, params: np.ndarra
         k += exterior[:, a] & exterior[:, b]
     g = params[:, P_G]
     lam = params[:, P_K] - 2.0 * g / 3.0
+    if plane_stress is not None:
+        with np.errstate(invalid="ignore", divide="ignore"):
+            lam = np.where(plane_stress, 2.0 * g * lam / (lam + 2.0 * g), lam)
     with np.errstate(invalid="ignore", divide="ignore"):
         factor = np.sqrt((lam + 2.0 * g) / ((k + np.where(k > 0, K_MARGIN, 0.0)) * lam + 2.0 * g))
     factor = np.where(np.isfinite(factor) & (factor > 0.0), np.minimum(factor, 1.0), 1.0)

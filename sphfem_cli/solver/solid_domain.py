@@ -169,9 +169,9 @@ class SolidDomain(Domain):
         numpy where ``fem.at_rest`` covers it, so that `sphfem check` loads no kernel)."""
         m = self.model
         if not m.axisymmetric and at_rest_element_pass(
-                st.x, st.v, m.connectivity, m.element_active, m.element_material, m.material_type,
-                m.material_param, m.volume0, dt, st.stress, st.hg_force, self._f_elem, self._dt_elem,
-                st.volume, st.q_visc):
+                st.x, st.v, m.connectivity, m.element_active, m.element_material, m.element_section,
+                m.material_type, m.material_param, m.section_param, m.volume0, dt, st.stress, st.hg_force,
+                self._f_elem, self._dt_elem, st.volume, st.q_visc):
             st.f_int[:] = 0.0  # the gather of zero element forces
         else:
             from ..fem import kernels as fem

@@ -35,9 +35,9 @@ def test_at_rest_pass_is_the_kernels_bit_for_bit(deck):
         pytest.skip("no plane-strain solid elements")
     ours, ref = _state(m), _state(m)
     covered = not m.axisymmetric and at_rest_element_pass(
-        ours["x"], ours["v"], m.connectivity, m.element_active, m.element_material, m.material_type,
-        m.material_param, m.volume0, 0.0, ours["stress"], ours["hg_force"], ours["f_elem"], ours["dt_elem"],
-        ours["vol"], ours["q_visc"])
+        ours["x"], ours["v"], m.connectivity, m.element_active, m.element_material, m.element_section,
+        m.material_type, m.material_param, m.section_param, m.volume0, 0.0, ours["stress"], ours["hg_force"],
+        ours["f_elem"], ours["dt_elem"], ours["vol"], ours["q_visc"])
     if not covered:
         assert not any(ours["dt_elem"]), "declined but wrote"
         pytest.skip("not covered (EOS material, axisymmetric, ...): the kernel's")
@@ -58,6 +58,39 @@ def test_at_rest_pass_declines_a_moving_state():
     st = _state(m)
     st["v"][3, 1] = 1.0
     assert not at_rest_element_pass(st["x"], st["v"], m.connectivity, m.element_active, m.element_material,
-                                    m.material_type, m.material_param, m.volume0, 0.0, st["stress"],
-                                    st["hg_force"], st["f_elem"], st["dt_elem"], st["vol"], st["q_visc"])
+                                    m.element_section, m.material_type, m.material_param, m.section_param,
+                                    m.volume0, 0.0, st["stress"], st["hg_force"], st["f_elem"], st["dt_elem"],
+                                    st["vol"], st["q_visc"])
     assert not st["dt_elem"].any()
+
+
+def test_at_rest_pass_covers_plane_stress_bit_for_bit(tmp_path):
+    """The shipped plane-strain cantilever with its section made plane_stress: the at-rest step is the kernel's
+    to the bit, and longer than the plane-strain one by sqrt((K + 4G/3) / (E/(1 - nu^2))) (materials.kernels
+    plane_stress_sound_speed)."""
+    import yaml
+
+    deck = yaml.safe_load((DECKS[0].parent / "cantilever_2d.yaml").read_text())
+    for section in deck["sections"].values():
+        section["formulation"] = "plane_stress"
+    path = tmp_path / "cantilever_plane_stress.yaml"
+    path.write_text(yaml.safe_dump(deck, sort_keys=False))
+    m = load_model(str(path)).model
+    strain = load_model(str(DECKS[0].parent / "cantilever_2d.yaml")).model
+    ours, ref, plane_strain = _state(m), _state(m), _state(strain)
+
+    def args(mm, s):
+        return (s["x"], s["v"], mm.connectivity, mm.element_active, mm.element_material, mm.element_section,
+                mm.material_type, mm.material_param, mm.section_param, mm.volume0, 0.0, s["stress"], s["hg_force"],
+                s["f_elem"], s["dt_elem"], s["vol"], s["q_visc"])
+
+    assert at_rest_element_pass(*args(m, ours)) and at_rest_element_pass(*args(strain, plane_strain))
+    fem.solid_element_forces(
+        ref["x"], ref["v"], m.connectivity, m.element_active, m.element_material, m.element_section,
+        m.material_type, m.material_param, m.section_param, m.volume0, 0.0, ref["stress"], ref["hist"],
+        ref["energy"], ref["hg_energy"], ref["hg_force"], ref["f_elem"], ref["dt_elem"], ref["vol"], ref["q_visc"])
+    for name in ("dt_elem", "vol", "q_visc", "stress", "hist", "energy", "hg_energy", "hg_force"):
+        assert _same_bits(ours[name], ref[name]), f"plane stress: {name} differs"
+    nu = deck["materials"][m.material_names[0]]["poisson_ratio"]
+    expected = np.sqrt((1 - nu) ** 2 / (1 - 2 * nu))
+    assert np.allclose(ours["dt_elem"] / plane_strain["dt_elem"], expected, rtol=1e-12)

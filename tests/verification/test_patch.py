@@ -85,7 +85,8 @@ def element_pass(x, v, conn, dt, s0, hg_type, hg_coef):
     mtype, row = pack_material(Elastic(type="elastic", density=RHO, youngs_modulus=E, poisson_ratio=NU))
     # Bulk viscosity off: q is an artificial viscous pressure scaled by each element's own length,
     # so by design it is not uniform over a distorted patch.
-    sec = np.array([[hg_type, hg_coef, 0.0, 0.0]])
+    sec = np.zeros((1, fem.NSEC))
+    sec[0, fem.SEC_HG_TYPE], sec[0, fem.SEC_HG_COEF] = hg_type, hg_coef
     stress = np.tile(s0, (n_elem, 1))
     hist = np.zeros((n_elem, NHIST))
     energy = np.zeros(n_elem)

@@ -17,7 +17,8 @@ a plate one element thick <= 0.90, so at the default 0.9 they blow up (a 1 x 1 b
 10 m/s inverts an element within 20 steps). The step now accounts for it: an element free to
 dilate along k of its directions (both opposite faces exterior) takes sqrt((lambda + 2 mu) /
 (k lambda + 2 mu)) of the usual step (model.build.free_dilatation_factor), the one-point element's
-dilatation mode with lumped mass; these cases pass.
+dilatation mode with lumped mass; these cases pass. Plane-stress quad4 (wave speed sqrt(E/((1 - nu^2) rho)),
+lambda_bar = E nu/(1 - nu^2) in the factor) are checked the same way.
 """
 from __future__ import annotations
 
@@ -65,7 +66,7 @@ def omega_max(model) -> float:
     return float(np.sqrt(np.linalg.eigvalsh(0.5 * (A + A.T)).max()))
 
 
-def deck(divisions: list[int]) -> str:
+def deck(divisions: list[int], formulation: str = "plane_strain") -> str:
     dim = len(divisions)
     size = [0.01 * d for d in divisions]
     return f"""
@@ -74,7 +75,7 @@ control: {{end_time: 1.0}}
 materials:
   steel: {{type: elastic, density: {RHO}, youngs_modulus: {E}, poisson_ratio: {NU}}}
 sections:
-  solid: {{type: solid, hourglass: {{type: viscous, coefficient: 0.0}}}}
+  solid: {{type: solid, formulation: {formulation}, hourglass: {{type: viscous, coefficient: 0.0}}}}
 parts:
   block: {{material: steel, section: solid,
            geometry: {{box: {{min: {[0.0] * dim}, max: {size}, divisions: {divisions}}}}}}}
@@ -97,4 +98,13 @@ def test_first_step_within_stability_limit(divisions, tmp_path):
     dt_crit = 2.0 / omega_max(model)
     print(f"\n{'x'.join(map(str, divisions))}: solver dt / critical dt = {dt / dt_crit:.3f} "
           f"(the critical timestep_scale is {0.9 * dt_crit / dt:.3f})")
+    assert dt <= dt_crit
+
+
+@pytest.mark.parametrize("divisions", [[6, 6], [12, 1], [1, 1]], ids=lambda d: "x".join(map(str, d)))
+def test_plane_stress_first_step_within_stability_limit(divisions, tmp_path):
+    model = load_deck(tmp_path, deck(divisions, "plane_stress"))
+    dt = Simulation(model).state.dt
+    dt_crit = 2.0 / omega_max(model)
+    print(f"\nplane stress {'x'.join(map(str, divisions))}: solver dt / critical dt = {dt / dt_crit:.3f}")
     assert dt <= dt_crit

@@ -44,7 +44,7 @@ class Deck(DeckModel):
     title: str = Field("", description="Free text shown in the output and logs.")
     units: Units = Field(default_factory=Units, description="Consistent unit system. Default m-kg-s.")
     dimension: Literal[2, 3, "axisymmetric"] = Field(
-        description="2 = plane strain in x-y, 3 = solid, axisymmetric = the meridian plane of a body of revolution "
+        description="2 = plane in x-y (plane strain, or plane stress by a solid section's formulation), 3 = solid, axisymmetric = the meridian plane of a body of revolution "
         "(x = radius r >= 0, y = the axis; solid and SPH parts and SPH-on-solid contacts so far; forces, masses "
         "and energies for the full 2 pi)."
     )
@@ -88,6 +88,7 @@ class Deck(DeckModel):
         _check_output_steps(self)
         check_vector_lengths(self, self.dimension)
         _check_references(self)
+        _check_formulations(self)
         return self
 
 
@@ -155,6 +156,29 @@ def _check_axisymmetric(deck: Deck) -> None:
         kind = getattr(deck.sections.get(slave.section), "type", "solid") if slave is not None else "node set"
         if kind != "sph":
             raise ValueError(f"@contacts.{i}.nodes: {AXISYMMETRIC_CONTACT}; '{contact.nodes}' is {kind}")
+
+
+PLANE_STRESS_2D = "plane_stress is a formulation of 2D quad4 elements (dimension 2)"
+PLANE_STRESS_MATERIALS = ("plane_stress takes elastic, elastic_plastic and johnson_cook materials without an "
+                          "equation of state (the EOS pressure would need the thickness change: not yet)")
+
+
+def _check_formulations(deck: Deck) -> None:
+    """A plane_stress section only in a dimension 2 deck (not 3D, not axisymmetric: the hoop strain of a ring is
+    kinematic), and on its parts only materials without an equation of state (fem.kernels: the thickness
+    strain is solved so that sigma_zz = 0 from the deviatoric update; an EOS pressure is a function of the
+    volume, which would need it inside the iteration)."""
+    for sname, section in deck.sections.items():
+        if getattr(section, "formulation", "plane_strain") != "plane_stress":
+            continue
+        if deck.dimension != 2 or deck.axisymmetric:
+            this = "axisymmetric" if deck.axisymmetric else f"dimension {deck.dimension}"
+            raise ValueError(f"@sections.{sname}.formulation: {PLANE_STRESS_2D}; this deck is {this}")
+    for pname, part in deck.parts.items():
+        section, material = deck.sections[part.section], deck.materials[part.material]
+        if getattr(section, "formulation", "plane_strain") == "plane_stress" and getattr(material, "eos", None):
+            raise ValueError(f"@parts.{pname}.material: {PLANE_STRESS_MATERIALS}; '{part.material}' has eos "
+                             f"'{material.eos}' and section '{part.section}' is plane_stress")
 
 
 def _check_meridian_half_plane(pname: str, part) -> None:

@@ -40,9 +40,19 @@ class BulkViscosity(DeckModel):
 
 
 class SolidSection(DeckModel):
-    """Lagrangian solid elements: quad4 plane strain (2D) or hex8 (3D), one-point integration."""
+    """Lagrangian solid elements: quad4 plane strain or plane stress (2D), ring quad4 (axisymmetric) or hex8
+    (3D), one-point integration."""
 
     type: Literal["solid"] = Field(description="Section selector: Lagrangian solid elements.")
+    formulation: Literal["plane_strain", "plane_stress"] = Field(
+        "plane_strain", description="2D quad4 elements: plane_strain (eps_zz = 0, sigma_zz carried; a slice of a long "
+        "body) or plane_stress (sigma_zz = 0, the thickness strain solved for; a thin plate loaded in its plane, "
+        "like LS-DYNA's 2D plane-stress shell, *SECTION_SHELL ELFORM 12). Either way masses, forces and energies "
+        "are per unit (initial) thickness; in plane stress the element's volume per unit initial thickness is "
+        "its area times h/h0. plane_stress takes elastic, elastic_plastic and johnson_cook materials without an "
+        "equation of state (the thickness strain solved so that sigma_zz = 0 after the return map; "
+        "docs/theory/fem.md 'Plane stress') and only dimension 2 (not 3 or axisymmetric). Default plane_strain."
+    )
     hourglass: Hourglass = Field(default_factory=Hourglass, description="Hourglass control.")
     bulk_viscosity: BulkViscosity = Field(default_factory=BulkViscosity, description="Shock viscosity.")
 
