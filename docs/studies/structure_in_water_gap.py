@@ -7,13 +7,14 @@
 Each case writes a variant of decks/structure_in_water_{ale,sph}.yaml into study_siw_gap/ (plate 4 x 60, 2 ms,
 the code-to-code settings of the study: ALE Lagrangian mesh with L_c = h / 2, i.e. pfac 16 / 16 / 10 at nquad
 2 / 4 / 5 for 10 / 5 / 2.5 mm; SPH at ratios 2 / 3 / 4 of the 10 mm ALE size), runs it on one thread and appends
-its CPU seconds to study_siw_gap/log.txt. "gap" is the shipped scene (water under the plate's driven bottom end,
-0 < y < 0.05, joining the two sides); "sb" is the SPH variant with the
-sph_boundary coupling (boundary particles carried by the plate) in place of the penalty contact; "av" is the SPH
-variant with the artificial viscosity's alpha at AV_ALPHA instead of the deck's 0.1 (Monaghan's term is a shear
+its CPU seconds to study_siw_gap/log.txt. "gap" is the shipped scene (water under the plate's driven bottom
+end, 0 < y < 0.05, joining the two sides); "sb" is the SPH variant with the sph_boundary coupling (boundary
+particles carried by the plate) in place of the penalty contact; "av" and "av0" are the SPH variants with the
+artificial viscosity's alpha at AV_ALPHA (0.01 and 0) instead of the deck's 0.1 (Monaghan's term is a shear
 viscosity nu = alpha c h / 8 in 2D, Monaghan 2005, Rep. Prog. Phys. 68, 1703, sec. 4.2: 0.11 / 0.074 / 0.056
-m^2/s at ratios 2 / 3 / 4, a Reynolds number v d / nu of about 1 for the flow under the plate). "nogap" raises the tank floor to the plate's bottom (y = 0.05), so the two
-sides are closed chambers and no water flows round the plate's end (the bottom nodes slide on the slip floor).
+m^2/s at ratios 2 / 3 / 4, a Reynolds number v d / nu of about 1 for the flow under the plate). "nogap" raises
+the tank floor to the plate's bottom (y = 0.05), so the two sides are closed chambers and no water flows round
+the plate's end (the bottom nodes slide on the slip floor).
 Every variant records the x force of the contact / coupling on three bands of each face of the plate
 (y 0.05-0.10, 0.10-0.15, 0.15-0.20) and on its bottom face; `--summary` prints the mid-height peaks and the
 net band impulses over the drive (0-0.75 ms) and the rebound (0.75-1.6 ms).
@@ -29,8 +30,9 @@ WORK = Path("study_siw_gap")
 LEVELS = {"ale": {"10": (0.01, 2, 16.0), "5": (0.005, 4, 16.0), "2.5": (0.0025, 5, 10.0)},  # size, nquad, pfac
           "sph": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025},
           "sb": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025},  # SPH with the sph_boundary coupling
-          "av": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025}}  # SPH (contact) with alpha 0.01 instead of 0.1
-AV_ALPHA = 0.01
+          "av": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025},  # SPH (contact) with alpha 0.01 instead of 0.1
+          "av0": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025}}  # the same without artificial viscosity
+AV_ALPHA = {"av": 0.01, "av0": 0.0}
 CASES = [f"{kind}_{level}_{geo}" for geo in ("gap", "nogap") for kind in LEVELS for level in LEVELS[kind]]
 BANDS = ((0.0499, 0.1001), (0.1002, 0.1501), (0.1502, 0.2001))  # node boxes: each face node in exactly one band
 WINDOWS = {"drive": (0.0, 0.75e-3), "rebound": (0.75e-3, 1.6e-3)}
@@ -38,7 +40,7 @@ WINDOWS = {"drive": (0.0, 0.75e-3), "rebound": (0.75e-3, 1.6e-3)}
 
 def variant(name: str) -> Path:
     kind, level, geo = name.split("_")
-    base = "sph" if kind in ("sb", "av") else kind
+    base = "sph" if kind in ("sb", *AV_ALPHA) else kind
     d = copy.deepcopy(yaml.safe_load(open(ROOT / f"decks/structure_in_water_{base}.yaml")))
     d["control"]["end_time"] = 0.002
     d["parts"]["plate"]["geometry"]["box"]["divisions"] = [4, 60]
@@ -65,8 +67,8 @@ def variant(name: str) -> Path:
             right["geometry"] = {"polygon": {"vertices": [[0.21, 0.05], [0.4, 0.05], [0.4, 0.2], [0.21, 0.2], [0.21, 0.05]]}}
             d["parts"]["tank"], d["parts"]["tank_right"] = left, right
             d["contacts"].append(dict(d["contacts"][0], nodes="tank_right"))
-        if kind == "av":
-            d["sections"]["sph"]["artificial_viscosity"]["alpha"] = AV_ALPHA
+        if kind in AV_ALPHA:
+            d["sections"]["sph"]["artificial_viscosity"]["alpha"] = AV_ALPHA[kind]
         if kind == "sb":  # boundary particles carried by the plate instead of the penalty contact
             d["couplings"] = [{"type": "sph_boundary", "structure": "plate", "fluid": c["nodes"]} for c in d["contacts"]]
             d["contacts"] = []
