@@ -126,11 +126,11 @@ def reference_uncertainty(levels: list[dict], quantities: Sequence[str]) -> dict
             n += 1
         l2_2 = levels[1]["errors"].get(q, {}).get("l2") if n >= 2 else None
         u = {"gci": None, "extrapolated": None, "l2": None, "method": "one level: unknown", "order": None,
-             "monotone": None, "asymptotic": None, "levels": [r["case"] for r in levels[:n]]}
+             "monotone": None, "diverging": None, "asymptotic": None, "levels": [r["case"] for r in levels[:n]]}
         if n >= 3:
             conv = metrics.three_grid([r["size"] for r in levels[:3]], peaks)
             r21 = levels[1]["size"] / levels[0]["size"]
-            u.update(order=conv.order, monotone=conv.monotone, asymptotic=conv.asymptotic)
+            u.update(order=conv.order, monotone=conv.monotone, diverging=conv.diverging, asymptotic=conv.asymptotic)
             if conv.monotone and math.isfinite(conv.order):
                 inside = math.isfinite(conv.asymptotic) and 1 / ASYMPTOTIC_BAND <= conv.asymptotic <= ASYMPTOTIC_BAND
                 fs = 1.25 if inside else 3.0
@@ -139,7 +139,8 @@ def reference_uncertainty(levels: list[dict], quantities: Sequence[str]) -> dict
                          method=f"GCI, Fs {fs:g} ({'inside' if inside else 'outside'} the asymptotic range)")
             else:
                 u.update(gci=0.5 * (max(peaks) - min(peaks)) / abs(peaks[0]) if peaks[0] else None, l2=l2_2,
-                         method="oscillating: half the range of the three levels")
+                         method=("differences grow" if conv.diverging else "oscillating")
+                         + ": half the range of the three levels")
         elif n == 2:
             r21 = levels[1]["size"] / levels[0]["size"]
             u.update(gci=3.0 * abs((peaks[1] - peaks[0]) / peaks[0]) / (r21 - 1.0) if peaks[0] else None,

@@ -146,6 +146,7 @@ class Convergence:
     gci_medium: float
     asymptotic: float  # GCI_medium / (r21^p GCI_fine), near 1 in the asymptotic range
     monotone: bool
+    diverging: bool = False  # monotone, but the change grows with refinement: no order, no extrapolation
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -153,7 +154,14 @@ class Convergence:
 
 def three_grid(h: Sequence[float], phi: Sequence[float], fs: float = 1.25, tol: float = 1e-12,
                max_iter: int = 500) -> Convergence:
-    """Observed order, Richardson extrapolation and GCI from three grids (any order of the input)."""
+    """Observed order, Richardson extrapolation and GCI from three grids (any order of the input).
+
+    Celik et al. 2008 (J. Fluids Eng. 130, 078001): p = |ln|e32/e21| + q(p)| / ln r21, q(p) = ln((r21^p - s) /
+    (r32^p - s)), s = sign(e32/e21); extrapolated (r21^p f1 - f2) / (r21^p - 1); GCI = Fs e_a / (r^p - 1).
+    Their absolute value would give a positive order to a monotone series whose change grows with
+    refinement (|e21| >= |e32| with r32 >= r21, which no p > 0 produces): such a series is reported
+    ``diverging``, without order, extrapolation or GCI.
+    """
     order_idx = np.argsort(np.asarray(h, dtype=float))
     h1, h2, h3 = (float(h[i]) for i in order_idx)
     f1, f2, f3 = (float(phi[i]) for i in order_idx)
@@ -165,6 +173,8 @@ def three_grid(h: Sequence[float], phi: Sequence[float], fs: float = 1.25, tol: 
                            nan, nan, e21 == 0.0 and e32 == 0.0)
     ratio = e32 / e21
     s = 1.0 if ratio > 0 else -1.0
+    if s > 0 and r32 >= r21 and abs(e32) <= abs(e21):
+        return Convergence((h1, h2, h3), (f1, f2, f3), nan, nan, nan, nan, nan, True, True)
     p = abs(math.log(abs(ratio))) / math.log(r21)
     for _ in range(max_iter):
         try:

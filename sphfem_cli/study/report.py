@@ -28,6 +28,13 @@ def _num(v, spec: str = ".3g") -> str:
     return format(v, spec) if _ok(v) else "-"
 
 
+def _monotone(c: dict) -> str:
+    """The monotone column of a convergence row: yes, yes but diverging, or not monotone."""
+    if not c["monotone"]:
+        return "**no: not monotone**"
+    return "yes, **but the differences grow**" if c.get("diverging") else "yes"
+
+
 def _one_line(text, width: int = 160) -> str:
     line = " ".join(str(text or "").split())
     return line if len(line) <= width else line[: width - 3] + "..."
@@ -143,7 +150,7 @@ def markdown(result: dict) -> str:
         lines += ["| quantity | method | levels | order | monotone | asymptotic | GCI % | L2 band % | Richardson value |",
                   "|---|---|---|---|---|---|---|---|---|"]
         for name, u in ref["uncertainty"].items():
-            mono = "-" if u["monotone"] is None else ("yes" if u["monotone"] else "**no: not monotone**")
+            mono = "-" if u["monotone"] is None else _monotone(u)
             lines.append(f"| {name} | {u['method']} | {', '.join(u['levels'])} | {_num(u['order'])} | {mono} | "
                          f"{_num(u['asymptotic'])} | {_pct(u['gci'])} | {_pct(u['l2'])} | {_num(u['extrapolated'], '.6g')} |")
     else:
@@ -171,7 +178,7 @@ def markdown(result: dict) -> str:
         for name, c in per_q.items():
             a = c["asymptotic"]
             inside = "-" if not _ok(a) or not c["monotone"] else ("yes" if 0.8 <= a <= 1.25 else "**no**")
-            lines.append(f"| {name} | {', '.join(c['cases'])} | {'yes' if c['monotone'] else '**no: not monotone**'} | "
+            lines.append(f"| {name} | {', '.join(c['cases'])} | {_monotone(c)} | "
                          f"{_num(c['order'])} | {_num(c['extrapolated'], '.6g')} | {_pct(c['gci_fine'])} | "
                          f"{_pct(c['gci_medium'])} | {_num(a)} | {inside} |")
         lines.append("")

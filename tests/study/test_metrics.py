@@ -106,3 +106,13 @@ def test_quantity_names_a_missing_column(tmp_path):
     _write(tmp_path / "plate.csv", ["time", "von_mises"], [[0.0, 1.0], [1.0, 2.0]])
     with pytest.raises(KeyError, match="no column or family 'velocity'"):
         metrics.quantity_series(tmp_path, "plate.velocity")
+
+
+def test_three_grid_refuses_an_order_to_a_growing_change():
+    """0.813 / 0.822 / 0.836 at h 4 / 2 / 1 (the r-z ALE bird's window force): the change grows as h
+    halves, which no positive order gives; Celik's |ln| would have said p = 0.64 and extrapolated 0.861."""
+    conv = metrics.three_grid((1.0, 2.0, 4.0), (0.836, 0.822, 0.813))
+    assert conv.monotone and conv.diverging
+    assert math.isnan(conv.order) and math.isnan(conv.extrapolated) and math.isnan(conv.gci_fine)
+    converging = metrics.three_grid((1.0, 2.0, 4.0), (0.836, 0.830, 0.813))
+    assert not converging.diverging and converging.order == pytest.approx(math.log2(17 / 6), rel=1e-12)
