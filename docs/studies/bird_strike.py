@@ -24,6 +24,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from sphfem_cli import api
+from sphfem_cli.study.metrics import describe, three_grid
 from sphfem_cli.api import read_histories
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -72,16 +73,6 @@ def level(method: str, size: float) -> dict:
             "centre mean/(rho v^2/2)": float(pc[winc].mean()) / (0.5 * RHO * SPEED ** 2),
             "force mean/(rho A v^2)": float(force[win].mean()) / (RHO * area * SPEED ** 2),
             "cpu_s": cpu, "steps": result.steps}
-
-
-def gci(coarse: float, medium: float, fine: float, r: float = 2.0) -> tuple:
-    """Observed order p = ln(e32 / e21) / ln r and GCI = 1.25 |e21 / f1| / (r^p - 1); nan when not monotone or
-    when the differences do not shrink."""
-    e21, e32 = fine - medium, medium - coarse
-    if e21 == 0.0 or e32 / e21 <= 0.0:
-        return math.nan, math.nan
-    p = math.log(e32 / e21) / math.log(r)
-    return p, (1.25 * abs(e21 / fine) / (r ** p - 1.0) if p > 0.0 else math.nan)
 
 
 def plot(path: Path) -> None:
@@ -133,8 +124,8 @@ def main() -> None:
     if len(runs) >= 3:
         for key in runs[0]:
             if key not in ("cpu_s", "steps"):
-                p, g = gci(*(run[key] for run in runs[-3:]))
-                print(f"{key}: order {p:.2f}, GCI {g * 100:.2f} %")
+                conv = three_grid(args.sizes[-3:], [run[key] for run in runs[-3:]])
+                print(f"{key}: {describe(conv)}")
 
 
 if __name__ == "__main__":

@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from sphfem_cli import api
+from sphfem_cli.study.metrics import describe, three_grid
 
 ROOT = Path(__file__).resolve().parents[2]
 DECK_3D = ROOT / "decks/underwater_explosion_3d_ale.yaml"
@@ -76,16 +77,6 @@ def loglog(run: dict, r: np.ndarray, key: str = "peak") -> np.ndarray:
     return np.exp(np.interp(np.log(r), np.log(run["r_c"]), np.log(run[key])))
 
 
-def gci(coarse: float, medium: float, fine: float, r: float = 2.0) -> tuple:
-    """Observed order p = ln(e32 / e21) / ln r and GCI = 1.25 |e21 / f1| / (r^p - 1); nan when not monotone
-    or when the differences do not shrink."""
-    e21, e32 = fine - medium, medium - coarse
-    if e21 == 0.0 or e32 / e21 <= 0.0:
-        return math.nan, math.nan
-    p = math.log(e32 / e21) / math.log(r)
-    return p, (1.25 * abs(e21 / fine) / (r ** p - 1.0) if p > 0.0 else math.nan)
-
-
 def compare_pair(h: float) -> None:
     solid, rz = peaks(3, h), peaks(2, h)
     print(f"\n== h = {h * 1e3:g} mm: charge as filled 3D {solid['charge']:.5f} kg, r-z {rz['charge']:.5f} kg "
@@ -114,8 +105,8 @@ def converge(levels: list[float]) -> None:
         sizes = ", ".join(f"{run['h'] * 1e3:g}" for run in runs[-3:])
         print(f"== observed order and GCI, levels {sizes} mm")
         for k, r in enumerate(radii):
-            p, g = gci(*(loglog(run, radii)[k] for run in runs[-3:]))
-            print(f"   R = {r:.2f} m: order {p:.2f}, GCI {g * 100:.2f} %")
+            conv = three_grid([run["h"] for run in runs[-3:]], [loglog(run, radii)[k] for run in runs[-3:]])
+            print(f"   R = {r:.2f} m: {describe(conv)}")
 
 
 def main() -> None:

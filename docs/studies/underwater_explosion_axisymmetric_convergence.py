@@ -19,6 +19,7 @@ import numpy as np
 
 from sphfem_cli import api
 from sphfem_cli.fem.axisymmetric import ring_volumes
+from sphfem_cli.study.metrics import describe, three_grid
 
 ROOT = Path(__file__).resolve().parents[2]
 DECK = ROOT / "decks/underwater_explosion_axisymmetric_ale.yaml"
@@ -56,16 +57,6 @@ def level(h: float) -> dict:
     return out
 
 
-def gci(coarse: float, medium: float, fine: float, r: float = 2.0) -> tuple:
-    """Observed order p = ln(e32 / e21) / ln r and the fine grid's GCI = 1.25 |e21 / f1| / (r^p - 1);
-    (nan, nan) when the three are not monotone, (p, nan) when the differences grow (p <= 0)."""
-    e21, e32 = fine - medium, medium - coarse
-    if e21 == 0.0 or e32 / e21 <= 0.0:
-        return math.nan, math.nan
-    p = math.log(e32 / e21) / math.log(r)
-    return p, (1.25 * abs(e21 / fine) / (r ** p - 1.0) if p > 0.0 else math.nan)
-
-
 def main() -> None:
     WORK.mkdir(exist_ok=True)
     runs = [level(h) for h in LEVELS]
@@ -74,8 +65,8 @@ def main() -> None:
     for key in runs[0]:
         if key in ("cpu_s", "steps"):
             continue
-        p, g = gci(*(run[key] for run in runs))
-        print(f"{key}: {' / '.join(f'{run[key]:.4g}' for run in runs)}; observed order {p:.2f}, GCI {g * 100:.2f} %")
+        conv = three_grid(LEVELS, [run[key] for run in runs])
+        print(f"{key}: {' / '.join(f'{run[key]:.4g}' for run in runs)}; {describe(conv)}")
 
 
 if __name__ == "__main__":

@@ -199,6 +199,17 @@ def three_grid(h: Sequence[float], phi: Sequence[float], fs: float = 1.25, tol: 
     return Convergence((h1, h2, h3), (f1, f2, f3), p, extrapolated, gci_fine, gci_medium, asym, s > 0)
 
 
+def describe(conv: Convergence) -> str:
+    """One line for a study script: "order p, GCI g %", or why there is none."""
+    if not conv.monotone:
+        return "not monotone"
+    if conv.diverging:
+        return "differences grow"
+    if not math.isfinite(conv.order):
+        return "no order"
+    return f"order {conv.order:.2f}, GCI {100 * conv.gci_fine:.2f} %"
+
+
 # ------------------------------------------------------------------------------------ power laws
 
 
