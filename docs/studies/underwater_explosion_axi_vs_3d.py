@@ -3,6 +3,7 @@ axisymmetric peak pressure refined to a GCI.
 
     python docs/studies/underwater_explosion_axi_vs_3d.py            # from the repository root, ~60 min CPU
     python docs/studies/underwater_explosion_axi_vs_3d.py --pair 0.01 --levels 0.005 0.0025 0.00125
+    python docs/studies/underwater_explosion_axi_vs_3d.py --pair --levels --far 0.0025 0.00125   # to 25 radii
 
 Decks: decks/underwater_explosion_3d_ale.yaml (hex8 octant) and its r-z twin
 decks/underwater_explosion_free_field_axisymmetric_ale.yaml, both to 0.12 ms, histories every 0.2 us.
@@ -16,6 +17,10 @@ Prints: per pair size, the two charges as filled (whole sphere), each 3D distanc
 ratio and both arrival times; per r-z level, the peak at R = 0.06 ... 0.20 m and the e-folding length of
 the pulse in elements (theta times the shock speed dR/dt of the arrival times, over h); then the observed
 order and GCI (Roache, safety factor 1.25, ratio 2) of the peaks on the last three levels.
+
+--far: the r-z deck on a 0.6 m mesh to 0.42 ms, probes on the same ray at R = 0.10 ... 0.50 m (5 to 25 charge
+radii), each peak against Cole's similitude P = 52.4 (W^(1/3) / R)^1.13 MPa (Cole 1948; W the charge as filled,
+in kg; R the probe's element centre, m), which is fitted to measurements from about 10 charge radii out.
 """
 from __future__ import annotations
 
@@ -109,17 +114,45 @@ def converge(levels: list[float]) -> None:
             print(f"   R = {r:.2f} m: {describe(conv)}")
 
 
+FAR_SIZE, FAR_END = 0.6, 4.2e-4  # m, s: the shock passes 0.5 m by about 0.33 ms
+FAR_RADII = (0.10, 0.15, 0.20, 0.25, 0.30, 0.35, 0.40, 0.45, 0.50)
+
+
+def far_field(h: float) -> None:
+    probes = [{"name": f"d_{round(r * 1000):03d}", "type": "pressure", "point": [r * RAY[0], r * RAY[1]]}
+              for r in FAR_RADII]
+    overrides = {"parts.pool.geometry.box.max": [FAR_SIZE, FAR_SIZE], "parts.pool.geometry.box.element_size": h,
+                 "control.end_time": FAR_END, "output.history_interval": 2.0e-7, "output.interval": 1.0,
+                 "output.probes": probes}
+    cpu = time.process_time()
+    result = api.run(DECK_RZ, WORK / f"far_h{h * 1e3:g}mm", overrides, threads=1, overwrite=True)
+    cpu = time.process_time() - cpu
+    assert result.completed, result.message
+    hist = result.histories()
+    charge = hist["ale_materials"]["mass_tnt"][0] * 2.0
+    print(f"\n== far field, h = {h * 1e3:g} mm, {FAR_SIZE} m mesh (charge {charge:.5f} kg, CPU {cpu:.1f} s)")
+    for probe in probes:
+        r_c = float(np.linalg.norm((np.floor(np.asarray(probe["point"]) / h) + 0.5) * h))
+        peak = float(np.nanmax(hist[probe["name"]]["pressure"]))
+        cole = 52.4e6 * (charge ** (1.0 / 3.0) / r_c) ** 1.13
+        print(f"   R_c {r_c:.4f} m ({r_c / 0.02:4.1f} radii): peak {peak / 1e6:6.1f} MPa, Cole {cole / 1e6:6.1f}, "
+              f"ratio {peak / cole:.3f}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--pair", type=float, nargs="*", default=[0.01, 0.005], help="element sizes run in both (m)")
     parser.add_argument("--levels", type=float, nargs="*", default=[0.0025, 0.00125, 0.000625],
                         help="r-z element sizes for the GCI, coarse to fine, ratio 2 (m)")
+    parser.add_argument("--far", type=float, nargs="*", default=[], help="r-z element sizes for the far field (m)")
     args = parser.parse_args()
     WORK.mkdir(exist_ok=True)
     for h in args.pair:
         compare_pair(h)
     if args.levels:
         converge(args.levels)
+    for h in args.far:
+        far_field(h)
 
 
 if __name__ == "__main__":
