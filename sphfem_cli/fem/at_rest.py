@@ -52,7 +52,7 @@ def at_rest_element_pass(x, v, conn, active, elem_mat, elem_sec, mat_type, mat_p
                   + (xe[:, 1, 0] - xe[:, 3, 0]) * (xe[:, 2, 1] - xe[:, 0, 1]))
     if not (area > 0.0).all():
         return False
-    rho = p[:, P_RHO0] / (area / vol0[act] * 1.0)  # the kernel's rel_volume, times h/h0 = 1 in plane stress
+    rho = p[:, P_RHO0] / (area / vol0[act])  # the kernel's rel_volume (h/h0 = 1 at rest in plane stress)
     k, g = p[:, P_K], p[:, P_G]
     plane_stress = sec_param[elem_sec[act], SEC_FORMULATION] == PLANE_STRESS
     modulus = np.where(plane_stress, 4.0 * g * (k + g / 3.0) / (k + 4.0 * g / 3.0), k + 4.0 * g / 3.0)
