@@ -59,6 +59,8 @@ class NodesToSurfaceContact:
             self.seg_depth = area_m / area
         self.reach = float(self.slave_thickness.max()) if len(slave_mass) else 0.0
         self._k_soft = None  # set on the first step for the soft constraint
+        self._master_inv = None  # set on the first step (see _master_compliance)
+        self._initial_gaps_taken = False  # node slaves: see _take_initial_gaps
         self.work = 0.0
         self._f_master = np.zeros((model.n_nodes, self.dim))
         self._seg_of = None
@@ -96,7 +98,11 @@ class NodesToSurfaceContact:
     # ----------------------------------------------------------------------------- loop
 
     def stable_dt(self) -> float:
-        """2/omega (sqrt(1 + zeta^2) - zeta) with omega = sqrt(k_max / m_min): the contact spring's step."""
+        """2/omega (sqrt(1 + zeta^2) - zeta): the contact spring's step.
+
+        Penalty: omega^2 = k_max (1 / m_slave_min + max 1 / m_master), the two-mass spring of a slave
+        and a master node (``_master_compliance``); soft constraint: omega dt0 = sqrt(soft_scale).
+        """
         if self.spec.stiffness == "soft_constraint":
             if self._k_soft is None:
                 return np.inf
@@ -109,11 +115,54 @@ class NodesToSurfaceContact:
                 if not mask.any():
                     return np.inf
                 per_ring = float(np.max(2.0 * np.pi * np.maximum(xp[mask, 0], 0.0) / mp[mask]))
-                omega = np.sqrt(float(self.seg_k.max()) * per_ring)
+                omega = np.sqrt(float(self.seg_k.max()) * (per_ring + self._master_compliance()))
             else:
-                omega = np.sqrt(float(self.seg_k.max()) / self.slave_mass_min)
+                omega = np.sqrt(float(self.seg_k.max()) * (1.0 / self.slave_mass_min + self._master_compliance()))
         zeta = self.spec.damping
         return 2.0 / omega * (np.sqrt(1.0 + zeta * zeta) - zeta)
+
+    def _master_compliance(self) -> float:
+        """Largest 1 / m over the master nodes (times the ring 2 pi r in r-z), for the two-body spring.
+
+        A slave on a segment and the segment's node form a two-mass spring, omega^2 = k (1/m_s + 1/m_m)
+        (node weight 1, the worst case). m_m is the nodal mass; a rigid part's nodes move with its
+        body mass, and a node fixed in every direction does not move (1/m_m = 0). In r-z the node's
+        ring factor is taken at its radius plus the longest master edge, a bound on the radius of
+        the slaves it meets. Evaluated once, on the first step (constraints and masses are fixed).
+        """
+        if self._master_inv is None:
+            model = self.sim.model
+            nodes = self.master_nodes
+            inv = 1.0 / np.maximum(model.mass[nodes], 1e-300)
+            for b in model.rigid_bodies:
+                inv[np.isin(nodes, b.nodes)] = 1.0 / b.mass
+            inv[~self.sim.constraints.free[nodes].any(axis=1)] = 0.0
+            if self.axisymmetric:
+                x0 = model.coordinates
+                edge = float(np.max(np.linalg.norm(x0[self.faces[:, 1]] - x0[self.faces[:, 0]], axis=1)))
+                inv *= 2.0 * np.pi * (x0[nodes, 0] + edge)
+            self._master_inv = float(inv.max()) if len(inv) else 0.0
+        return self._master_inv
+
+    def _take_initial_gaps(self, args: tuple) -> None:
+        """Node slaves that start (at the model's initial coordinates) within the contact thickness of a master face keep their initial
+        gap (at least 0) as their thickness (LS-DYNA's IGNORE = 1, initial penetrations tracked).
+
+        Bodies meshed touching (a rod on a rod) put every interface slave at gap 0, 0.1 edge inside
+        the default thickness: a spring preloaded by k 0.1 edge whose energy is in no initial
+        balance; it threw the bodies apart (two touching 5 x 5 blocks: energy ratio 1.096, contact
+        energy -69 J). SPH slaves keep the lattice's dx/2, their radius. ``args``: the force pass's
+        point_forces arguments, evaluated here at the initial coordinates at rest.
+        """
+        self._initial_gaps_taken = True
+        x0 = self.sim.model.coordinates
+        lo, cell, ncell = self._grid(x0)
+        start, segs = K.bin_segments(x0, self.faces, self.reach, lo, cell, ncell)
+        at_rest = np.zeros_like(x0)
+        K.point_forces(x0, at_rest, *args[2:5], x0, at_rest, *args[7:12], start, segs, lo, cell, ncell, *args[17:])
+        # a gap equal to the thickness to round-off is the zone's edge, no preload: left as it is
+        caught = (self._seg_of >= 0) & (self._gap < self.slave_thickness * (1.0 - 1e-9))
+        self.slave_thickness[caught] = np.maximum(self._gap[caught], 0.0)
 
     def forces(self, st) -> None:
         xp, vp, mp, mask, thickness = self._slaves()
@@ -132,10 +181,12 @@ class NodesToSurfaceContact:
         if len(self.faces) and mask.any():
             lo, cell, ncell = self._grid(st.x)
             start, segs = K.bin_segments(st.x, self.faces, self.reach, lo, cell, ncell)
-            K.point_forces(xp, vp, mp, mask, thickness, st.x, st.v, self.faces, self.seg_k, self.seg_depth, point_k,
-                           self._ring(xp), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
-                           max(st.dt_prev, self.sim._dt_first or 0.0), self._f_point, self._seg_of, self._weights,
-                           self._gap)
+            args = (xp, vp, mp, mask, thickness, st.x, st.v, self.faces, self.seg_k, self.seg_depth, point_k,
+                    self._ring(xp), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
+                    max(st.dt_prev, self.sim._dt_first or 0.0), self._f_point, self._seg_of, self._weights, self._gap)
+            if not self.particle_slaves and not self._initial_gaps_taken:
+                self._take_initial_gaps(args)
+            K.point_forces(*args)
         self._f_master[:] = 0.0
         K.scatter_reactions(self._f_point, self._seg_of, self._weights, self.faces, self._f_master)
         st.f_contact += self._f_master

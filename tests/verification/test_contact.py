@@ -117,6 +117,37 @@ def test_solid_blocks_collide_and_separate(sim_from_deck, single_thread):
     assert row.contact >= 0.0 and abs(row.ratio - 1.0) < 0.02
 
 
+def test_touching_blocks_start_unloaded(sim_from_deck, single_thread):
+    """Blocks meshed touching (every interface slave at gap 0, inside the default thickness 0.1 edge)
+    start with their initial gaps as thickness (contact.system._take_initial_gaps): no preloaded
+    spring throws them apart. Measured: before, energy ratio 1.096 and contact energy -69 J at the end;
+    with the gaps taken 1.036 and +5.5 J (the same blocks 2 mm apart: 1.008, +5.6 J)."""
+    deck = _two_blocks(2.0)
+    deck["parts"]["right"]["geometry"]["box"].update(min=[0.1, 0.02], max=[0.2, 0.12])
+    deck["contacts"] = deck["contacts"][:1]
+    sim = sim_from_deck(deck)
+    sim.run(lambda st: None)
+    row = sim.energy_row()
+    assert row.contact >= 0.0 and abs(row.ratio - 1.0) < 0.05
+    contact = sim.interactions[0]
+    x0 = sim.model.coordinates[contact.slave_nodes]
+    on_face = np.isclose(x0[:, 0], 0.1) & (x0[:, 1] >= 0.02)  # the right block's face spans y 0.02-0.12
+    assert np.all(contact.slave_thickness[contact.slave_nodes[on_face]] == 0.0)
+    assert np.all(contact.slave_thickness[contact.slave_nodes[~on_face]] == pytest.approx(0.002))
+
+
+def test_penalty_step_counts_both_masses(sim_from_deck):
+    """The penalty spring's step is that of the two-mass system slave node - master node:
+    omega^2 = k (1 / m_slave + 1 / m_master), not k / m_slave (equal blocks: sqrt(2) shorter)."""
+    sim = sim_from_deck(_two_blocks(2.0))
+    contact = sim.interactions[0]
+    m = sim.model.mass
+    k = float(contact.seg_k.max())
+    omega = np.sqrt(k * (1.0 / m[contact.slave_nodes].min() + 1.0 / m[contact.master_nodes].min()))
+    zeta = contact.spec.damping
+    assert contact.stable_dt() == pytest.approx(2.0 / omega * (np.sqrt(1.0 + zeta * zeta) - zeta), rel=1e-12)
+
+
 # ------------------------------------------------------------------------------------- kernels
 
 
