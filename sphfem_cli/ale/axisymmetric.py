@@ -51,8 +51,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..fem.geometry import QUAD_GAMMA, bulk_viscosity, quad4_gradient, stable_dt
-from .lagrange import _mixture_pressure, _quad_char_length
+from ..fem.geometry import quad4_gradient
+from .lagrange import N_CHUNKS, _mixture_pressure, _quad_char_length, chunk_range, gather_quad, quad_hourglass, viscosity_and_step
 from .ring_geometry import PI_3, ring_gradient, ring_volume
 
 TWO_PI = 2.0 * math.pi
@@ -75,23 +75,15 @@ def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
     Arguments and outputs as the plane kernel's; vol_m and mass_m are ring volumes and masses.
     """
     n_elem = conn.shape[0]
-    n_chunks = min(n_elem, 512)
+    n_chunks = min(n_elem, N_CHUNKS)
     for chunk in prange(n_chunks):
-        start = chunk * n_elem // n_chunks
-        stop = (chunk + 1) * n_elem // n_chunks
+        start, stop = chunk_range(chunk, n_elem, n_chunks)
         xe = np.empty((4, 2))
         ve = np.empty((4, 2))
         b = np.empty((2, 4))
         gv = np.empty((2, 4))
         for e in range(start, stop):
-            vmax2 = 0.0
-            for a in range(4):
-                n = conn[e, a]
-                xe[a, 0] = x[n, 0]
-                xe[a, 1] = x[n, 1]
-                ve[a, 0] = v[n, 0]
-                ve[a, 1] = v[n, 1]
-                vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1])
+            vmax2 = gather_quad(conn, e, x, v, xe, ve)
             area = quad4_gradient(xe, b)
             vol = ring_gradient(xe, gv)
             p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
@@ -108,32 +100,14 @@ def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
             length = _quad_char_length(xe, area)
             if gg > 0.0 and vol > 0.0:
                 length *= min(1.0, math.sqrt(bb / gg) * vol)  # |b| / |b_V|, b_V = gv / V
-            q = bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
-            q_elem[e] = q
-            c_eff = c_max + math.sqrt(vmax2)
-            dt_elem[e] = stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
+            q = viscosity_and_step(e, rho_e, length, c_max, trace_d, vmax2, q1, q2, q_elem, dt_elem)
             s = p_mix + q
             for a in range(4):
                 f_elem[e, a, 0] = s * gv[0, a]
                 f_elem[e, a, 1] = s * gv[1, a]
             if qhg > 0.0 and rho_e > 0.0 and area > 0.0:
-                gx0 = 0.0
-                gx1 = 0.0
-                for a in range(4):
-                    gx0 += QUAD_GAMMA[a] * xe[a, 0]
-                    gx1 += QUAD_GAMMA[a] * xe[a, 1]
                 # the plane coefficient qhg rho c sqrt(A) / 4 times the ring length 2 pi r_bar = V / A
-                coef = 0.25 * qhg * rho_e * c_max * math.sqrt(area) * (vol / area)
-                hq0 = 0.0
-                hq1 = 0.0
-                for a in range(4):
-                    g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
-                    hq0 += g * ve[a, 0]
-                    hq1 += g * ve[a, 1]
-                for a in range(4):
-                    g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
-                    f_elem[e, a, 0] -= coef * hq0 * g
-                    f_elem[e, a, 1] -= coef * hq1 * g
+                quad_hourglass(e, xe, ve, b, 0.25 * qhg * rho_e * c_max * math.sqrt(area) * (vol / area), f_elem)
 
 
 def quad_ring_volumes(p0, p1, p2, p3):

@@ -114,11 +114,73 @@ def _quad_char_length(x, area):
     return area / math.sqrt(longest2)
 
 
+# Every parallel kernel splits its items into min(n, N_CHUNKS) fixed runs (``chunk_range``), so the
+# partition, and with it every sum, is the same on any thread count.
+N_CHUNKS = 512
+
+
+@njit(cache=True, inline="always")
+def chunk_range(chunk, n, n_chunks):
+    """Items [start, stop) of run ``chunk`` when n items are split into n_chunks runs."""
+    return chunk * n // n_chunks, (chunk + 1) * n // n_chunks
+
+
+@njit(cache=True, inline="always")
+def gather_quad(conn, e, x, v, xe, ve):
+    """Corner coordinates and velocities of quad e into xe, ve (4, 2); returns the largest |v|^2."""
+    vmax2 = 0.0
+    for a in range(4):
+        n = conn[e, a]
+        xe[a, 0] = x[n, 0]
+        xe[a, 1] = x[n, 1]
+        ve[a, 0] = v[n, 0]
+        ve[a, 1] = v[n, 1]
+        vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1])
+    return vmax2
+
+
+@njit(cache=True, inline="always")
+def viscosity_and_step(e, rho_e, length, c_e, trace_d, vmax2, q1, q2, q_elem, dt_elem):
+    """Bulk viscosity q of element e (``fem.geometry.bulk_viscosity``; written to q_elem[e] and
+    returned) and its stable step (``fem.geometry.stable_dt`` with the signal speed c_e + |v|_max, the
+    Eulerian bound of the remap's transport; dt_elem[e], inf where nothing moves or sounds)."""
+    q = bulk_viscosity(rho_e, length, c_e, trace_d, q1, q2)
+    q_elem[e] = q
+    c_eff = c_e + math.sqrt(vmax2)
+    dt_elem[e] = stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
+    return q
+
+
+@njit(cache=True, inline="always")
+def quad_hourglass(e, xe, ve, b, coef, f_elem):
+    """Viscous hourglass forces of quad e added to f_elem[e]: gamma_a = Gamma_a - (Gamma . x) b_a
+    (Flanagan & Belytschko 1981), f_a -= coef (gamma . v) gamma_a; coef = qhg rho c sqrt(A) / 4 on the
+    plane (times the ring length V / A in r-z)."""
+    gx0 = 0.0
+    gx1 = 0.0
+    for a in range(4):
+        gx0 += QUAD_GAMMA[a] * xe[a, 0]
+        gx1 += QUAD_GAMMA[a] * xe[a, 1]
+    hq0 = 0.0
+    hq1 = 0.0
+    for a in range(4):
+        g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
+        hq0 += g * ve[a, 0]
+        hq1 += g * ve[a, 1]
+    for a in range(4):
+        g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
+        f_elem[e, a, 0] -= coef * hq0 * g
+        f_elem[e, a, 1] -= coef * hq1 * g
+
+
 # quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
 # as in FEM solid_element_forces) measured 6-17 % (2D) and 13-20 % (3D) slower per call (benchmarks/ale_throughput.py cases,
 # 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
 # The r-z ring has its own twin too (axisymmetric.lagrange_forces_rz): this kernel with a ring flag measured
 # 14-17 % slower on the ring and 2-5 % on the plane (min / median of 30 alternated calls, report alefold).
+# What the twins share is inlined from one place (gather_quad, viscosity_and_step, quad_hourglass): against
+# the copies they replaced, bit-identical histories on six ALE decks and, min of 30 calls on one thread over
+# three alternated runs (4 Dec 2026, load 1), plane 4.16 / 4.18 ms, ring 5.45 / 5.55, hex8 26.04 / 26.45.
 @njit(parallel=True, cache=True)
 def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                     phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
@@ -139,22 +201,14 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
     bulk_m (E, N) material bulk moduli rho c^2, q_elem (E,) bulk viscosity, dt_elem (E,) stable step.
     """
     n_elem = conn.shape[0]
-    n_chunks = min(n_elem, 512)
+    n_chunks = min(n_elem, N_CHUNKS)
     for chunk in prange(n_chunks):
-        start = chunk * n_elem // n_chunks
-        stop = (chunk + 1) * n_elem // n_chunks
+        start, stop = chunk_range(chunk, n_elem, n_chunks)
         xe = np.empty((4, 2))
         ve = np.empty((4, 2))
         b = np.empty((2, 4))
         for e in range(start, stop):
-            vmax2 = 0.0
-            for a in range(4):
-                n = conn[e, a]
-                xe[a, 0] = x[n, 0]
-                xe[a, 1] = x[n, 1]
-                ve[a, 0] = v[n, 0]
-                ve[a, 1] = v[n, 1]
-                vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1])
+            vmax2 = gather_quad(conn, e, x, v, xe, ve)
             area = quad4_gradient(xe, b)
             p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
                                                    pscale, p_cut, pres_m, bulk_m)
@@ -163,32 +217,13 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
             for a in range(4):
                 trace_d += ve[a, 0] * b[0, a] + ve[a, 1] * b[1, a]
             length = _quad_char_length(xe, area)
-            q = bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
-            q_elem[e] = q
-            c_eff = c_max + math.sqrt(vmax2)
-            dt_elem[e] = stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
+            q = viscosity_and_step(e, rho_e, length, c_max, trace_d, vmax2, q1, q2, q_elem, dt_elem)
             s = area * (p_mix + q)
             for a in range(4):
                 f_elem[e, a, 0] = s * b[0, a]
                 f_elem[e, a, 1] = s * b[1, a]
             if qhg > 0.0 and rho_e > 0.0:
-                # gamma_a = Gamma_a - (Gamma . x) b_a (Flanagan & Belytschko 1981), viscous form
-                gx0 = 0.0
-                gx1 = 0.0
-                for a in range(4):
-                    gx0 += QUAD_GAMMA[a] * xe[a, 0]
-                    gx1 += QUAD_GAMMA[a] * xe[a, 1]
-                coef = 0.25 * qhg * rho_e * c_max * math.sqrt(area)
-                hq0 = 0.0
-                hq1 = 0.0
-                for a in range(4):
-                    g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
-                    hq0 += g * ve[a, 0]
-                    hq1 += g * ve[a, 1]
-                for a in range(4):
-                    g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
-                    f_elem[e, a, 0] -= coef * hq0 * g
-                    f_elem[e, a, 1] -= coef * hq1 * g
+                quad_hourglass(e, xe, ve, b, 0.25 * qhg * rho_e * c_max * math.sqrt(area), f_elem)
 
 
 @njit(parallel=True, cache=True)
@@ -204,10 +239,9 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
     Written: f_elem (E, 8, 3), pres_m, bulk_m, q_elem, dt_elem as in 2D.
     """
     n_elem = conn.shape[0]
-    n_chunks = min(n_elem, 512)
+    n_chunks = min(n_elem, N_CHUNKS)
     for chunk in prange(n_chunks):
-        start = chunk * n_elem // n_chunks
-        stop = (chunk + 1) * n_elem // n_chunks
+        start, stop = chunk_range(chunk, n_elem, n_chunks)
         xe = np.empty((8, 3))
         ve = np.empty((8, 3))
         b = np.empty((3, 8))
@@ -228,10 +262,7 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
             for a in range(8):
                 trace_d += ve[a, 0] * b[0, a] + ve[a, 1] * b[1, a] + ve[a, 2] * b[2, a]
             length = hex8_char_length(xe, vol)
-            q = bulk_viscosity(rho_e, length, c_max, trace_d, q1, q2)
-            q_elem[e] = q
-            c_eff = c_max + math.sqrt(vmax2)
-            dt_elem[e] = stable_dt(length, c_eff, trace_d, q1, q2) if c_eff > 0.0 else np.inf
+            q = viscosity_and_step(e, rho_e, length, c_max, trace_d, vmax2, q1, q2, q_elem, dt_elem)
             s = vol * (p_mix + q)
             for a in range(8):
                 for k in range(3):
@@ -346,11 +377,12 @@ def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, 
 def nodal_update_3d(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
     """``nodal_update`` in 3D: v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m, then the velocity conditions."""
     n_nodes = v.shape[0]
-    n_chunks = min(n_nodes, 512)
+    n_chunks = min(n_nodes, N_CHUNKS)
     for chunk in prange(n_chunks):
         w = np.empty(3)
         u = np.empty(3)
-        for n in range(chunk * n_nodes // n_chunks, (chunk + 1) * n_nodes // n_chunks):
+        start, stop = chunk_range(chunk, n_nodes, n_chunks)
+        for n in range(start, stop):
             f0 = f_ext[n, 0]
             f1 = f_ext[n, 1]
             f2 = f_ext[n, 2]
@@ -478,10 +510,9 @@ def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pr
     """
     n_elem = conn.shape[0]
     n_mat = vol_m.shape[1]
-    n_chunks = min(n_elem, 512)
+    n_chunks = min(n_elem, N_CHUNKS)
     for chunk in prange(n_chunks):
-        start = chunk * n_elem // n_chunks
-        stop = (chunk + 1) * n_elem // n_chunks
+        start, stop = chunk_range(chunk, n_elem, n_chunks)
         dvm = np.empty(n_mat)
         dev = np.empty(n_mat)
         px = np.empty(4)
@@ -510,10 +541,9 @@ def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m,
     the Lagrangian volume (``fem.geometry.hex8_volume``) at x + dt v^{n+1/2}, then the same closure (``_closure_energy``)."""
     n_elem = conn.shape[0]
     n_mat = vol_m.shape[1]
-    n_chunks = min(n_elem, 512)
+    n_chunks = min(n_elem, N_CHUNKS)
     for chunk in prange(n_chunks):
-        start = chunk * n_elem // n_chunks
-        stop = (chunk + 1) * n_elem // n_chunks
+        start, stop = chunk_range(chunk, n_elem, n_chunks)
         dvm = np.empty(n_mat)
         dev = np.empty(n_mat)
         p = np.empty((8, 3))
@@ -536,10 +566,11 @@ def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m,
 def element_volumes_3d(x, conn, out):
     """Exact trilinear volume of every hex8 (``fem.geometry.hex8_volume``), (E,)."""
     n_elem = conn.shape[0]
-    n_chunks = min(n_elem, 512)
+    n_chunks = min(n_elem, N_CHUNKS)
     for chunk in prange(n_chunks):
         p = np.empty((8, 3))
-        for e in range(chunk * n_elem // n_chunks, (chunk + 1) * n_elem // n_chunks):
+        start, stop = chunk_range(chunk, n_elem, n_chunks)
+        for e in range(start, stop):
             r = conn[e, 0]
             for a in range(8):
                 n = conn[e, a]

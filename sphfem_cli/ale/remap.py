@@ -15,7 +15,7 @@ from numba import njit, prange
 
 from ..fem.geometry import hex8_volume
 from .ring_geometry import ring_volume
-from .lagrange import BC_VELOCITY, apply_bc, apply_bc_2d, quad_area
+from .lagrange import BC_VELOCITY, N_CHUNKS, apply_bc, apply_bc_2d, chunk_range, quad_area
 
 
 # interface (material volume flux) modes
@@ -180,13 +180,12 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
     nf = faces.shape[0]
     n_mat = vol_m.shape[1]
     hexa = face_nodes.shape[1] == 4
-    n_chunks = min(nf, 512)
+    n_chunks = min(nf, N_CHUNKS)
     # the hex8 swept-volume scratch (8, 3) of each chunk, allocated once a call (unused on a quad4
     # mesh): one more allocation in each of the 512 chunks cost the 2D call ~10 % (benchmark in the report)
     swept = np.empty((n_chunks, 8, 3))
     for chunk in prange(n_chunks):
-        start = chunk * nf // n_chunks
-        stop = (chunk + 1) * nf // n_chunks
+        start, stop = chunk_range(chunk, nf, n_chunks)
         dvm = np.empty(n_mat)
         g = np.empty(n_mat)
         used = np.empty(n_mat, dtype=np.bool_)
@@ -277,7 +276,9 @@ def swept_volumes_3d(faces, face_nodes, x_lag, x_new, out):
 
 # quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
 # as in FEM solid_element_forces) measured 15-30 % (2D) slower per call (benchmarks/ale_throughput.py cases,
-# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
+# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay. Measured
+# again (4 Dec 2026, the generic form of the 3D kernel serving 2D: benchmarks/ale_passes.py --n 240 --steps 10
+# --repeat 3 --two --trees, load 0.3-0.9): the 2D pass 14.5 -> 20.3 ns (one material), 29.9 -> 35.7 (two), min of 3.
 @njit(parallel=True, cache=True)
 def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal,
                        v, impulse, dissip):
@@ -294,12 +295,13 @@ def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr,
     at 2.4e4 m/s beside a water-entry jet where no node moved faster than 11 m/s).
     """
     n_nodes = mnode.shape[0]
-    n_chunks = min(n_nodes, 512)
+    n_chunks = min(n_nodes, N_CHUNKS)
     for chunk in prange(n_chunks):
         w = np.empty(2)
         lo = np.empty(2)
         hi = np.empty(2)
-        for n in range(chunk * n_nodes // n_chunks, (chunk + 1) * n_nodes // n_chunks):
+        start, stop = chunk_range(chunk, n_nodes, n_chunks)
+        for n in range(start, stop):
             m = mnode[n]
             if m > 0.0:
                 w[0] = pnode[n, 0] / m
@@ -367,13 +369,14 @@ def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, v_old, conn, node_elem_p
     """``finish_remap_nodes`` in 3D: v = p / m bounded by its neighbours', velocity conditions,
     kinetic energy lost (DeBar)."""
     n_nodes = mnode.shape[0]
-    n_chunks = min(n_nodes, 512)
+    n_chunks = min(n_nodes, N_CHUNKS)
     for chunk in prange(n_chunks):
         w = np.empty(3)
         u = np.empty(3)
         lo = np.empty(3)
         hi = np.empty(3)
-        for n in range(chunk * n_nodes // n_chunks, (chunk + 1) * n_nodes // n_chunks):
+        start, stop = chunk_range(chunk, n_nodes, n_chunks)
+        for n in range(start, stop):
             m = mnode[n]
             for k in range(3):
                 w[k] = pnode[n, k] / m if m > 0.0 else 0.0
