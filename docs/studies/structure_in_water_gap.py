@@ -27,15 +27,19 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 WORK = Path("study_siw_gap")
-LEVELS = {"ale": {"10": (0.01, 2, 16.0), "5": (0.005, 4, 16.0), "2.5": (0.0025, 5, 10.0)},  # size, nquad, pfac
+LEVELS = {"ale": {"10": (0.01, 2, 16.0), "5": (0.005, 4, 16.0), "2.5": (0.0025, 5, 10.0),  # size, nquad, pfac
+                  "1.25": (0.00125, 5, 5.0)},  # 2.5 coupling points per 1.25 mm face: pfac 2 n = 5
           "sph": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025},
           "sb": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025},  # SPH with the sph_boundary coupling
           "av": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025},  # SPH (contact) with alpha 0.01 instead of 0.1
-          "av0": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025}}  # the same without artificial viscosity
+          "av0": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025,  # the same without artificial viscosity
+                  "r5": 0.002, "r6": 0.01 / 6.0}}
 AV_ALPHA = {"av": 0.01, "av0": 0.0}
 CASES = [f"{kind}_{level}_{geo}" for geo in ("gap", "nogap") for kind in LEVELS for level in LEVELS[kind]]
 BANDS = ((0.0499, 0.1001), (0.1002, 0.1501), (0.1502, 0.2001))  # node boxes: each face node in exactly one band
 WINDOWS = {"drive": (0.0, 0.75e-3), "rebound": (0.75e-3, 1.6e-3)}
+GAUGE_Y = (0.2, 0.175, 0.15)  # face nodes of every plate mesh: strain gauges over 0-25 and 25-50 mm under the clamp
+E_PLANE = 7.0e10 / (1.0 - 0.33 ** 2)  # the plate's plane-strain modulus E / (1 - nu^2)
 
 
 def variant(name: str) -> Path:
@@ -50,6 +54,10 @@ def variant(name: str) -> Path:
             sets[f"{side}{i}"] = {"type": "node", "part": "plate", "box": {"min": [x - 1e-4, y0], "max": [x + 1e-4, y1]}}
             hist.append({"name": f"f{side}{i}", "set": f"{side}{i}", "quantities": ["contact_force"]})
     hist.append({"name": "fB", "set": "plate_bottom", "quantities": ["contact_force"]})
+    for side, x in (("R", 0.21), ("L", 0.20)):
+        for y in GAUGE_Y[1:]:
+            sets[f"g{side}{y}"] = {"type": "node", "part": "plate", "box": {"min": [x - 1e-4, y - 1e-4], "max": [x + 1e-4, y + 1e-4]}}
+            hist.append({"name": f"g{side}{y}", "set": f"g{side}{y}", "quantities": ["displacement"]})
     floor = 0.05 if geo == "nogap" else 0.0
     if kind == "ale":
         size, nquad, pfac = LEVELS["ale"][level]
@@ -98,6 +106,22 @@ def impulse(t: np.ndarray, f: np.ndarray, window: tuple[float, float]) -> float:
     return float(np.trapezoid(f[m], t[m]))
 
 
+def gauges(name: str) -> list[float]:
+    """Peak |bending stress| of the strain gauges over 0-25 and 25-50 mm under the clamp, MPa:
+    E' (eps_right - eps_left) / 2 with eps = (u_y(y_upper) - u_y(y_lower)) / 25 mm on each face (the
+    clamp's nodes y = 0.2 are fixed)."""
+    uy = {}
+    for side in "RL":
+        uy[(side, GAUGE_Y[0])] = 0.0
+        for y in GAUGE_Y[1:]:
+            uy[(side, y)] = history(name, f"g{side}{y}")["displacement_y"]
+    out = []
+    for y_hi, y_lo in zip(GAUGE_Y[:-1], GAUGE_Y[1:]):
+        eps = {side: (uy[(side, y_hi)] - uy[(side, y_lo)]) / (y_hi - y_lo) for side in "RL"}
+        out.append(float(np.max(np.abs(0.5 * E_PLANE * (eps["R"] - eps["L"])))) / 1e6)
+    return out
+
+
 def summary() -> None:
     print("case | peak u mm (t ms) | peak v m/s | net x impulse N s/m, bands y 0.05-0.10 / 0.10-0.15 / 0.15-0.20: "
           "drive ; rebound")
@@ -114,7 +138,12 @@ def summary() -> None:
                 r, l = history(name, f"fR{i}"), history(name, f"fL{i}")
                 net.append(impulse(r["time"], r["contact_force_x"] + l["contact_force_x"], window))
             row.append(" / ".join(f"{v:.2f}" for v in net))
-        print(f"{name} | {row[0]} | {row[1]} | {row[2]} ; {row[3]}")
+        if (WORK / name / "histories" / f"gR{GAUGE_Y[1]}.csv").exists():
+            g = gauges(name)
+            row.append(f"gauges {g[0]:.2f} / {g[1]:.2f} MPa, clamp VM {history(name, 'clamp')['von_mises'].max() / 1e6:.2f} MPa")
+        else:
+            row.append("")
+        print(f"{name} | {row[0]} | {row[1]} | {row[2]} ; {row[3]} | {row[4]}")
 
 
 if __name__ == "__main__":
