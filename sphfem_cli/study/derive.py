@@ -9,8 +9,8 @@ Works on the loaded YAML data (plain dicts and lists) and returns new data; the 
   base material fills the rest; void gives no particles. The sub-centres inside each region are
   computed with the ALE's own region tests, then written as a lattice-aligned ``box`` (a full
   rectangle) or ``polygon`` (anything else) whose lattice reproduces exactly those centres.
-- one ``sph`` section (cubic spline, h/dx 1.2, artificial viscosity of an sph section already in
-  the deck, else alpha 0.1, beta 0; the ALE section's ``pressure_cutoff``, if any);
+- the ``sph`` section already in the deck, as it is (the scene's SPH settings), else one (cubic
+  spline, h/dx 1.2, alpha 0.1, beta 0; the ALE section's ``pressure_cutoff``, if any);
 - ``ale_boundary`` slip / fixed sides -> ``wall`` slip / no_slip; transmit sides -> the section's
   ``domain`` (particles leaving it are deactivated);
 - ``lagrange_in_solid`` -> one ``nodes_to_surface`` per coupled SPH part, soft-constraint stiffness
@@ -267,14 +267,12 @@ def sph_variant(data: dict, ratio: int, deck_dir: Path | None = None) -> Derived
     ale_raw = parts.pop(info.name)
     if not any(p.get("section") == info.section for p in parts.values()):
         out["sections"].pop(info.section, None)
-    existing_sph = [s for s in deck.sections.values() if s.type == "sph"]
-    av = existing_sph[0].artificial_viscosity if existing_sph else None
     section_name = next((n for n, s in deck.sections.items() if s.type == "sph"), None)
     if section_name is None:
         section_name = "sph" if "sph" not in out["sections"] else f"{info.section}_sph"
         out["sections"][section_name] = {
             "type": "sph", "kernel": "cubic_spline", "smoothing_ratio": 1.2,
-            "artificial_viscosity": {"alpha": av.alpha if av else 0.1, "beta": av.beta if av else 0.0},
+            "artificial_viscosity": {"alpha": 0.1, "beta": 0.0},
         }
         cutoff = deck.sections[info.section].pressure_cutoff  # the ALE fluids' cavitation pressure
         if cutoff is not None:

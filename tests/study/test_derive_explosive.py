@@ -40,3 +40,15 @@ def test_explosive_fill_and_pressure_cutoff_are_derived():
     x = ps.x[ps.density == 1630.0]  # the explosive's particles
     np.testing.assert_allclose(np.sort(x[:, 0]), [0.045, 0.045, 0.055, 0.055])
     np.testing.assert_allclose(np.sort(x[:, 1]), [0.045, 0.045, 0.055, 0.055])
+
+
+def test_an_sph_section_in_the_ale_deck_is_the_scenes_choice():
+    """An sph section no ALE part uses is taken as it is (decks/structure_in_water_ale.yaml: alpha 0);
+    without one the derivation writes its own (alpha 0.1)."""
+    scene = _undex_scene()
+    assert derive.sph_variant(scene, 1).data["sections"]["sph"]["artificial_viscosity"]["alpha"] == 0.1
+    own = {"type": "sph", "kernel": "wendland_c2", "smoothing_ratio": 1.5, "artificial_viscosity": {"alpha": 0.0, "beta": 0.0}}
+    scene["sections"]["water_sph"] = own
+    out = derive.sph_variant(scene, 1).data
+    assert out["sections"]["water_sph"] == own and "sph" not in out["sections"]
+    assert {p["section"] for p in out["parts"].values()} == {"water_sph"}
