@@ -144,22 +144,24 @@ class NodesToSurfaceContact:
             self._master_inv = float(inv.max()) if len(inv) else 0.0
         return self._master_inv
 
-    def _take_initial_gaps(self, args: tuple) -> None:
+    def _take_initial_gaps(self, mp: np.ndarray, mask: np.ndarray, point_k: np.ndarray) -> None:
         """Node slaves that start (at the model's initial coordinates) within the contact thickness of a master face keep their initial
         gap (at least 0) as their thickness (LS-DYNA's IGNORE = 1, initial penetrations tracked).
 
         Bodies meshed touching (a rod on a rod) put every interface slave at gap 0, 0.1 edge inside
         the default thickness: a spring preloaded by k 0.1 edge whose energy is in no initial
         balance; it threw the bodies apart (two touching 5 x 5 blocks: energy ratio 1.096, contact
-        energy -69 J). SPH slaves keep the lattice's dx/2, their radius. ``args``: the force pass's
-        point_forces arguments, evaluated here at the initial coordinates at rest.
+        energy -69 J). SPH slaves keep the lattice's dx/2, their radius. The gaps are the force pass's
+        (``point_forces``) at the initial coordinates, at rest; its outputs are overwritten after.
         """
         self._initial_gaps_taken = True
         x0 = self.sim.model.coordinates
         lo, cell, ncell = self._grid(x0)
         start, segs = K.bin_segments(x0, self.faces, self.reach, lo, cell, ncell)
         at_rest = np.zeros_like(x0)
-        K.point_forces(x0, at_rest, *args[2:5], x0, at_rest, *args[7:12], start, segs, lo, cell, ncell, *args[17:])
+        K.point_forces(x0, at_rest, mp, mask, self.slave_thickness, x0, at_rest, self.faces, self.seg_k, self.seg_depth,
+                       point_k, self._ring(x0), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
+                       self.sim._dt_first or 0.0, self._f_point, self._seg_of, self._weights, self._gap)
         # a gap equal to the thickness to round-off is the zone's edge, no preload: left as it is
         caught = (self._seg_of >= 0) & (self._gap < self.slave_thickness * (1.0 - 1e-9))
         self.slave_thickness[caught] = np.maximum(self._gap[caught], 0.0)
@@ -181,12 +183,12 @@ class NodesToSurfaceContact:
         if len(self.faces) and mask.any():
             lo, cell, ncell = self._grid(st.x)
             start, segs = K.bin_segments(st.x, self.faces, self.reach, lo, cell, ncell)
-            args = (xp, vp, mp, mask, thickness, st.x, st.v, self.faces, self.seg_k, self.seg_depth, point_k,
-                    self._ring(xp), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
-                    max(st.dt_prev, self.sim._dt_first or 0.0), self._f_point, self._seg_of, self._weights, self._gap)
             if not self.particle_slaves and not self._initial_gaps_taken:
-                self._take_initial_gaps(args)
-            K.point_forces(*args)
+                self._take_initial_gaps(mp, mask, point_k)
+            K.point_forces(xp, vp, mp, mask, thickness, st.x, st.v, self.faces, self.seg_k, self.seg_depth, point_k,
+                           self._ring(xp), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
+                           max(st.dt_prev, self.sim._dt_first or 0.0), self._f_point, self._seg_of, self._weights,
+                           self._gap)
         self._f_master[:] = 0.0
         K.scatter_reactions(self._f_point, self._seg_of, self._weights, self.faces, self._f_master)
         st.f_contact += self._f_master
