@@ -255,6 +255,32 @@ def resolve_options(deck, model) -> RunOptions:
     )
 
 
+def _rigid_target(model, bc, where: str) -> tuple[str | None, str | None]:
+    """(part, set) of a kinematic condition, with a set on a rigid body's nodes read as its part.
+
+    A rigid body moves as one (solver.boundary.RigidBodies), so its condition is the body's: a set
+    that holds every node of one rigid part and nothing else is that part; a set holding some of a
+    rigid part's nodes, or rigid nodes with others, is an error (before, the nodes' flags were set
+    and the body ignored them: a 'fixed' anvil under a Taylor rod flew off with it).
+    """
+    from . import build
+
+    if bc.set is None or not model.rigid_bodies:
+        return bc.part, bc.set
+    nodes = np.unique(model.target_nodes(None, bc.set))
+    for body in model.rigid_bodies:
+        shared = np.intersect1d(nodes, body.nodes)
+        if not len(shared):
+            continue
+        name = model.parts[body.part].name
+        if len(shared) == len(body.nodes) == len(nodes):
+            return name, None
+        raise build.ModelError(f"{where}.set", f"set '{bc.set}' holds {len(shared)} of the {len(body.nodes)} nodes of "
+                               f"rigid part '{name}'" + (f" and {len(nodes) - len(shared)} other nodes" if len(nodes) > len(shared) else "")
+                               + f": a rigid body moves as one; constrain it with `part: {name}`")
+    return bc.part, bc.set
+
+
 def _solid_options(deck, model) -> SolidOptions:
     from ..deck.schema import AleBoundary, DummyWallBoundary, FixedBoundary, Gravity
     from ..deck.schema import NodalForce as DeckNodal
@@ -262,18 +288,19 @@ def _solid_options(deck, model) -> SolidOptions:
     from ..deck.schema import SymmetryBoundary, WallBoundary
 
     conditions = []
-    for bc in deck.boundaries:
+    for i, bc in enumerate(deck.boundaries):
         if isinstance(bc, (WallBoundary, DummyWallBoundary, AleBoundary)):
             continue  # fluid walls: SPH ghosts, ALE mesh conditions
+        part, node_set = _rigid_target(model, bc, f"boundaries.{i}")
         if isinstance(bc, FixedBoundary):
             comps = tuple((AXES[d], 0.0) for d in (bc.directions or "xyz"[:model.dim]))
-            conditions.append(KinematicCondition(bc.part, bc.set, comps, None,
+            conditions.append(KinematicCondition(part, node_set, comps, None,
                                                  len(comps) == model.dim or bc.hold_rotation))
         elif isinstance(bc, SymmetryBoundary):
-            conditions.append(KinematicCondition(bc.part, bc.set, ((AXES[bc.normal], 0.0),), None, False))
+            conditions.append(KinematicCondition(part, node_set, ((AXES[bc.normal], 0.0),), None, False))
         else:
             comps = tuple((k, val) for k, val in enumerate(bc.velocity) if val is not None)
-            conditions.append(KinematicCondition(bc.part, bc.set, comps, bc.curve, False))
+            conditions.append(KinematicCondition(part, node_set, comps, bc.curve, False))
     erosion = {}
     for name, part in deck.parts.items():
         spec = getattr(part, "erosion", None)

@@ -112,3 +112,43 @@ loads:
     # the step is end_time / 1000 for an all-rigid model, so the kink at t = 0.1 is a step boundary
     assert worst[0] <= 1e-12
     assert np.allclose(sim.state.v[:, 0], 2.0, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_fixed_set_of_all_its_nodes_holds_the_body(dim, sim_from_deck):
+    """A `fixed` condition given by a node set that holds exactly a rigid part's nodes is the part's:
+    under gravity and an initial velocity the body stays where it is (before, the nodes' flags were
+    set and the body ignored them, so a 'fixed' anvil flew off under a Taylor rod)."""
+    extra = f"""sets:
+  all_body: {{type: node, part: body}}
+boundaries:
+  - {{type: fixed, set: all_body}}
+loads:
+  - {{type: gravity, acceleration: {G[dim]}}}
+"""
+    sim = sim_from_deck(deck(dim, extra, with_solid=True))
+    body = sim.model.part_nodes("body")
+    X = sim.model.coordinates[body]
+    sim.run()
+    assert sim.state.step >= 100
+    assert np.array_equal(sim.state.x[body], X)
+
+
+@pytest.mark.parametrize("extra_nodes", [False, True])
+def test_set_with_part_of_a_rigid_body_is_a_deck_error(extra_nodes, sim_from_deck):
+    """Some of a rigid part's nodes (or its nodes with a deformable part's) cannot be held apart
+    from the body: a one-line model error at the boundary's set, naming the fix."""
+    from sphfem_cli.driver import DeckProblem
+
+    box = "{min: [0.0, 0.0], max: [0.6, 0.1]}" if extra_nodes else "{min: [0.0, 0.0], max: [0.05, 0.1]}"
+    extra = f"""sets:
+  some: {{type: node, box: {box}}}
+boundaries:
+  - {{type: fixed, set: some}}
+"""
+    with pytest.raises(DeckProblem) as err:
+        sim_from_deck(deck(2, extra, with_solid=True))
+    text = str(err.value)
+    assert "\n" not in text and ":15:" in text  # file:line:col of the boundary's set
+    assert "boundaries.0.set" in text and "rigid part 'body'" in text and "part: body" in text
+    assert ("other nodes" in text) == extra_nodes

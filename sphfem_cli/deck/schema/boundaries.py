@@ -28,7 +28,9 @@ class Target(DeckModel):
     """Exactly one of a part name or a set name."""
 
     part: str | None = Field(None, description="All nodes of this part.")
-    set: str | None = Field(None, description="A node set (or the nodes of a segment set).")
+    set: str | None = Field(None, description="A node set (or the nodes of a segment set). A set holding every "
+                            "node of one rigid part and nothing else is that part; one holding only some of a rigid "
+                            "part's nodes is an error (a rigid body moves as one: name it by `part`).")
 
     @model_validator(mode="after")
     def _one_target(self) -> "Target":
