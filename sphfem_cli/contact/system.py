@@ -57,6 +57,8 @@ class NodesToSurfaceContact:
             area_m = model.volume0[owner] / (2.0 * np.pi * np.maximum(self._owner_radius(model, owner), 1e-300))
             self.seg_k = spec.penalty_scale * bulk * area * area / area_m
             self.seg_depth = area_m / area
+            if not self.particle_slaves:
+                self._r_tributary = self._tributary_radius(model)
         self.reach = float(self.slave_thickness.max()) if len(slave_mass) else 0.0
         self._k_soft = None  # set on the first step for the soft constraint
         self._master_inv = None  # set on the first step (see _master_compliance)
@@ -71,11 +73,28 @@ class NodesToSurfaceContact:
         conn = model.connectivity[owner]
         return model.coordinates[conn, 0].mean(axis=1)
 
+    @staticmethod
+    def _tributary_radius(model) -> np.ndarray:
+        """r-bar_i = sum_e V0_e / (2 pi sum_e A_e) over a node's elements: the radius of the ring its lumped mass
+        rho V0 / 4 stands for (fem.axisymmetric), r_i itself inside a uniform mesh, dr/2 on the axis."""
+        conn = model.connectivity
+        radius = NodesToSurfaceContact._owner_radius(model, np.arange(len(conn)))
+        meridian = model.volume0 / (2.0 * np.pi * np.maximum(radius, 1e-300))
+        v = np.zeros(model.n_nodes)
+        a = np.zeros(model.n_nodes)
+        np.add.at(v, conn, model.volume0[:, None])
+        np.add.at(a, conn, meridian[:, None])
+        return np.where(a > 0.0, v / (2.0 * np.pi * np.maximum(a, 1e-300)), 0.0)
+
     def _ring(self, xp: np.ndarray) -> np.ndarray:
-        """Per point, the factor on the segment stiffness: 2 pi r in r-z (x = r), else 1."""
-        if self.axisymmetric:
+        """Per point, the factor on the segment stiffness: 1 in 2D and 3D; in r-z (x = r) the ring 2 pi r a
+        particle stands for, or for a node 2 pi max(r_i, r-bar_i) (``_tributary_radius``): a node on the axis
+        stands for the ring of its mass, not for nothing (with 2 pi r it had no spring and sank through)."""
+        if not self.axisymmetric:
+            return np.ones(len(xp))
+        if self.particle_slaves:
             return 2.0 * np.pi * xp[:, 0]
-        return np.ones(len(xp))
+        return 2.0 * np.pi * np.maximum(xp[:, 0], self._r_tributary)
 
     def _segment_areas(self, x: np.ndarray) -> np.ndarray:
         f = self.faces
@@ -114,7 +133,7 @@ class NodesToSurfaceContact:
                 xp, _, mp, mask, _ = self._slaves()
                 if not mask.any():
                     return np.inf
-                per_ring = float(np.max(2.0 * np.pi * np.maximum(xp[mask, 0], 0.0) / mp[mask]))
+                per_ring = float(np.max(np.maximum(self._ring(xp)[mask], 0.0) / mp[mask]))
                 omega = np.sqrt(float(self.seg_k.max()) * (per_ring + self._master_compliance()))
             else:
                 omega = np.sqrt(float(self.seg_k.max()) * (1.0 / self.slave_mass_min + self._master_compliance()))

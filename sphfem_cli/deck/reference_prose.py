@@ -150,10 +150,10 @@ node at x >= 0) and `y` the axis, so vectors have 2 components (r, z) as in 2D. 
 (loads, reactions, histories), energies and the glstat table are for the **full 2 pi** (the whole
 body), not per radian; a pressure acts on the ring an edge sweeps (area 2 pi r L). The **axis
 condition is automatic**: nodes at x = 0 (within 1e-12 of the part's size) keep u_r = 0, with no
-boundary keyword. Solid and SPH parts so far, and `contacts` of an SPH part on a solid part's faces
-(the SPH-structure coupling: a meridian segment sweeps a ring, the force on a particle is its whole
-ring's, docs/theory/contact.md "Axisymmetric"); rigid parts, contacts whose slaves are
-nodes (solid on solid), `sph_boundary` couplings and smoothed ALE meshes are deck errors (issue 15);
+boundary keyword. Solid and SPH parts so far, and `contacts` of an SPH part or a solid part's nodes on
+a solid part's faces (a meridian segment sweeps a ring, the force on a particle or node is its whole
+ring's, docs/theory/contact.md "Axisymmetric"); rigid parts, `sph_boundary` couplings and smoothed ALE
+meshes are deck errors (issue 15);
 ALE `lagrange_in_solid` couplings work in r–z (a coupling point stands for its ring, docs/theory/coupling.md). The element is the one-point volume-weighted ring quad4 with
 Flanagan-Belytschko hourglass control; the hoop strain rate v_r/r at the element centre is the
 stress's `zz` component (docs/theory/fem.md, `sphfem_cli/fem/axisymmetric.py`).

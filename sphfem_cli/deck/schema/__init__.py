@@ -114,15 +114,12 @@ AXISYMMETRIC_ONLY_SOLIDS = ("axisymmetric models support solid, SPH and ALE part
                             "2D/3D only, issue 15)")
 AXISYMMETRIC_ALE = ("axisymmetric ALE parts are eulerian or lagrangian meshes for now "
                     "(smoothed ALE meshes are 2D/3D only, issue 15)")
-AXISYMMETRIC_CONTACT = ("axisymmetric models support contacts of SPH particles on solid parts only for now "
-                        "(node-to-surface contact between solids is 2D/3D only)")
 AXISYMMETRIC_SPH = "axisymmetric SPH supports inviscid fluids with slip ghost walls only for now (issue 15)"
 
 
 def _check_axisymmetric(deck: Deck) -> None:
     """What an axisymmetric deck cannot hold yet: rigid parts, smoothed ALE meshes (an ALE part is
-    eulerian or lagrangian, ale/axisymmetric.py), contacts other than SPH particles on a solid part's faces
-    (contact.system, rings); SPH
+    eulerian or lagrangian, ale/axisymmetric.py); SPH
     parts only of inviscid non-explosive fluids, with slip ghost walls (sph/axisymmetric.py)."""
     sph = False
     for pname, part in deck.parts.items():
@@ -151,11 +148,6 @@ def _check_axisymmetric(deck: Deck) -> None:
                 raise ValueError(f"@boundaries.{i}: {AXISYMMETRIC_SPH}; use a wall (ghost particles)")
             if kind == "wall" and bc.condition != "slip":
                 raise ValueError(f"@boundaries.{i}.condition: {AXISYMMETRIC_SPH}; '{bc.condition}' walls are 2D/3D only")
-    for i, contact in enumerate(deck.contacts):
-        slave = deck.parts.get(contact.nodes)
-        kind = getattr(deck.sections.get(slave.section), "type", "solid") if slave is not None else "node set"
-        if kind != "sph":
-            raise ValueError(f"@contacts.{i}.nodes: {AXISYMMETRIC_CONTACT}; '{contact.nodes}' is {kind}")
 
 
 PLANE_STRESS_2D = "plane_stress is a formulation of 2D quad4 elements (dimension 2)"
