@@ -19,8 +19,8 @@ series, the same filter run on every case's and the reference's own series (metr
 ``filters`` in the result states, per quantity, the filter or null (raw samples).
 
 Recommendation over the SPH ratios (the worst L2 over the quantities): the smallest tested ratio
-that meets the tolerance ("met"); else the error model solved for the tolerance, rounded up to a
-whole ratio, "predicted" up to 3x the largest tested ratio and "extrapolated" beyond; "not
+that meets the tolerance ("met"); else the error model (the largest of the per-quantity models,
+``models.WorstError``) solved for the tolerance, rounded up to a whole ratio, "predicted" up to 3x the largest tested ratio and "extrapolated" beyond; "not
 reachable: floor e_inf" when the tolerance is at or below the model's floor; with its predicted
 error and CPU cost (95 % prediction intervals) and, once its case has run, the measured ones.
 """
@@ -237,26 +237,30 @@ def recommend(config: StudyConfig, plan: Plan, rows: list[dict], error_model, co
         rec["text"] = f"no tested ratio reaches {_pct(tol)} (best {_pct(min(r['worst_l2'] for r in sph))}); " \
                       "run more ratios for a model"
     else:
-        r_star = error_model.solve(tol)
+        r_star, blocker = error_model.solve(tol)
         best = min(r["worst_l2"] for r in sph)
         if r_star is None:
-            why = (f"floor e_inf = {_pct(error_model.floor)}" if error_model.floor >= tol
-                   else "the error does not fall with the ratio")
-            rec["verdict"] = f"not reachable: {why}"
+            m = error_model.models[blocker]
+            why = (f"floor e_inf = {_pct(m.floor)}" if error_model.falls(m)
+                   else f"the error does not fall with the ratio (largest {_pct(max(m.e))})")
+            rec["verdict"] = f"not reachable: {why} ({blocker})"
             rec["text"] = (f"no tested ratio reaches {_pct(tol)} against {ref_label} (best {_pct(best)}) and none will: "
-                           f"{why} ({error_model.form} model): refining the particles alone never gets there{tail}")
+                           f"{blocker}: {why} ({m.form} model): refining the particles alone never gets there{tail}")
         elif not math.isfinite(r_star) or r_star > 1e9:
+            q = error_model.governing(r_star if math.isfinite(r_star) else 1e9)
             rec["verdict"] = f"extrapolated: ratio {r_star:.3g}, beyond any run"
-            rec["text"] = f"the {error_model.form} model needs ratio {r_star:.3g} for {_pct(tol)}: extrapolated{tail}"
+            rec["text"] = (f"the {error_model.models[q].form} model of {q} needs ratio {r_star:.3g} for {_pct(tol)}: "
+                           f"extrapolated{tail}")
         else:
             ratio = max(math.ceil(r_star - 1e-9), int(largest) + 1)
             rec["ratio"] = ratio
             rec["verdict"] = "predicted" if ratio <= EXTRAPOLATION_LIMIT * largest else "extrapolated"
             p = rec["predicted"] = _predict(plan.data, ratio, sph, error_model, cost_fit, memory_fit)
+            q = error_model.governing(ratio)
             cost = f", about {p['cpu_s']:.3g} s CPU" if p["cpu_s"] is not None else ""
             rec["text"] = (f"{'use' if rec['verdict'] == 'predicted' else 'extrapolated:'} ratio {ratio} "
-                           f"({error_model.form} model, r = {r_star:.3g} rounded up; largest tested {largest:g}): "
-                           f"worst L2 error {_pct(p['error'])}, {p['particles']:.3g} particles{cost}{tail}")
+                           f"({q}'s {error_model.models[q].form} model, r = {r_star:.3g} rounded up; largest tested "
+                           f"{largest:g}): worst L2 error {_pct(p['error'])}, {p['particles']:.3g} particles{cost}{tail}")
     if rec["predicted"] is None and error_model is not None and rec["ratio"] is not None:
         rec["predicted"] = _predict(plan.data, rec["ratio"], sph, error_model, cost_fit, memory_fit)
     rec["text"] += "".join(f"; {n}" for n in rec["notes"])
@@ -344,22 +348,25 @@ def evaluate(config: StudyConfig, plan: Plan) -> dict:
 
     sph = [r for r in rows if r["kind"] == "sph" and r["state"] == "done" and r["role"] == "study"
            and not r["reference"] and math.isfinite(r["worst_l2"])]
-    error_model = models.fit_error([r["ratio"] for r in sph], [r["worst_l2"] for r in sph])
-    per_quantity = {}
+    fits = {}
     for q in quantities:
         pts = [(r["ratio"], r["errors"].get(q, {}).get("l2")) for r in sph]
         m = models.fit_error([p[0] for p in pts if p[1] is not None], [p[1] for p in pts if p[1] is not None])
         if m is not None:
-            per_quantity[q] = {"form": m.form, "floor": m.floor, "order": m.order, "c": m.c, "residual": m.s}
+            fits[q] = m
+    per_quantity = {q: {"form": m.form, "floor": m.floor, "order": m.order, "c": m.c, "residual": m.s}
+                    for q, m in fits.items()}
+    error_model = models.WorstError(fits) if fits else None
     costs = cost_models(rows)
     failures = [{"case": r["case"], "message": r.get("message") or r["state"]} for r in rows
                 if r["state"] not in ("done",)]
     rec = recommend(config, plan, rows, error_model, costs, ref_label, failures)
     rec["verified"] = verification(rec, rows)
+    at = rec["ratio"] or max((r["ratio"] for r in sph), default=1.0)
     model = {
-        "error": ({"form": error_model.form, "floor": error_model.floor, "order": error_model.order,
-                   "c": error_model.c, "residual": error_model.s, "points": error_model.n,
-                   "reason": error_model.reason, "quantity": "worst L2 over the quantities"}
+        "error": ({**error_model.summary(at), "at_ratio": at,
+                   "quantity": "worst L2 over the quantities: the largest of the per-quantity models; form, "
+                               "floor, order and c are those of the governing quantity at at_ratio"}
                   if error_model else {"form": None, "floor": None, "order": None,
                                        "reason": f"{len(sph)} finished SPH ratio(s): no fit"}),
         "error_per_quantity": per_quantity,

@@ -186,14 +186,14 @@ def markdown(result: dict) -> str:
     lines += ["## Models", ""]
     e = m["error"]
     if e["form"]:
-        law = "e = e_inf + c r^-p" if e["form"] == "floor" else "e = c r^-p"
-        lines.append(f"- error ({e['quantity']}): {e['form']}, {law}: e_inf = {_pct(e['floor'])} %, "
-                     f"c = {_num(e['c'])}, p = {_num(e['order'])}, relative residual {_pct(e['residual'], '.2g')} %; "
-                     f"{e['reason']}")
+        lines.append(f"- error (the worst L2 over the quantities): the largest of the per-quantity models below; "
+                     f"at ratio {_num(e['at_ratio'])} {e['governing']} governs; {e['reason']}")
     else:
         lines.append(f"- error: no model ({e['reason']})")
     for name, pq in m["error_per_quantity"].items():
-        lines.append(f"  - {name}: {pq['form']}, e_inf = {_pct(pq['floor'])} %, p = {_num(pq['order'])}")
+        law = "e = e_inf + c r^-p" if pq["form"] == "floor" else "e = c r^-p"
+        lines.append(f"  - {name}: {pq['form']}, {law}: e_inf = {_pct(pq['floor'])} %, c = {_num(pq['c'])}, "
+                     f"p = {_num(pq['order'])}, relative residual {_pct(pq['residual'], '.2g')} %")
     for label, block in (("SPH", m), ("ALE", m["ale"])):
         c, mem = block["cost"], block["memory"]
         if c["coefficients"]:

@@ -32,6 +32,31 @@ def test_power_law_when_three_points_or_no_floor():
     assert rising.order < 0 and rising.solve(0.01) is None
 
 
+def test_worst_error_is_the_largest_per_quantity_model():
+    """A fast quantity (order 1.2) worst at coarse ratios, a slow one (order 0.2) beyond: the worst
+    series bends, and the envelope of the two models follows it where one law through it cannot."""
+    r = np.array([1.0, 2.0, 3.0])
+    fast, slow = 0.5 * r**-1.2, 0.15 * r**-0.2
+    worst = models.WorstError({"p": models.fit_error(r, fast), "vm": models.fit_error(r, slow)})
+    assert worst.governing(1.0) == "p" and worst.governing(8.0) == "vm"
+    assert worst(8.0) == pytest.approx(0.15 * 8.0**-0.2, rel=1e-9)
+    assert worst.predict(8.0)[0] == pytest.approx(worst(8.0), rel=1e-12)
+    single = models.fit_error(r, np.maximum(fast, slow))
+    assert single(8.0) < 0.85 * worst(8.0)  # one law through the worst series: 58 % low at ratio 8
+    # every quantity within 10 %: the slow one decides, (0.15 / 0.1)^(1 / 0.2)
+    assert worst.solve(0.10) == (pytest.approx(1.5**5, rel=1e-9), None)
+    # a floor above the tolerance forbids it, and names the quantity
+    floored = models.WorstError({"p": models.fit_error(r, fast),
+                                 "vm": models.ErrorModel("floor", 0.12, 0.1, 1.0, 4, 0.0, "")})
+    assert floored.solve(0.10) == (None, "vm")
+    # an error that does not fall counts as its largest measured value: binding only above the tolerance
+    rising = models.fit_error(r, np.array([0.010, 0.006, 0.017]))
+    assert rising.order < 0
+    both = models.WorstError({"p": models.fit_error(r, fast), "u": rising})
+    assert both(1e3) == pytest.approx(0.017) and both.governing(1e3) == "u"
+    assert both.solve(0.10)[1] is None and both.solve(0.012) == (None, "u")
+
+
 def test_prediction_interval_from_residuals():
     rng = np.random.default_rng(3)
     x = np.linspace(1e4, 1e6, 12)
