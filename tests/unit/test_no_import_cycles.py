@@ -109,6 +109,8 @@ def test_the_graph_is_read():
     graph = import_graph()
     assert "sphfem_cli.ale.lagrange" in graph["sphfem_cli.ale.axisymmetric"]  # from .lagrange import ...
     assert "sphfem_cli.fem.geometry" in graph["sphfem_cli.ale.lagrange"]  # from ..fem.geometry import ...
+    assert "sphfem_cli.ale.kernels" in graph["sphfem_cli.ale.system"]  # from . import kernels as K: the module
+    assert "sphfem_cli.materials.ids" in graph["sphfem_cli.materials.tables"]  # from . import ids
     assert find_cycle({"a": {"b"}, "b": {"c"}, "c": {"a"}}) == ["a", "b", "c", "a"]
     assert find_cycle({"a": {"b"}, "b": set()}) is None
 
