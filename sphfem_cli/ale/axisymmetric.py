@@ -4,8 +4,9 @@ The meridian plane holds x = r >= 0 and y = z (the axis). An element is the ring
 about the axis; every volume, mass, force and energy is for the full 2 pi. The plane quad4 kernels
 ``lagrange.lagrange_energy`` and ``remap.face_fluxes`` take the ring geometry (``ring_geometry``)
 when called with ``ring`` True (one compiled form serves plane and r-z; the branch is per element or
-face); the forces keep a ring twin here, ``lagrange_forces_rz`` (the flagged plane kernel measured
-slower), compiled, with ``ring_volumes``, only for an axisymmetric mesh.
+face); the forces have their own kernel here, ``lagrange_forces_rz`` (the flagged plane kernel
+measured slower; both take their shared parts from ``lagrange``), compiled, with ``ring_volumes``, only
+for an axisymmetric mesh.
 
 Formulation: volume-weighted, with the exact ring volume of the straight-sided quad
 (Green's theorem over its four edges, i -> j = i + 1)
@@ -51,8 +52,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..fem.geometry import quad4_gradient
-from .lagrange import N_CHUNKS, _mixture_pressure, _quad_char_length, chunk_range, gather_quad, quad_hourglass, viscosity_and_step
+from .lagrange import (N_CHUNKS, _mixture_pressure, _quad_char_length, chunk_range, quad_corners, quad_hourglass, quad_scratch,
+                       viscosity_and_step)
 from .ring_geometry import PI_3, ring_gradient, ring_volume
 
 TWO_PI = 2.0 * math.pi
@@ -69,8 +70,8 @@ def ring_volumes(x, conn, out):
 @njit(parallel=True, cache=True)
 def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                        phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
-    """``lagrange.lagrange_forces`` on rings (a twin: the plane kernel with a ring flag measured slower,
-    the comment there): f_a = (p_mix + q) dV/dx_a - hourglass (module docstring).
+    """``lagrange.lagrange_forces`` on rings (its own kernel: the plane kernel with a ring flag measured
+    slower, the comment there): f_a = (p_mix + q) dV/dx_a - hourglass (module docstring).
 
     Arguments and outputs as the plane kernel's; vol_m and mass_m are ring volumes and masses.
     """
@@ -78,13 +79,10 @@ def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
     n_chunks = min(n_elem, N_CHUNKS)
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, n_elem, n_chunks)
-        xe = np.empty((4, 2))
-        ve = np.empty((4, 2))
-        b = np.empty((2, 4))
+        xe, ve, b = quad_scratch()
         gv = np.empty((2, 4))
         for e in range(start, stop):
-            vmax2 = gather_quad(conn, e, x, v, xe, ve)
-            area = quad4_gradient(xe, b)
+            vmax2, area = quad_corners(conn, e, x, v, xe, ve, b)
             vol = ring_gradient(xe, gv)
             p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
                                                    pscale, p_cut, pres_m, bulk_m)

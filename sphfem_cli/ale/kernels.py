@@ -29,18 +29,18 @@ One step (paper section 2, eqs. 2.5-2.8; Benson 1992):
    with the same mass fluxes, and the kinetic energy lost by the remap returned to the elements
    (DeBar's fix) so that total energy is conserved.
 
-3D (hex8): the same steps. Where the geometry differs (mean gradient and hourglass modes of the
-hex8, three sweep directions) a ``*_3d`` twin stands beside the quad4 kernel: folded
-dimension-generic forms of the four twins (forces, nodal update, energy, finish of the remap) were
-measured slower (6-27 % per call on 1 thread; the comment above each pair). ``face_fluxes`` serves
-quad4, ring and hex8 meshes (a branch per face on the swept volume; the flux itself is the shared
-``_face_flux``), and the r-z ring is the ``ring`` flag of the quad4 energy and face kernels;
-its forces keep a twin, ``axisymmetric.lagrange_forces_rz`` (the flagged form measured slower). The mixture state, closure, face flux of a
-given swept volume (``_mixture_pressure``, ``_closure_energy``, ``_face_flux``), the velocity
-conditions (``apply_bc``) and the element-face, dual-mesh and nodal-mass kernels are shared
-(their loops take the corner count and dimension from the arrays). The kernels live in
-``lagrange`` (steps 1-3), ``remap`` (step 4, element side) and ``dual`` (step 4, nodal momentum on
-the dual mesh); this module names them together.
+3D (hex8): the same steps. The node kernels (``nodal_update``, ``finish_remap_nodes``) and the energy
+kernel (``lagrange_energy``) are each one inline body compiled twice, for quad4 and for hex8
+(``*_3d``), with the corner count and dimension as literal constants; the force kernels stay one per
+geometry (plane ``lagrange_forces``, ring ``axisymmetric.lagrange_forces_rz``, ``lagrange_forces_3d``)
+and share their parts. ``face_fluxes`` serves quad4, ring and hex8 meshes (a branch per face on the
+swept volume; the flux itself is the shared ``_face_flux``), and the r-z ring is the ``ring`` flag
+of the quad4 energy and face kernels. The mixture state, closure, face flux of a given swept volume
+(``_mixture_pressure``, ``_closure_energy``, ``_face_flux``), the velocity conditions (``apply_bc``)
+and the element-face, dual-mesh and nodal-mass kernels are shared (their loops take the corner count
+and dimension from the arrays). Measured forms and figures: the comments above the kernels. The
+kernels live in ``lagrange`` (steps 1-3), ``remap`` (step 4, element side) and ``dual`` (step 4,
+nodal momentum on the dual mesh); this module names them together.
 
 Every parallel loop is a gather: faces write face arrays, elements their own rows, nodes their
 own entries. Equations and references: docs/theory/ale.md.
@@ -49,7 +49,7 @@ from __future__ import annotations
 
 from .dual import G_KIN, G_MASS, G_MOM, apply_dual_fluxes, dual_fluxes, node_velocities
 from .lagrange import (BC_FIXED, BC_FREE, BC_LINE, BC_SLIP, BC_VELOCITY, CLOSURE_EQUAL_STRAIN, CLOSURE_RELAX,
-                       RHO_CAVITATED, RHO_VOID, apply_bc, apply_bc_2d, element_volumes_3d, lagrange_energy,
+                       RHO_CAVITATED, RHO_VOID, apply_bc, element_volumes_3d, lagrange_energy,
                        lagrange_energy_3d, lagrange_forces, lagrange_forces_3d, material_state, nodal_update,
                        nodal_update_3d, quad_area)
 from .remap import (IFACE_DONOR, IFACE_SLIC, SLIC_JUMP, add_column_sums, apply_face_fluxes, face_fluxes,
@@ -59,7 +59,7 @@ from .remap import (IFACE_DONOR, IFACE_SLIC, SLIC_JUMP, add_column_sums, apply_f
 __all__ = [
     "BC_FIXED", "BC_FREE", "BC_LINE", "BC_SLIP", "BC_VELOCITY", "CLOSURE_EQUAL_STRAIN", "CLOSURE_RELAX",
     "G_KIN", "G_MASS", "G_MOM", "IFACE_DONOR", "IFACE_SLIC", "RHO_CAVITATED", "RHO_VOID", "SLIC_JUMP",
-    "add_column_sums", "apply_bc", "apply_bc_2d", "apply_dual_fluxes", "apply_face_fluxes", "dual_fluxes",
+    "add_column_sums", "apply_bc", "apply_dual_fluxes", "apply_face_fluxes", "dual_fluxes",
     "element_volumes_3d",
     "face_fluxes", "finish_remap_elements", "finish_remap_nodes", "finish_remap_nodes_3d",
     "lagrange_energy", "lagrange_energy_3d", "lagrange_forces", "lagrange_forces_3d", "material_state",

@@ -140,6 +140,21 @@ def gather_quad(conn, e, x, v, xe, ve):
 
 
 @njit(cache=True, inline="always")
+def quad_scratch():
+    """Per-run scratch of the quad force kernels: corner coordinates and velocities (4, 2), gradient (2, 4)."""
+    return np.empty((4, 2)), np.empty((4, 2)), np.empty((2, 4))
+
+
+@njit(cache=True, inline="always")
+def quad_corners(conn, e, x, v, xe, ve, b):
+    """What the plane and ring force kernels first do with quad e: its corners into xe, ve
+    (``gather_quad``) and its plane mean gradient into b (``fem.geometry.quad4_gradient``).
+    Returns (the largest corner |v|^2, the quad's area)."""
+    vmax2 = gather_quad(conn, e, x, v, xe, ve)
+    return vmax2, quad4_gradient(xe, b)
+
+
+@njit(cache=True, inline="always")
 def viscosity_and_step(e, rho_e, length, c_e, trace_d, vmax2, q1, q2, q_elem, dt_elem):
     """Bulk viscosity q of element e (``fem.geometry.bulk_viscosity``; written to q_elem[e] and
     returned) and its stable step (``fem.geometry.stable_dt`` with the signal speed c_e + |v|_max, the
@@ -173,14 +188,19 @@ def quad_hourglass(e, xe, ve, b, coef, f_elem):
         f_elem[e, a, 1] -= coef * hq1 * g
 
 
-# quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
-# as in FEM solid_element_forces) measured 6-17 % (2D) and 13-20 % (3D) slower per call (benchmarks/ale_throughput.py cases,
-# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
-# The r-z ring has its own twin too (axisymmetric.lagrange_forces_rz): this kernel with a ring flag measured
+# quad4 and hex8 force kernels: a dimension-generic kernel (inline body with the dimension as a constant,
+# as in FEM solid_element_forces) measured 6-17 % (2D) and 13-20 % (3D) slower per call (benchmarks/
+# ale_throughput.py cases, 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both
+# stay. The r-z ring has its own kernel too (axisymmetric.lagrange_forces_rz): this kernel with a ring flag measured
 # 14-17 % slower on the ring and 2-5 % on the plane (min / median of 30 alternated calls, report alefold).
-# What the twins share is inlined from one place (gather_quad, viscosity_and_step, quad_hourglass): against
+# What the kernels share is inlined from one place (gather_quad, viscosity_and_step, quad_hourglass): against
 # the copies they replaced, bit-identical histories on six ALE decks and, min of 30 calls on one thread over
 # three alternated runs (4 Dec 2026, load 1), plane 4.16 / 4.18 ms, ring 5.45 / 5.55, hex8 26.04 / 26.45.
+# The plane and ring kernels' common start (quad_scratch, quad_corners) likewise: bit-identical on eight ALE
+# decks; min / median ms per call before -> after (benchmarks/ale_kernels.py --trees BASE THIS --rounds 5
+# --calls 50, 1 thread, 6 Dec 2026, load 3.9-4.0, BASE = e629c8f): plane 4.62 / 4.71 -> 4.62 / 4.70,
+# two materials 4.71 / 4.78 -> 4.73 / 4.79, ring 5.88 / 5.95 -> 5.74 / 5.91, hex8 (unchanged) 13.47 / 13.60
+# -> 13.47 / 13.60.
 @njit(parallel=True, cache=True)
 def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                     phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
@@ -204,12 +224,9 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
     n_chunks = min(n_elem, N_CHUNKS)
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, n_elem, n_chunks)
-        xe = np.empty((4, 2))
-        ve = np.empty((4, 2))
-        b = np.empty((2, 4))
+        xe, ve, b = quad_scratch()
         for e in range(start, stop):
-            vmax2 = gather_quad(conn, e, x, v, xe, ve)
-            area = quad4_gradient(xe, b)
+            vmax2, area = quad_corners(conn, e, x, v, xe, ve, b)
             p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
                                                    pscale, p_cut, pres_m, bulk_m)
             rho_e = mtot / area
@@ -293,51 +310,89 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
 
 
 @njit(cache=True, inline="always")
-def apply_bc(kind, bc, w, dim):
-    """Velocity conditions on w (dim,) in place; bc = the node's bc_normal row.
+def apply_bc(kind, bc, w0, w1, w2, dim):
+    """Velocity conditions on the velocity (w0, w1[, w2]) of a node, returned as a triple (the third 0 in
+    2D); bc = the node's bc_normal row; dim (2 or 3) a literal constant of the caller.
 
     BC_FIXED: w = 0; BC_SLIP: w - (w . n) n; BC_VELOCITY: w = bc (the prescribed velocity);
     BC_LINE (3D): (w . t) t along the unit direction t of two walls' intersection; BC_FREE: w.
+    Dot products summed in component order.
     """
     if kind == BC_FIXED:
-        for k in range(dim):
-            w[k] = 0.0
-    elif kind == BC_SLIP:
-        vn = w[0] * bc[0]
-        for k in range(1, dim):
-            vn += w[k] * bc[k]
-        for k in range(dim):
-            w[k] -= vn * bc[k]
-    elif kind == BC_VELOCITY:
-        for k in range(dim):
-            w[k] = bc[k]
-    elif kind == BC_LINE:
-        vt = w[0] * bc[0]
-        for k in range(1, dim):
-            vt += w[k] * bc[k]
-        for k in range(dim):
-            w[k] = vt * bc[k]
+        return 0.0, 0.0, 0.0
+    if kind == BC_SLIP:
+        vn = w0 * bc[0] + w1 * bc[1]
+        if dim == 3:
+            vn += w2 * bc[2]
+            return w0 - vn * bc[0], w1 - vn * bc[1], w2 - vn * bc[2]
+        return w0 - vn * bc[0], w1 - vn * bc[1], 0.0
+    if kind == BC_VELOCITY:
+        return bc[0], bc[1], (bc[2] if dim == 3 else 0.0)
+    if dim == 3 and kind == BC_LINE:
+        vt = w0 * bc[0] + w1 * bc[1] + w2 * bc[2]
+        return vt * bc[0], vt * bc[1], vt * bc[2]
+    return w0, w1, w2
 
 
 @njit(cache=True, inline="always")
-def apply_bc_2d(kind, nx, ny, w0, w1):
-    """``apply_bc`` on the 2D velocity (w0, w1), returned (BC_LINE does not occur in 2D)."""
-    if kind == BC_FIXED:
-        return 0.0, 0.0
-    if kind == BC_SLIP:
-        vn = w0 * nx + w1 * ny
-        return w0 - vn * nx, w1 - vn * ny
-    if kind == BC_VELOCITY:
-        return nx, ny
-    return w0, w1
+def node_conditions(live, kind, bc, w0, w1, w2, dim):
+    """The velocity of a node after its update (``nodal_update``) or remap (``finish_remap_nodes``): its
+    velocity conditions (``apply_bc``) where it is live (its mass above its floor, or a prescribed
+    velocity), else (0, 0, 0) (a fog node is held)."""
+    if live:
+        return apply_bc(kind, bc, w0, w1, w2, dim)
+    return 0.0, 0.0, 0.0
 
 
-# quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
-# as in FEM solid_element_forces) measured 10-25 % (2D) slower per call (benchmarks/ale_throughput.py cases,
-# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
+@njit(cache=True, inline="always")
+def update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse,
+                 npe, dim):
+    """The body of ``nodal_update`` (quad4) and ``nodal_update_3d`` (hex8): npe corners per element and dim
+    components, literal constants of the caller, so that each compiles as if written for its element
+    (scalars, the third component's lines dropped in 2D).
+
+    Per node: f = f_ext + its corner forces, gathered over node_elem_ptr / node_elem_idx (e * npe + corner)
+    in that order; w = v + dt f / m (0 without mass); u = w under the velocity conditions
+    (``node_conditions``); impulse = m (u - w); v = u.
+    """
+    for n in prange(v.shape[0]):
+        f0 = f_ext[n, 0]
+        f1 = f_ext[n, 1]
+        f2 = f_ext[n, 2] if dim == 3 else 0.0
+        for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
+            ea = node_elem_idx[r]
+            e = ea // npe
+            a = ea - npe * e
+            f0 += f_elem[e, a, 0]
+            f1 += f_elem[e, a, 1]
+            if dim == 3:
+                f2 += f_elem[e, a, 2]
+        m = mass[n]
+        w0 = v[n, 0] + dt * f0 / m if m > 0.0 else 0.0
+        w1 = v[n, 1] + dt * f1 / m if m > 0.0 else 0.0
+        w2 = v[n, 2] + dt * f2 / m if dim == 3 and m > 0.0 else 0.0
+        u0, u1, u2 = node_conditions(m > m_floor[n] or bc_type[n] == BC_VELOCITY, bc_type[n], bc_normal[n], w0, w1, w2,
+                                     dim)
+        impulse[n, 0] = m * (u0 - w0)
+        impulse[n, 1] = m * (u1 - w1)
+        v[n, 0] = u0
+        v[n, 1] = u1
+        if dim == 3:
+            impulse[n, 2] = m * (u2 - w2)
+            v[n, 2] = u2
+
+
+# quad4 and hex8: one body (``update_nodes``, inline, the corner count and dimension literal constants), one
+# compiled kernel per element kind. A dimension-generic kernel with the node's velocity in arrays had
+# measured 10-25 % (2D) slower per call (benchmarks/ale_throughput.py cases, 1 thread, min of 15 calls, 3
+# interleaved rounds), and so did this body with arrays (1.20-1.41 x, one round); with scalars, against the
+# former twins: bit-identical on eight ALE decks; min / median ms per call before -> after (benchmarks/
+# ale_kernels.py --trees BASE THIS --rounds 5 --calls 50, 1 thread, 6 Dec 2026, load 3.9-4.0, BASE = e629c8f):
+# plane 0.62 / 0.68 -> 0.55 / 0.64, two materials 0.59 / 0.66 -> 0.56 / 0.61, ring 0.56 / 0.66 -> 0.55 / 0.63,
+# hex8 1.37 / 1.75 -> 1.25 / 1.66.
 @njit(parallel=True, cache=True)
 def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
-    """v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m (eq. 2.7), then the velocity conditions.
+    """v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m (eq. 2.7), then the velocity conditions (``update_nodes``).
 
     bc_type per node: BC_FREE, BC_SLIP (normal component along bc_normal removed), BC_FIXED,
     BC_VELOCITY (v = bc_normal, a prescribed velocity).
@@ -346,73 +401,13 @@ def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, 
     their momentum booked in impulse like a fixed node's; a prescribed velocity (BC_VELOCITY)
     holds whatever the mass.
     """
-    n_nodes = v.shape[0]
-    for n in prange(n_nodes):
-        f0 = f_ext[n, 0]
-        f1 = f_ext[n, 1]
-        for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
-            ea = node_elem_idx[r]
-            e = ea // 4
-            a = ea - 4 * e
-            f0 += f_elem[e, a, 0]
-            f1 += f_elem[e, a, 1]
-        m = mass[n]
-        if m > 0.0:
-            w0 = v[n, 0] + dt * f0 / m
-            w1 = v[n, 1] + dt * f1 / m
-        else:
-            w0 = 0.0
-            w1 = 0.0
-        if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
-            u0, u1 = apply_bc_2d(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w0, w1)
-        else:
-            u0, u1 = 0.0, 0.0
-        impulse[n, 0] = m * (u0 - w0)
-        impulse[n, 1] = m * (u1 - w1)
-        v[n, 0] = u0
-        v[n, 1] = u1
+    update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse, 4, 2)
 
 
 @njit(parallel=True, cache=True)
 def nodal_update_3d(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
-    """``nodal_update`` in 3D: v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m, then the velocity conditions."""
-    n_nodes = v.shape[0]
-    n_chunks = min(n_nodes, N_CHUNKS)
-    for chunk in prange(n_chunks):
-        w = np.empty(3)
-        u = np.empty(3)
-        start, stop = chunk_range(chunk, n_nodes, n_chunks)
-        for n in range(start, stop):
-            f0 = f_ext[n, 0]
-            f1 = f_ext[n, 1]
-            f2 = f_ext[n, 2]
-            for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
-                ea = node_elem_idx[r]
-                e = ea // 8
-                a = ea - 8 * e
-                f0 += f_elem[e, a, 0]
-                f1 += f_elem[e, a, 1]
-                f2 += f_elem[e, a, 2]
-            m = mass[n]
-            if m > 0.0:
-                w[0] = v[n, 0] + dt * f0 / m
-                w[1] = v[n, 1] + dt * f1 / m
-                w[2] = v[n, 2] + dt * f2 / m
-            else:
-                w[0] = 0.0
-                w[1] = 0.0
-                w[2] = 0.0
-            for k in range(3):
-                u[k] = w[k]
-            if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
-                apply_bc(bc_type[n], bc_normal[n], u, 3)
-            else:
-                u[0] = 0.0
-                u[1] = 0.0
-                u[2] = 0.0
-            for k in range(3):
-                impulse[n, k] = m * (u[k] - w[k])
-                v[n, k] = u[k]
+    """``nodal_update`` on hex8 nodes (N, 3): the same body (``update_nodes``), 8 corners, 3 components."""
+    update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse, 8, 3)
 
 
 @njit(cache=True, inline="always")
@@ -488,9 +483,69 @@ def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure,
         vol_m[e, m] += dvm[m]
 
 
-# quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
-# as in FEM solid_element_forces) measured 19-27 % (2D and 3D) slower per call (benchmarks/ale_throughput.py cases,
-# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay.
+@njit(cache=True, inline="always")
+def quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring):
+    """(W_e, V_lag) of quad e: the compatible work -dt sum_a f_a . (v_a^{n-1/2} + v_a^{n+1/2}) / 2 (both
+    components of a corner summed first) and the area (plane) or ring volume (``ring`` True) of the quad
+    at x + dt v^{n+1/2}, its corners into p (4, 2)."""
+    w = 0.0
+    for a in range(4):
+        n = conn[e, a]
+        w -= f_elem[e, a, 0] * 0.5 * (v_old[n, 0] + v_new[n, 0]) + f_elem[e, a, 1] * 0.5 * (v_old[n, 1] + v_new[n, 1])
+        p[a, 0] = x[n, 0] + dt * v_new[n, 0]
+        p[a, 1] = x[n, 1] + dt * v_new[n, 1]
+    if ring:
+        v_lag = ring_volume(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1], p[3, 0], p[3, 1])
+    else:
+        v_lag = quad_area(p[0, 0], p[0, 1], p[1, 0], p[1, 1], p[2, 0], p[2, 1], p[3, 0], p[3, 1])
+    return w * dt, v_lag
+
+
+@njit(cache=True, inline="always")
+def hex_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p):
+    """(W_e, V_lag) of hex8 e: the compatible work (component by component) and the trilinear volume
+    (``fem.geometry.hex8_volume``) at x + dt v^{n+1/2}, its corners relative to corner 0 into p (8, 3)."""
+    w = 0.0
+    r = conn[e, 0]
+    for a in range(8):
+        n = conn[e, a]
+        for k in range(3):
+            w -= f_elem[e, a, k] * 0.5 * (v_old[n, k] + v_new[n, k])
+            p[a, k] = (x[n, k] + dt * v_new[n, k]) - (x[r, k] + dt * v_new[r, k])
+    return w * dt, hex8_volume(p)
+
+
+@njit(cache=True, inline="always")
+def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta,
+                    phi_eps, work_elem, ring, npe, dim):
+    """The body of ``lagrange_energy`` (quad4, plane or ring) and ``lagrange_energy_3d`` (hex8): per element its
+    work and Lagrangian volume (``quad_work_volume``, ``hex_work_volume``; npe and dim literal constants of
+    the caller, the other element's branch pruned before typing), then the closure (``_closure_energy``)."""
+    n_elem = conn.shape[0]
+    n_mat = vol_m.shape[1]
+    n_chunks = min(n_elem, N_CHUNKS)
+    for chunk in prange(n_chunks):
+        start, stop = chunk_range(chunk, n_elem, n_chunks)
+        dvm = np.empty(n_mat)
+        dev = np.empty(n_mat)
+        p = np.empty((npe, dim))
+        for e in range(start, stop):
+            if dim == 3:
+                w, v_lag = hex_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p)
+            else:
+                w, v_lag = quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring)
+            work_elem[e] = w
+            _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps,
+                            dvm, dev)
+
+
+# quad4 and hex8: one body (``energy_elements``, inline, the element's work and volume chosen by literal
+# constants), one compiled kernel per element kind. A fully dimension-generic kernel had measured 19-27 %
+# (2D and 3D) slower per call (benchmarks/ale_throughput.py cases, 1 thread, min of 15 calls, 3 interleaved
+# rounds); this one, against the former twins: bit-identical on eight ALE decks; min / median ms per call
+# before -> after (benchmarks/ale_kernels.py --trees BASE THIS --rounds 5 --calls 50, 1 thread, 6 Dec 2026,
+# load 3.9-4.0, BASE = e629c8f): plane 1.30 / 1.34 -> 1.19 / 1.23, two materials 1.38 / 1.44 -> 1.29 / 1.33,
+# ring 1.38 / 1.41 -> 1.27 / 1.33, hex8 7.29 / 7.43 -> 7.32 / 7.42.
 # The plane quad4 and the r-z ring share this one (the ``ring`` flag): against main's two kernels, min / median
 # of 30 alternated calls, 1 thread, load 4-5 (report alefold): plane 1.042 / 1.054, two materials 1.041 / 1.045,
 # ring 1.024 / 1.040, where the unchanged forces kernel read 0.985-1.034 in the same runs (the noise floor).
@@ -506,60 +561,20 @@ def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pr
     pbar = sum (V_k p_k / K_k) / S (equal pressure increments plus a relaxation towards a common
     pressure), its departure from equal strain scaled down so that no material loses more than a
     fraction beta of its volume in one step. The Lagrangian volume is the quad's area (plane) or,
-    with ring True (r-z), its exact ring volume (``ring_geometry.ring_volume``).
+    with ring True (r-z), its exact ring volume (``ring_geometry.ring_volume``). The body: ``energy_elements``.
     """
-    n_elem = conn.shape[0]
-    n_mat = vol_m.shape[1]
-    n_chunks = min(n_elem, N_CHUNKS)
-    for chunk in prange(n_chunks):
-        start, stop = chunk_range(chunk, n_elem, n_chunks)
-        dvm = np.empty(n_mat)
-        dev = np.empty(n_mat)
-        px = np.empty(4)
-        py = np.empty(4)
-        for e in range(start, stop):
-            w = 0.0
-            for a in range(4):
-                n = conn[e, a]
-                w -= f_elem[e, a, 0] * 0.5 * (v_old[n, 0] + v_new[n, 0]) + f_elem[e, a, 1] * 0.5 * (v_old[n, 1] + v_new[n, 1])
-                px[a] = x[n, 0] + dt * v_new[n, 0]
-                py[a] = x[n, 1] + dt * v_new[n, 1]
-            w *= dt
-            work_elem[e] = w
-            if ring:
-                v_lag = ring_volume(px[0], py[0], px[1], py[1], px[2], py[2], px[3], py[3])
-            else:
-                v_lag = quad_area(px[0], py[0], px[1], py[1], px[2], py[2], px[3], py[3])
-            _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps,
-                            dvm, dev)
+    energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta,
+                    phi_eps, work_elem, ring, 4, 2)
 
 
 @njit(parallel=True, cache=True)
 def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, q_elem,
                        closure, alpha, beta, phi_eps, work_elem):
     """``lagrange_energy`` on hex8: compatible work W_e = -dt sum_I f_eI . (v_I^{n-1/2} + v_I^{n+1/2}) / 2,
-    the Lagrangian volume (``fem.geometry.hex8_volume``) at x + dt v^{n+1/2}, then the same closure (``_closure_energy``)."""
-    n_elem = conn.shape[0]
-    n_mat = vol_m.shape[1]
-    n_chunks = min(n_elem, N_CHUNKS)
-    for chunk in prange(n_chunks):
-        start, stop = chunk_range(chunk, n_elem, n_chunks)
-        dvm = np.empty(n_mat)
-        dev = np.empty(n_mat)
-        p = np.empty((8, 3))
-        for e in range(start, stop):
-            w = 0.0
-            r = conn[e, 0]
-            for a in range(8):
-                n = conn[e, a]
-                for k in range(3):
-                    w -= f_elem[e, a, k] * 0.5 * (v_old[n, k] + v_new[n, k])
-                    p[a, k] = (x[n, k] + dt * v_new[n, k]) - (x[r, k] + dt * v_new[r, k])
-            w *= dt
-            work_elem[e] = w
-            v_lag = hex8_volume(p)
-            _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps,
-                            dvm, dev)
+    the Lagrangian volume (``fem.geometry.hex8_volume``) at x + dt v^{n+1/2}, then the same closure
+    (``energy_elements``)."""
+    energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta,
+                    phi_eps, work_elem, False, 8, 3)
 
 
 @njit(parallel=True, cache=True)

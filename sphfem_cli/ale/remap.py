@@ -15,7 +15,7 @@ from numba import njit, prange
 
 from ..fem.geometry import hex8_volume
 from .ring_geometry import ring_volume
-from .lagrange import BC_VELOCITY, N_CHUNKS, apply_bc, apply_bc_2d, chunk_range, quad_area
+from .lagrange import BC_VELOCITY, N_CHUNKS, chunk_range, node_conditions, quad_area
 
 
 # interface (material volume flux) modes
@@ -274,55 +274,6 @@ def swept_volumes_3d(faces, face_nodes, x_lag, x_new, out):
         out[i] = swept_volume_3d(face_nodes, faces[i], x_lag, x_new, p)
 
 
-# quad4 and hex8 twins: a dimension-generic kernel (inline body with the dimension as a constant,
-# as in FEM solid_element_forces) measured 15-30 % (2D) slower per call (benchmarks/ale_throughput.py cases,
-# 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both forms stay. Measured
-# again (4 Dec 2026, the generic form of the 3D kernel serving 2D: benchmarks/ale_passes.py --n 240 --steps 10
-# --repeat 3 --two --trees, load 0.3-0.9): the 2D pass 14.5 -> 20.3 ns (one material), 29.9 -> 35.7 (two), min of 3.
-@njit(parallel=True, cache=True)
-def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal,
-                       v, impulse, dissip):
-    """Velocity from the remapped momentum, bounded by its neighbours', velocity conditions, kinetic
-    energy lost (DeBar).
-
-    w = p / m, each component then held within the range of the velocities before the remap,
-    v_old, of the node and of every node of its elements (``bounded_velocity``); the velocity
-    conditions (reaction and bound impulse m (u - w) into ``impulse``); dissip[n] = the kinetic
-    energy carried into the node minus 1/2 m |u|^2 afterwards. A node whose remapped mass is at or
-    below m_floor[n] gets u = 0 (its momentum p into ``impulse``, its kinetic energy into dissip).
-    Why the bound: p and m come from different flux stencils, so p / m of a near-empty node is
-    noise (fog nodes of 2e-58 kg were measured at 8.6e6 m/s, of 2.4e-11 kg, ten times the floor,
-    at 2.4e4 m/s beside a water-entry jet where no node moved faster than 11 m/s).
-    """
-    n_nodes = mnode.shape[0]
-    n_chunks = min(n_nodes, N_CHUNKS)
-    for chunk in prange(n_chunks):
-        w = np.empty(2)
-        lo = np.empty(2)
-        hi = np.empty(2)
-        start, stop = chunk_range(chunk, n_nodes, n_chunks)
-        for n in range(start, stop):
-            m = mnode[n]
-            if m > 0.0:
-                w[0] = pnode[n, 0] / m
-                w[1] = pnode[n, 1] / m
-            else:
-                w[0] = 0.0
-                w[1] = 0.0
-            w0 = w[0]
-            w1 = w[1]
-            if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
-                bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, w)
-                u0, u1 = apply_bc_2d(bc_type[n], bc_normal[n, 0], bc_normal[n, 1], w[0], w[1])
-            else:
-                u0, u1 = 0.0, 0.0
-            impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
-            impulse[n, 1] = -pnode[n, 1] if m <= 0.0 else m * (u1 - w1)
-            v[n, 0] = u0
-            v[n, 1] = u1
-            dissip[n] = knode[n] - 0.5 * m * (u0 * u0 + u1 * u1) if m > 0.0 else knode[n]
-
-
 @njit(cache=True, inline="always")
 def bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, u):
     """u = w with each component held within the range of v_old over node n and the nodes of its
@@ -363,37 +314,85 @@ def bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, u)
         u[k] = min(max(w[k], lo[k]), hi[k])
 
 
-@njit(parallel=True, cache=True)
-def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type,
-                          bc_normal, v, impulse, dissip):
-    """``finish_remap_nodes`` in 3D: v = p / m bounded by its neighbours', velocity conditions,
-    kinetic energy lost (DeBar)."""
+
+@njit(cache=True, inline="always")
+def finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
+                 impulse, dissip, dim):
+    """The body of ``finish_remap_nodes`` (quad4) and ``finish_remap_nodes_3d`` (hex8): dim components, a
+    literal constant of the caller, so that each compiles as if written for its dimension (the third
+    component's lines dropped in 2D).
+
+    Per node: w = p / m, bounded (``bounded_velocity``) and under the velocity conditions, or 0 at or below
+    the mass floor (``node_conditions``): u; impulse m (u - w) (p itself without mass), v = u,
+    dissip = knode - m |u|^2 / 2 (|u|^2 summed in component order).
+    """
     n_nodes = mnode.shape[0]
     n_chunks = min(n_nodes, N_CHUNKS)
     for chunk in prange(n_chunks):
-        w = np.empty(3)
-        u = np.empty(3)
-        lo = np.empty(3)
-        hi = np.empty(3)
+        w = np.empty(dim)
+        lo = np.empty(dim)
+        hi = np.empty(dim)
         start, stop = chunk_range(chunk, n_nodes, n_chunks)
         for n in range(start, stop):
             m = mnode[n]
-            for k in range(3):
-                w[k] = pnode[n, k] / m if m > 0.0 else 0.0
-                u[k] = w[k]
-            if m > m_floor[n] or bc_type[n] == BC_VELOCITY:
-                bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, u)
-                apply_bc(bc_type[n], bc_normal[n], u, 3)
+            if m > 0.0:
+                for k in range(dim):
+                    w[k] = pnode[n, k] / m
             else:
-                u[0] = 0.0
-                u[1] = 0.0
-                u[2] = 0.0
-            u2 = 0.0
-            for k in range(3):
-                impulse[n, k] = -pnode[n, k] if m <= 0.0 else m * (u[k] - w[k])
-                v[n, k] = u[k]
-                u2 += u[k] * u[k]
-            dissip[n] = knode[n] - 0.5 * m * u2 if m > 0.0 else knode[n]
+                for k in range(dim):
+                    w[k] = 0.0
+            w0 = w[0]
+            w1 = w[1]
+            w2 = w[2] if dim == 3 else 0.0
+            live = m > m_floor[n] or bc_type[n] == BC_VELOCITY
+            if live:
+                bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, w)
+            u0, u1, u2 = node_conditions(live, bc_type[n], bc_normal[n], w[0], w[1], (w[2] if dim == 3 else 0.0), dim)
+            impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
+            impulse[n, 1] = -pnode[n, 1] if m <= 0.0 else m * (u1 - w1)
+            v[n, 0] = u0
+            v[n, 1] = u1
+            u2sum = u0 * u0 + u1 * u1
+            if dim == 3:
+                impulse[n, 2] = -pnode[n, 2] if m <= 0.0 else m * (u2 - w2)
+                v[n, 2] = u2
+                u2sum += u2 * u2
+            dissip[n] = knode[n] - 0.5 * m * u2sum if m > 0.0 else knode[n]
+
+
+# quad4 and hex8: one body (``finish_nodes``, inline, the dimension a literal constant), one compiled kernel
+# per element kind. A fully dimension-generic kernel had measured 15-30 % (2D) slower per call, and the 3D
+# kernel serving 2D 14.5 -> 20.3 ns per cell-step (one material), 29.9 -> 35.7 (two) (benchmarks/ale_passes.py
+# --n 240 --steps 10 --repeat 3 --two --trees, 4 Dec 2026); this body with the velocity conditions on scalars,
+# against the former twins: bit-identical on eight ALE decks; min / median ms per call before -> after
+# (benchmarks/ale_kernels.py --trees BASE THIS --rounds 5 --calls 50, 1 thread, 6 Dec 2026, load 3.9-4.0,
+# BASE = e629c8f): plane 0.39 / 0.44 -> 0.37 / 0.39, two materials 0.42 / 0.55 -> 0.39 / 0.45, ring 0.60 / 0.87
+# -> 0.56 / 0.87, hex8 2.79 / 3.18 -> 2.48 / 3.10.
+@njit(parallel=True, cache=True)
+def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal,
+                       v, impulse, dissip):
+    """Velocity from the remapped momentum, bounded by its neighbours', velocity conditions, kinetic
+    energy lost (DeBar); the body: ``finish_nodes``.
+
+    w = p / m, each component then held within the range of the velocities before the remap,
+    v_old, of the node and of every node of its elements (``bounded_velocity``); the velocity
+    conditions (reaction and bound impulse m (u - w) into ``impulse``); dissip[n] = the kinetic
+    energy carried into the node minus 1/2 m |u|^2 afterwards. A node whose remapped mass is at or
+    below m_floor[n] gets u = 0 (its momentum p into ``impulse``, its kinetic energy into dissip).
+    Why the bound: p and m come from different flux stencils, so p / m of a near-empty node is
+    noise (fog nodes of 2e-58 kg were measured at 8.6e6 m/s, of 2.4e-11 kg, ten times the floor,
+    at 2.4e4 m/s beside a water-entry jet where no node moved faster than 11 m/s).
+    """
+    finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
+                 impulse, dissip, 2)
+
+
+@njit(parallel=True, cache=True)
+def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type,
+                          bc_normal, v, impulse, dissip):
+    """``finish_remap_nodes`` on hex8 nodes (N, 3): the same body (``finish_nodes``), 3 components."""
+    finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
+                 impulse, dissip, 3)
 
 
 @njit(parallel=True, cache=True)

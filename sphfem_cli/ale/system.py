@@ -190,11 +190,11 @@ class AleSystem:
         self.coupling_work = 0.0
         self.v_lag = self.velocity.copy()  # v^{n+1/2} of the Lagrangian phase, before the remap
         self.v_mid = np.zeros((n_nodes, dim))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last Lagrangian phase
-        # the kernels that differ between quad4 and hex8 (twins: the generic forms measured slower, ale/kernels.py);
+        # one compiled kernel per element kind (quad4, hex8) and, for the forces, per geometry (ale/kernels.py);
         # the plane and the r-z quad4 share the energy and face kernels (the ring flag), all three geometries face_fluxes
         ring = self.axisymmetric
         if ring:
-            from .axisymmetric import lagrange_forces_rz  # a twin (ale/lagrange.py, above lagrange_forces)
+            from .axisymmetric import lagrange_forces_rz  # the ring's own (ale/lagrange.py, above lagrange_forces)
             self._k_forces = lagrange_forces_rz
         elif dim == 2:
             self._k_forces = K.lagrange_forces
