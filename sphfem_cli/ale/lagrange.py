@@ -63,11 +63,12 @@ def quad_area(x0, y0, x1, y1, x2, y2, x3, y3):
 
 
 @njit(cache=True, inline="always")
-def _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps, pscale, p_cut, pres_m, bulk_m):
+def _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m,
+                      bulk_m):
     """Material pressures and bulk moduli of element e, and its mixture state (shared by 2D and 3D).
 
     Each present material's pressure p_m from its EOS at its own density and specific energy (times
-    pscale, at least p_cut; a cavitated Gruneisen liquid at the cut-off); writes pres_m[e], bulk_m[e]
+    pscale, at least pressure_cutoff; a cavitated Gruneisen liquid at the cut-off); writes pres_m[e], bulk_m[e]
     (rho c^2). Returns (p_mix, c_e, M): the volume-weighted pressure sum_m phi_m p_m (the paper's
     mixture theory), the equal-strain mixture sound speed c_e^2 = sum_m M_m c_m^2 / M (see
     ``lagrange_forces``) and the element's mass.
@@ -87,9 +88,9 @@ def _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_ep
         if vol_m[e, m] > phi_eps * vtot and mass_m[e, m] > RHO_VOID * mat_rho0[m] * vol_m[e, m]:
             rho = mass_m[e, m] / vol_m[e, m]
             p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m])
-            p = max(p * pscale[e, m], p_cut)
-            if p_cut > -math.inf and mat_eos[m] == EOS_GRUNEISEN and rho < RHO_CAVITATED * mat_rho0[m]:
-                p = p_cut
+            p = max(p * pscale[e, m], pressure_cutoff)
+            if pressure_cutoff > -math.inf and mat_eos[m] == EOS_GRUNEISEN and rho < RHO_CAVITATED * mat_rho0[m]:
+                p = pressure_cutoff
                 c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], mat_rho0[m], 0.0)[1]
             pres_m[e, m] = p
             bulk_m[e, m] = rho * c * c
@@ -203,12 +204,12 @@ def quad_hourglass(e, xe, ve, b, coef, f_elem):
 # -> 13.47 / 13.60.
 @njit(parallel=True, cache=True)
 def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
-                    phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
+                    phi_eps, pscale, pressure_cutoff, f_elem, pres_m, bulk_m, q_elem, dt_elem):
     """Element forces at x^n with v^{n-1/2} (see module docstring, step 1).
 
     pscale (E, N) multiplies each material's EOS pressure (1 except for a high explosive, where it
     is the programmed-burn fraction, ``materials.burn``); sound speed and bulk modulus are unscaled.
-    p_cut: pressure cut-off, no material pressure below it (cavitation; -inf for none). A material
+    pressure_cutoff: pressure cut-off, no material pressure below it (cavitation; -inf for none). A material
     below RHO_VOID of its reference density is void (no pressure, no sound speed).
 
     The element's sound speed (stable step, bulk and hourglass viscosity) is that of the
@@ -228,7 +229,7 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
         for e in range(start, stop):
             vmax2, area = quad_corners(conn, e, x, v, xe, ve, b)
             p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
-                                                   pscale, p_cut, pres_m, bulk_m)
+                                                   pscale, pressure_cutoff, pres_m, bulk_m)
             rho_e = mtot / area
             trace_d = 0.0
             for a in range(4):
@@ -245,7 +246,7 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
 
 @njit(parallel=True, cache=True)
 def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
-                       phi_eps, pscale, p_cut, f_elem, pres_m, bulk_m, q_elem, dt_elem):
+                       phi_eps, pscale, pressure_cutoff, f_elem, pres_m, bulk_m, q_elem, dt_elem):
     """``lagrange_forces`` on hex8: element forces at x^n with v^{n-1/2}.
 
     Mean-gradient (Flanagan & Belytschko 1981) b = (1/V) dV/dx_I (fem.geometry.hex8_gradient),
@@ -273,7 +274,7 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
                 vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1] + v[n, 2] * v[n, 2])
             vol = hex8_gradient(xe, b)
             p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
-                                                   pscale, p_cut, pres_m, bulk_m)
+                                                   pscale, pressure_cutoff, pres_m, bulk_m)
             rho_e = mtot / vol
             trace_d = 0.0
             for a in range(8):

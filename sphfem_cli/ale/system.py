@@ -102,7 +102,7 @@ class AleSystem:
         self.order = opt.order
         self.iface = _INTERFACES[opt.interface]
         self.closure = _CLOSURES[opt.closure]
-        self.p_cut = -np.inf if opt.pressure_cutoff is None else float(opt.pressure_cutoff)
+        self.pressure_cutoff = -np.inf if opt.pressure_cutoff is None else float(opt.pressure_cutoff)
 
         self.topo = build_topology(self.conn, n_nodes)
         self.mesh = MeshMover(opt.motion, self.x0, self.conn, self.topo)
@@ -319,7 +319,7 @@ class AleSystem:
         opt = self.options
         self._k_forces(self.x, self.velocity, self.conn, self.vol_m, self.mass_m, self.ener_m,
                        self.mat_eos, self.mat_q, self.mat_rho0, opt.q1, opt.q2, opt.hourglass, opt.phi_eps,
-                       self.pscale, self.p_cut, self.f_elem, self.pres_m, self.bulk_m, self.q_elem, self.dt_elem)
+                       self.pscale, self.pressure_cutoff, self.f_elem, self.pres_m, self.bulk_m, self.q_elem, self.dt_elem)
         self._fresh = True
 
     def stable_dt(self, scale: float = 0.5) -> float:
