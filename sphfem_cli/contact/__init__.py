@@ -4,6 +4,8 @@
 - `kernels`: the compiled search and penalty kernels of nodes-to-surface contact.
 - `system`: `NodesToSurfaceContact`, the deck's `contacts` inside the explicit loop.
 - `coupling`, `coupling_kernels`, `coupling_kernels_3d`: `LagrangeInSolidCoupling`, the deck's ALE-to-structure `couplings`.
+- `coupling_search`, `coupling_common`: what the 2D and 3D coupling kernels share (host search; interface
+  reconstruction and penalty law), inline bodies called with a literal element kind.
 - `sph_boundary`: `SphBoundaryCoupling`, SPH-to-structure `couplings` by boundary particles the structure carries
   (kernels in sph/structure_walls.py).
 
