@@ -354,8 +354,8 @@ def evaluate(config: StudyConfig, plan: Plan) -> dict:
         m = models.fit_error([p[0] for p in pts if p[1] is not None], [p[1] for p in pts if p[1] is not None])
         if m is not None:
             fits[q] = m
-    per_quantity = {q: {"form": m.form, "floor": m.floor, "order": m.order, "c": m.c, "residual": m.s}
-                    for q, m in fits.items()}
+    per_quantity = {q: {"form": m.form, "floor": m.floor, "order": m.order, "c": m.c, "residual": m.s,
+                        "falls": models.WorstError.falls(m), "largest": max(m.e)} for q, m in fits.items()}
     error_model = models.WorstError(fits) if fits else None
     costs = cost_models(rows)
     failures = [{"case": r["case"], "message": r.get("message") or r["state"]} for r in rows

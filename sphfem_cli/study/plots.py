@@ -43,20 +43,20 @@ def error_plot(out: Path, result: dict) -> Path:
     done = [r for r in result["cases"] if r.get("state") == "done" and r["kind"] == "sph" and not r["reference"]]
     study = sorted((r for r in done if r["role"] == "study"), key=lambda r: r["ratio"])
     fig, ax = plt.subplots(figsize=(7.0, 4.6))
-    colours, pts_by_q = {}, {}
+    colours = {}
     for q in result["quantities"]:
         pts = [(r["ratio"], r["errors"].get(q, {}).get("l2")) for r in study]
         pts = [(x, y) for x, y in pts if _ok(y)]
         if pts:
             colours[q] = ax.loglog(*zip(*pts), "o-", lw=1, label=q)[0].get_color()
-            pts_by_q[q] = pts
     m, rec = result["model"]["error"], result["recommendation"]
     per_q = result["model"].get("error_per_quantity") or {}
     if m.get("form") and study and per_q:
         hi = max(3 * study[-1]["ratio"], rec.get("ratio") or 0)
         r = np.geomspace(1.0, hi, 200)
-        models = {q: (pq["floor"] + pq["c"] * r ** -pq["order"] if pq["order"] > 0 and pq["c"] > 0
-                      else np.full_like(r, max(e for _, e in pts_by_q[q]))) for q, pq in per_q.items() if q in pts_by_q}
+        # a quantity whose error does not fall counts as its largest error (models.WorstError)
+        models = {q: pq["floor"] + pq["c"] * r ** -pq["order"] if pq["falls"] else np.full_like(r, pq["largest"])
+                  for q, pq in per_q.items()}
         for q, e in models.items():
             ax.loglog(r, e, ":", lw=0.8, color=colours.get(q, "grey"))
         ax.loglog(r, np.max(list(models.values()), axis=0), "k--", lw=1,

@@ -193,7 +193,8 @@ def markdown(result: dict) -> str:
     for name, pq in m["error_per_quantity"].items():
         law = "e = e_inf + c r^-p" if pq["form"] == "floor" else "e = c r^-p"
         lines.append(f"  - {name}: {pq['form']}, {law}: e_inf = {_pct(pq['floor'])} %, c = {_num(pq['c'])}, "
-                     f"p = {_num(pq['order'])}, relative residual {_pct(pq['residual'], '.2g')} %")
+                     f"p = {_num(pq['order'])}, relative residual {_pct(pq['residual'], '.2g')} %"
+                     + ("" if pq["falls"] else f"; does not fall: counted as its largest, {_pct(pq['largest'])} %"))
     for label, block in (("SPH", m), ("ALE", m["ale"])):
         c, mem = block["cost"], block["memory"]
         if c["coefficients"]:
