@@ -22,12 +22,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import statistics
-import subprocess
 import sys
 import time
 from pathlib import Path
+
+import interleave
 
 KERNELS = {"_k_forces": "forces", "_k_nodal": "nodal", "_k_energy": "energy", "_k_finish": "finish"}
 
@@ -80,39 +80,16 @@ def main():
     ap.add_argument("--n", type=int, default=240)
     ap.add_argument("--n3", type=int, default=36)
     ap.add_argument("--child", action="store_true")
+    ap.add_argument("--tree", help=argparse.SUPPRESS)  # the child's tree: its PYTHONPATH
     ap.add_argument("--only", default="", help="comma-separated subset of forces,nodal,energy,finish")
     args = ap.parse_args()
     if args.child:
         return child(args)
     if not args.trees:
         ap.error("--trees is required")
-    runs = {t: [] for t in args.trees}
-    load = [os.getloadavg()[0]]
-    for rnd in range(args.rounds):
-        for t in args.trees:
-            env = dict(os.environ, PYTHONPATH=t, NUMBA_NUM_THREADS="1")
-            cmd = [sys.executable, str(Path(__file__).resolve()), "--child", "--calls", str(args.calls), "--n", str(args.n),
-                   "--n3", str(args.n3), "--only", args.only]
-            r = subprocess.run(cmd, env=env, capture_output=True, text=True)
-            if r.returncode:
-                sys.exit(r.stderr[-3000:])
-            runs[t].append(json.loads(r.stdout.strip().splitlines()[-1]))
-            load.append(os.getloadavg()[0])
-        print(f"round {rnd + 1} done, load {load[-1]:.2f}", flush=True)
-    keys = list(runs[args.trees[0]][0])
-    print(f"ms per call, 1 thread, {args.calls} calls per round, {args.rounds} interleaved rounds; "
-          "min over rounds of the per-round min / median over rounds of the per-round median; "
-          f"load {min(load):.2f}-{max(load):.2f}")
-    print(f"{'kernel':16s}" + "".join(f"{Path(t).name:>24s}" for t in args.trees) + "   ratio of mins (last/first)")
-    for k in keys:
-        row = f"{k:16s}"
-        mins = []
-        for t in args.trees:
-            mn = min(r[k][0] for r in runs[t]); md = statistics.median(r[k][1] for r in runs[t])
-            mins.append(mn)
-            row += f"{mn:14.3f} / {md:7.3f}"
-        print(row + f"   {mins[-1] / mins[0]:.3f}")
-
+    runs, load = interleave.rounds(__file__, args.trees, ["--calls", str(args.calls), "--n", str(args.n),
+                                                      "--n3", str(args.n3), "--only", args.only], args.rounds)
+    interleave.table(runs, load, f"{args.calls} calls per round")
 
 if __name__ == "__main__":
     main()

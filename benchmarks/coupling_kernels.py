@@ -22,12 +22,12 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import statistics
-import subprocess
 import sys
 import time
 from pathlib import Path
+
+import interleave
 
 STEPS = {"plane": 100, "entry": 70, "ring": 150, "hex8": 60}
 
@@ -113,37 +113,9 @@ def main():
     if not args.trees:
         ap.error("--trees is required")
     trees = [str(Path(t).resolve()) for t in args.trees]
-    runs = {t: [] for t in trees}
-    load = [os.getloadavg()[0]]
-    for rnd in range(args.rounds):
-        for t in trees:
-            env = dict(os.environ, NUMBA_NUM_THREADS="1")
-            cmd = [sys.executable, str(Path(__file__).resolve()), "--child", "--tree", t, "--calls", str(args.calls),
-                   "--repeat", str(args.repeat), "--only", args.only]
-            r = subprocess.run(cmd, env=env, capture_output=True, text=True)
-            if r.returncode:
-                sys.exit(r.stderr[-3000:])
-            runs[t].append(json.loads(r.stdout.strip().splitlines()[-1]))
-            load.append(os.getloadavg()[0])
-        print(f"round {rnd + 1} done, load {load[-1]:.2f}; per-tree min ms: "
-              + "; ".join(" ".join(f"{k.split()[0]} {runs[t][-1][k][0]:.4f}" for k in runs[t][-1]
-                                   if k.endswith("forces")) for t in trees), flush=True)
-    keys = list(runs[trees[0]][0])
-    print(f"ms per call, 1 thread, {args.calls} samples of {args.repeat} calls per round, {args.rounds} interleaved "
-          "rounds; "
-          "min over rounds of the per-round min / median over rounds of the per-round median; "
-          f"load {min(load):.2f}-{max(load):.2f}")
-    print(f"{'kernel':16s}" + "".join(f"{Path(t).name:>24s}" for t in trees) + "   ratio of mins (last/first)")
-    for k in keys:
-        row = f"{k:16s}"
-        mins = []
-        for t in trees:
-            mn = min(r[k][0] for r in runs[t])
-            md = statistics.median(r[k][1] for r in runs[t])
-            mins.append(mn)
-            row += f"{mn:14.4f} / {md:7.4f}"
-        print(row + (f"   {mins[-1] / mins[0]:.3f}" if mins[0] else ""))
-
+    runs, load = interleave.rounds(__file__, trees, ["--calls", str(args.calls), "--repeat", str(args.repeat),
+                                                     "--only", args.only], args.rounds)
+    interleave.table(runs, load, f"{args.calls} samples of {args.repeat} calls per round", digits=4)
 
 if __name__ == "__main__":
     main()
