@@ -8,10 +8,10 @@ and scalars only.
 
 - ``build_bins``: a uniform grid of buckets over the ALE mesh, each listing the elements whose
   bounding box overlaps it (CSR), rebuilt each step (the mesh may move).
-- ``locate``, ``natural_coords`` (from ``coupling_search``): the element containing a point and its
-  natural coordinates (inverse bilinear map by Newton's method), through the buckets.
-- ``fluid_side_depth`` (from ``coupling_common``): how far a point lies inside the fluid of a partly
-  filled element, the fluid reconstructed as the part of the element beyond a line parallel to the segment.
+- in ``coupling_search``: the element containing a point and its natural coordinates (inverse
+  bilinear map by Newton's method, ``natural_coords``), through the buckets; in ``coupling_common``:
+  how far a point lies inside the fluid of a partly filled element (``fluid_side_depth``), the fluid
+  reconstructed as the part of the element beyond a line parallel to the segment.
 - ``coupling_forces``: for every coupling point, the host element (``coupling_search.host_point``),
   the incremental penetration and the penalty force (``coupling_common.penalty``), scattered to the
   ALE nodes and the segment nodes (serial: a point writes to nodes that other points share).
@@ -24,9 +24,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .coupling_common import fluid_side_depth, penalty  # noqa: F401  (fluid_side_depth re-exported)
-from .coupling_search import INSIDE_TOL, TOUCH_TOL, bin_elements, clamp, host_point, locate  # noqa: F401
-from .coupling_search import natural_coords  # noqa: F401  (re-exported: the quad4 inverse map lives there)
+from .coupling_common import penalty
+from .coupling_search import bin_elements, clamp, host_point, natural_coords
 
 _XI = np.array([-1.0, 1.0, 1.0, -1.0])
 _ETA = np.array([-1.0, -1.0, 1.0, 1.0])

@@ -6,11 +6,11 @@ host rules, penetration and penalty as the 2D kernels (``coupling_kernels``), fr
 (``coupling_search``, ``coupling_common``) with the hex8's corner count and dimension. numba compiles a
 function at its first call, so a 2D deck compiles none of these. Arrays and scalars only.
 
-- ``build_bins_3d``, ``locate_3d`` and ``natural_coords_3d`` (from ``coupling_search``): buckets over the
-  hex bounding boxes and the inverse trilinear map by Newton's method.
+- ``build_bins_3d``: buckets over the hex bounding boxes (``coupling_search``, which also holds
+  ``locate_3d`` and ``natural_coords_3d``, the inverse trilinear map by Newton's method).
 - ``face_point``, ``face_shares``: nquad x nquad coupling points per face and their area shares.
-- ``fluid_side_depth_3d``, ``hex_volume_beyond`` (from ``coupling_common``): the fluid of a partly
-  filled hex as the part beyond a plane parallel to the face (six clipped tetrahedra).
+- in ``coupling_common``: the fluid of a partly filled hex as the part beyond a plane parallel to the
+  face (``fluid_side_depth_3d``, ``hex_volume_beyond``: six clipped tetrahedra).
 - ``coupling_forces_3d``, ``stiffness_sums_3d``: forces, scatters and the stable-step sums.
 """
 from __future__ import annotations
@@ -20,10 +20,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .coupling_common import hex_volume_beyond  # noqa: F401  (re-exported: the clipped volume lives there)
-from .coupling_common import fluid_side_depth_3d, penalty  # noqa: F401  (fluid_side_depth_3d re-exported)
+from .coupling_common import penalty
 from .coupling_search import _HETA, _HXI, _HZETA, bin_elements, clamp, host_point, natural_coords_3d
-from .coupling_search import locate_3d  # noqa: F401  (re-exported: the hex8 search lives there)
 
 _GAUSS2 = 1.0 / math.sqrt(3.0)
 

@@ -196,13 +196,6 @@ def locate_point(x, conn, start, items, origin, cell, nbx, nby, nbz, px, py, pz,
 
 
 @njit(cache=True)
-def locate(x, conn, start, items, origin, cell, nbx, nby, px, py):
-    """(element, xi, eta) containing point (px, py), element -1 when outside the mesh (``locate_point``)."""
-    e, xi, eta, _ = locate_point(x, conn, start, items, origin, cell, nbx, nby, 1, px, py, 0.0, 2)
-    return e, xi, eta
-
-
-@njit(cache=True)
 def locate_3d(x, conn, start, items, origin, cell, nbx, nby, nbz, px, py, pz):
     """(element, xi, eta, zeta) of the hex8 containing point p, element -1 when outside the mesh (``locate_point``)."""
     return locate_point(x, conn, start, items, origin, cell, nbx, nby, nbz, px, py, pz, 3)

@@ -12,7 +12,8 @@ import itertools
 import numpy as np
 import pytest
 
-from sphfem_cli.contact import coupling_kernels as ck
+from sphfem_cli.contact import coupling_common as cc
+from sphfem_cli.contact import coupling_search as cs
 from sphfem_cli.contact import coupling_kernels_3d as ck3
 
 CORNERS = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
@@ -48,11 +49,11 @@ def test_locate_round_trips_natural_coordinates_on_a_distorted_hex_mesh():
     for e in range(len(conn)):
         for nat in rng.uniform(-0.9, 0.9, (4, 3)):
             p = _shape(nat) @ nodes[conn[e]]
-            found, *back = ck3.locate_3d(nodes, conn, start, items, lo, cell, int(nb[0]), int(nb[1]), int(nb[2]), *p)
+            found, *back = cs.locate_3d(nodes, conn, start, items, lo, cell, int(nb[0]), int(nb[1]), int(nb[2]), *p)
             assert found == e
             worst = max(worst, float(np.abs(np.array(back) - nat).max()))
     assert worst < 1e-10  # measured 2.3e-15
-    outside = ck3.locate_3d(nodes, conn, start, items, lo, cell, int(nb[0]), int(nb[1]), int(nb[2]), 0.5, 0.5, 1.2)
+    outside = cs.locate_3d(nodes, conn, start, items, lo, cell, int(nb[0]), int(nb[1]), int(nb[2]), 0.5, 0.5, 1.2)
     assert outside[0] == -1
 
 
@@ -128,10 +129,10 @@ def test_fluid_side_depth_cuts_off_the_fraction_of_a_rotated_cube(fraction):
     n_cube /= np.linalg.norm(n_cube)
     n = rot @ n_cube
     p = np.array([0.6, 0.2, 0.4]) @ rot.T + shift
-    depth = ck3.fluid_side_depth_3d(nodes, conn, 0, *p, *n, fraction)
+    depth = cc.fluid_side_depth_3d(nodes, conn, 0, *p, *n, fraction)
     level = float(p @ n) - depth - float(shift @ n)  # the interface in the cube's frame
     assert abs(_cube_volume_beyond(n_cube, level) - fraction) < 1e-10
-    assert abs(ck3.hex_volume_beyond(nodes, *n, level + float(shift @ n)) - fraction) < 1e-10
+    assert abs(cc.hex_volume_beyond(nodes, *n, level + float(shift @ n)) - fraction) < 1e-10
 
 
 def test_fluid_side_depth_of_an_extruded_quad_is_the_2d_depth():
@@ -142,8 +143,8 @@ def test_fluid_side_depth_of_an_extruded_quad_is_the_2d_depth():
     conn2 = np.arange(4, dtype=np.int64)[None, :]
     n2 = np.array([0.6, -0.8])
     for fraction in (0.0, 0.2, 0.6, 1.0):
-        d2 = ck.fluid_side_depth(quad, conn2, 0, 0.4, 0.5, *n2, fraction)
-        d3 = ck3.fluid_side_depth_3d(nodes, conn3, 0, 0.4, 0.5, 0.25, *n2, 0.0, fraction)
+        d2 = cc.fluid_side_depth(quad, conn2, 0, 0.4, 0.5, *n2, fraction)
+        d3 = cc.fluid_side_depth_3d(nodes, conn3, 0, 0.4, 0.5, 0.25, *n2, 0.0, fraction)
         assert abs(d3 - d2) < 1e-10
 
 

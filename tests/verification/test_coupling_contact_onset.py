@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from sphfem_cli.contact.coupling_kernels import fluid_side_depth
+from sphfem_cli.contact.coupling_common import fluid_side_depth
 from sphfem_cli.driver import load_model
 from sphfem_cli.solver.explicit import Simulation
 
