@@ -152,8 +152,10 @@ body), not per radian; a pressure acts on the ring an edge sweeps (area 2 pi r L
 condition is automatic**: nodes at x = 0 (within 1e-12 of the part's size) keep u_r = 0, with no
 boundary keyword. Solid and SPH parts so far, and `contacts` of an SPH part or a solid part's nodes on
 a solid part's faces (a meridian segment sweeps a ring, the force on a particle or node is its whole
-ring's, docs/theory/contact.md "Axisymmetric"); rigid parts, `sph_boundary` couplings and smoothed ALE
-meshes are deck errors (issue 15);
+ring's, docs/theory/contact.md "Axisymmetric"; faces on the axis are no contact surface); a **rigid part**
+is a body of revolution that moves along the axis only (its mass the sum of its ring masses, its force the
+axial sum of its rings' forces; a radial initial or prescribed velocity on it is a deck error);
+`sph_boundary` couplings and smoothed ALE meshes are deck errors (issue 15);
 ALE `lagrange_in_solid` couplings work in r–z (a coupling point stands for its ring, docs/theory/coupling.md). The element is the one-point volume-weighted ring quad4 with
 Flanagan-Belytschko hourglass control; the hoop strain rate v_r/r at the element centre is the
 stress's `zz` component (docs/theory/fem.md, `sphfem_cli/fem/axisymmetric.py`).

@@ -132,12 +132,16 @@ class RigidBodies:
     """Rigid parts integrated as bodies; their nodes follow exactly (no straight-line drift).
 
     2D: centre c, angle theta, velocity V, spin omega; 3D: rotation matrix R, spin vector omega
-    with Euler's equations in the world frame, I_w = R I0 R^T.
+    with Euler's equations in the world frame, I_w = R I0 R^T. Axisymmetric (x = r): a body of
+    revolution moves along the axis only (V = (0, V_z), no spin): the radial resultant of its rings'
+    forces is zero by symmetry, its axial one is the sum of the nodes' whole-ring forces, and its
+    mass the sum of its ring masses (the model's masses are for the full 2 pi).
     """
 
     def __init__(self, model: Model, constraints: Constraints, curves: Curves):
         self.bodies: list[RigidBody] = model.rigid_bodies
         self.dim = model.dim
+        self.axial_only = bool(model.axisymmetric)
         self.curves = curves
         self.constraints = constraints
         self.x0 = model.coordinates
@@ -153,6 +157,8 @@ class RigidBodies:
         """Body velocity = momentum of its nodes' initial velocities over its mass (no initial spin)."""
         for i, b in enumerate(self.bodies):
             self.velocity[i] = (self.mass[b.nodes, None] * v[b.nodes]).sum(axis=0) / b.mass
+            if self.axial_only:
+                self.velocity[i][0] = 0.0
             v[b.nodes] = self.velocity[i]
 
     def kick(self, force: np.ndarray, t_mid: float, dt_avg: float, x: np.ndarray) -> None:
@@ -161,7 +167,9 @@ class RigidBodies:
             f = force[b.nodes]
             r = x[b.nodes] - self.center[i]
             self.velocity[i] = self.velocity[i] + dt_avg * f.sum(axis=0) / b.mass
-            if self.dim == 2:
+            if self.axial_only:
+                self.velocity[i][0] = 0.0
+            elif self.dim == 2:
                 torque = float((r[:, 0] * f[:, 1] - r[:, 1] * f[:, 0]).sum())
                 self.spin[i] = self.spin[i] + dt_avg * torque / float(b.inertia)
             else:
@@ -170,7 +178,7 @@ class RigidBodies:
                 w = self.spin[i]
                 self.spin[i] = w + dt_avg * np.linalg.solve(iw, torque - np.cross(w, iw @ w))
             for k, val, curve in self.constraints.rigid_prescribed.get(b.part, []):
-                self.velocity[i][k] = val * self.curves(curve, t_mid)
+                self.velocity[i][k] = val * self.curves(curve, t_mid)  # r-z: only y (deck check)
             if b.part in self.constraints.rigid_held:
                 self.spin[i] = np.zeros_like(self.spin[i])
             self.constraints.v_prescribed[b.nodes] = self._node_velocity(i, r)
@@ -179,6 +187,9 @@ class RigidBodies:
         """Move each body by dt and place its nodes exactly."""
         for i, b in enumerate(self.bodies):
             self.center[i] = self.center[i] + dt * self.velocity[i]
+            if self.axial_only:  # a translation along the axis: the radii stay exactly as they are
+                x[b.nodes] = self.x0[b.nodes] + (self.center[i] - b.center)
+                continue
             if self.dim == 2:
                 a = dt * float(self.spin[i][0])
                 c, s = np.cos(a), np.sin(a)

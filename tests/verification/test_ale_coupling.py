@@ -135,3 +135,36 @@ def test_coupling_step_bounded_when_hosts_empty(tmp_path):
     ale.mass_m[hosts, 1] *= 1e-6  # 1e-11 of the reference density: fog
     frac, bulk, _ = coupling._fluid_fields(ale)
     assert np.all(frac[hosts] == 0.0) and np.all(bulk[hosts] == 0.0)
+
+
+def test_rigid_cylinder_into_axisymmetric_ale_water(tmp_path):
+    """The block's deck in r-z: a rigid cylinder (radius 0.1 m, on the axis) at 10 m/s into ALE water.
+    A rigid part in r-z moves along the axis only (solver.boundary.RigidBodies); the axial momentum of
+    fluid and body with the walls' impulse is conserved to round-off (the same 1e-8 as the plane deck;
+    radial momentum is no conserved quantity of a body of revolution), the body slows down, and its
+    nodes keep their radii exactly."""
+    deck = (DECK.replace("dimension: 2", "dimension: axisymmetric")
+            .replace("min: [0.15, 0.155], max: [0.25, 0.255]", "min: [0.0, 0.155], max: [0.1, 0.255]"))
+    path = tmp_path / "cylinder.yaml"
+    path.write_text(deck)
+    sim = Simulation(load_model(str(path)).model)
+    ale, model = sim.ale.system, sim.model
+    body = model.part_nodes("block")
+    r0 = model.coordinates[body, 0].copy()
+
+    def momentum():
+        return float((model.mass * sim.state.v[:, 1]).sum() + (ale.node_mass * ale.velocity[:, 1]).sum()
+                     - ale.wall_impulse[1])
+
+    p0 = momentum()
+    err = 0.0
+    while sim.state.time < sim.control.end_time * (1 - 1e-12):
+        sim.step()
+        err = max(err, abs(momentum() - p0) / abs(p0))
+    print(f"\nr-z rigid cylinder into ALE water: axial momentum error {err:.1e}, body at {sim.rigid.velocity[0][1]:.3f} m/s, "
+          f"energy ratio {sim.energy_row().ratio:.7f}")
+    assert np.count_nonzero(sim.interactions[0].host >= 0) > 10
+    assert err < 1e-8
+    assert sim.rigid.velocity[0][1] > -9.5 and sim.rigid.velocity[0][0] == 0.0
+    assert np.array_equal(sim.state.x[body, 0], r0)
+    assert abs(sim.energy_row().ratio - 1.0) < 1e-3

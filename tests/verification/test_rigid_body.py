@@ -1,4 +1,4 @@
-"""Rigid parts: free fall, uniform motion and prescribed motion (2D and 3D).
+"""Rigid parts: free fall, uniform motion and prescribed motion (2D, 3D and axisymmetric).
 
 Central differences with the half-step velocity, v^{n+1/2} = v^{n-1/2} + (dt_{n-1/2}) a and
 x^{n+1} = x^n + dt_n v^{n+1/2}, integrate a constant acceleration exactly, for constant and
@@ -6,7 +6,8 @@ for varying steps alike, and a constant velocity trivially. So a rigid part unde
 follow x = X + 1/2 g t^2, one with an initial velocity x = X + v0 t, and one with a prescribed
 velocity the integral of it, all to round-off: the position error is held to 1e-12 of the size
 of the coordinates (plus displacement) over about 1000 steps. A deformable part falling beside
-the rigid one must do the same, stress free.
+the rigid one must do the same, stress free. In an axisymmetric deck (x = r) a rigid part is a
+body of revolution that moves along the axis only.
 """
 from __future__ import annotations
 
@@ -15,12 +16,12 @@ import pytest
 
 pytestmark = pytest.mark.usefixtures("single_thread")
 
-G = {2: [0.0, -9.81], 3: [0.0, 0.0, -9.81]}
+G = {2: [0.0, -9.81], 3: [0.0, 0.0, -9.81], "axisymmetric": [0.0, -9.81]}
 SIZE = 0.7  # largest coordinate of the models below
 
 
-def deck(dim: int, extra: str, end_time: float = 0.5, with_solid: bool = False) -> str:
-    if dim == 2:
+def deck(dim: int | str, extra: str, end_time: float = 0.5, with_solid: bool = False) -> str:
+    if dim in (2, "axisymmetric"):
         box = "{min: [0, 0], max: [0.2, 0.1], divisions: [4, 2]}"
         box2 = "{min: [0.5, 0], max: [0.7, 0.1], divisions: [2, 2]}"
     else:
@@ -46,7 +47,7 @@ def run(sim, check):
     assert sim.state.step >= 100
 
 
-@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("dim", [2, 3, "axisymmetric"])
 def test_free_fall(dim, sim_from_deck):
     g = np.array(G[dim])
     sim = sim_from_deck(deck(dim, f"loads:\n  - {{type: gravity, acceleration: {G[dim]}}}\n", with_solid=True))
@@ -59,7 +60,7 @@ def test_free_fall(dim, sim_from_deck):
 
     run(sim, check)
     st = sim.state
-    print(f"\n{dim}D free fall: largest position error {worst[0]:.1e} (relative to coordinates + drop) over {st.step} steps")
+    print(f"\n{dim} free fall: largest position error {worst[0]:.1e} (relative to coordinates + drop) over {st.step} steps")
     assert worst[0] <= 1e-12
     # the velocity held is the half-step one, v^{n+1/2} = g (t - dt/2) (the last step is shortened)
     assert np.allclose(st.v, g * (st.time - 0.5 * st.dt_prev), rtol=0, atol=1e-12 * 9.81 * st.time)
@@ -67,9 +68,9 @@ def test_free_fall(dim, sim_from_deck):
     assert np.abs(st.stress).max() <= 1e-12 * 2.0e6
 
 
-@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("dim", [2, 3, "axisymmetric"])
 def test_initial_velocity_is_kept(dim, sim_from_deck):
-    v0 = np.array([3.0, -1.0, 0.5][:dim])
+    v0 = np.array([0.0, -1.0]) if dim == "axisymmetric" else np.array([3.0, -1.0, 0.5][:dim])
     sim = sim_from_deck(deck(dim, f"initial:\n  - {{type: velocity, part: body, velocity: {v0.tolist()}}}\n"))
     X = sim.model.coordinates
     worst = [0.0]

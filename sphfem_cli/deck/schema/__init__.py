@@ -110,18 +110,19 @@ RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")
 """Tables the solver writes itself (histories/<name>.csv); a history or probe cannot take these names."""
 
 
-AXISYMMETRIC_ONLY_SOLIDS = ("axisymmetric models support solid, SPH and ALE parts only for now (rigid parts are "
-                            "2D/3D only, issue 15)")
+AXISYMMETRIC_RIGID = "an axisymmetric rigid part moves along the axis (y) only"
 AXISYMMETRIC_ALE = ("axisymmetric ALE parts are eulerian or lagrangian meshes for now "
                     "(smoothed ALE meshes are 2D/3D only, issue 15)")
 AXISYMMETRIC_SPH = "axisymmetric SPH supports inviscid fluids with slip ghost walls only for now (issue 15)"
 
 
 def _check_axisymmetric(deck: Deck) -> None:
-    """What an axisymmetric deck cannot hold yet: rigid parts, smoothed ALE meshes (an ALE part is
-    eulerian or lagrangian, ale/axisymmetric.py); SPH
-    parts only of inviscid non-explosive fluids, with slip ghost walls (sph/axisymmetric.py)."""
+    """What an axisymmetric deck cannot hold yet: smoothed ALE meshes (an ALE part is
+    eulerian or lagrangian, ale/axisymmetric.py); SPH parts only of inviscid non-explosive fluids,
+    with slip ghost walls (sph/axisymmetric.py); a radial velocity on a rigid part, which moves
+    along the axis only (solver.boundary.RigidBodies)."""
     sph = False
+    rigid: set[str] = set()
     for pname, part in deck.parts.items():
         section = deck.sections.get(part.section)
         kind = getattr(section, "type", "solid")
@@ -138,9 +139,15 @@ def _check_axisymmetric(deck: Deck) -> None:
                 why = "a viscous fluid" if getattr(material, "viscosity", 0.0) else "a high explosive"
                 raise ValueError(f"@parts.{pname}.material: {AXISYMMETRIC_SPH}; '{part.material}' is {why}")
         if part.rigid or getattr(material, "type", "") == "rigid":
-            where = "rigid" if part.rigid else "material"
-            raise ValueError(f"@parts.{pname}.{where}: {AXISYMMETRIC_ONLY_SOLIDS}; rigid parts are not yet "
-                             "axisymmetric (use a symmetry or velocity boundary)")
+            rigid.add(pname)
+    for i, entry in enumerate(deck.initial):
+        if getattr(entry, "part", None) in rigid and entry.velocity[0] != 0.0:
+            raise ValueError(f"@initial.{i}.velocity: {AXISYMMETRIC_RIGID}; '{entry.part}' is rigid, its radial "
+                             f"velocity must be 0 (got {entry.velocity[0]:g})")
+    for i, bc in enumerate(deck.boundaries):
+        if getattr(bc, "type", "") == "prescribed_velocity" and bc.part in rigid and (bc.velocity[0] or 0.0) != 0.0:
+            raise ValueError(f"@boundaries.{i}.velocity: {AXISYMMETRIC_RIGID}; '{bc.part}' is rigid, its radial "
+                             f"velocity must be 0 (got {bc.velocity[0]:g})")
     if sph:
         for i, bc in enumerate(deck.boundaries):
             kind = getattr(bc, "type", "")
