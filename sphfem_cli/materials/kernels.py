@@ -24,7 +24,7 @@ from .slots import NHIST, NPARAM  # noqa: F401  (re-exported: row lengths for ca
 from .slots import (
     EOS_OFFSET, H_BACK_XX, H_BACK_XY, H_BACK_YY, H_BACK_YZ, H_BACK_ZX, H_BACK_ZZ, H_EPS, H_WP, P_EOS_TYPE,
     P_EP_BETA, P_EP_EP, P_EP_SIGMA_Y0, P_G, P_JC_A, P_JC_B, P_JC_C, P_JC_CP, P_JC_M, P_JC_N,
-    P_JC_RATE0, P_JC_TM, P_JC_TR, P_K, P_RHO0, P_VISCOSITY, Q_GR_A, Q_GR_C, Q_GR_GAMMA0, Q_GR_S1, Q_GR_S2,
+    P_JC_RATE0, P_JC_TM, P_JC_TR, P_K, P_PRESSURE_CUTOFF, P_RHO0, P_VISCOSITY, Q_GR_A, Q_GR_C, Q_GR_GAMMA0, Q_GR_S1, Q_GR_S2,
     Q_GR_S3, Q_IG_GAMMA, Q_JWL_A, Q_JWL_B, Q_JWL_OMEGA, Q_JWL_R1, Q_JWL_R2, Q_LP_C0, Q_LP_C1, Q_LP_C2,
     Q_LP_C3, Q_LP_C4, Q_LP_C5, Q_LP_C6, Q_RHO0, Q_SG_GAMMA, Q_SG_PINF, Q_TAIT_B, Q_TAIT_C0, Q_TAIT_GAMMA,
     Q_TAIT_PB, Q_TAIT_RHO_REF,
@@ -371,8 +371,10 @@ def update_stress(mtype, p, sig, hist, deps, dt, rel_volume, e_int):
     V/V0 and ``e_int`` (internal energy per unit initial volume) feed the EOS when one is
     attached (``p[P_EOS_TYPE] >= 0``). Hypoelastic (Wilkins):
     sigma += lambda tr(deps) I + 2G deps, then the deviator is returned to the yield surface
-    (elastic_plastic, johnson_cook). With an EOS the pressure is p_eos(1/rel_volume, e_int) and only
-    the deviator comes from the rate form. Fluid: sigma = -p_eos I + 2 mu_visc dev(deps)/dt.
+    (elastic_plastic, johnson_cook). With an EOS the pressure is max(p_eos(1/rel_volume, e_int), p_cut)
+    (p_cut = ``P_PRESSURE_CUTOFF``, -inf unless the deck's ``pressure_cutoff``: LS-DYNA
+    *MAT_ELASTIC_PLASTIC_HYDRO's PC) and only the deviator comes from the rate form.
+    Fluid: sigma = -p_eos I + 2 mu_visc dev(deps)/dt.
     Returns the plastic work increment per unit volume (0 for elastic, rigid and fluid).
     """
     if mtype == RIGID:
@@ -394,6 +396,8 @@ def update_stress(mtype, p, sig, hist, deps, dt, rel_volume, e_int):
         sig[4] = k * deps[4]
         sig[5] = k * deps[5]
         return 0.0
+    if eos >= 0 and sm_new > -p[P_PRESSURE_CUTOFF]:  # cavitation / spall: p >= p_cut
+        sm_new = -p[P_PRESSURE_CUTOFF]
     g2 = 2.0 * p[P_G]
     s0 = sig[0] - sm + g2 * (deps[0] - third)
     s1 = sig[1] - sm + g2 * (deps[1] - third)

@@ -29,6 +29,8 @@ P_JC_A .. P_JC_M       johnson_cook     A, B, n, C, m
 P_JC_RATE0             johnson_cook     reference strain rate
 P_JC_TM, P_JC_TR       johnson_cook     melt and room temperature
 P_JC_CP                johnson_cook     specific heat cp (0 = isothermal)
+P_PRESSURE_CUTOFF      elastic_plastic, lowest EOS pressure (cavitation, spall; -inf: none)
+                       johnson_cook
 P_VISCOSITY            fluid            dynamic viscosity mu (high_explosive: 0, inviscid)
 P_DETONATION_VELOCITY  high_explosive   detonation velocity D (a fluid row; 0 for other fluids)
 P_EOS_TYPE             all              EOS type id (``EOS_NONE`` = -1 when no EOS is attached)
@@ -85,6 +87,10 @@ P_EP_SIGMA_Y0, P_EP_ET, P_EP_BETA, P_EP_EP = range(P_MODEL, P_MODEL + 4)
 (P_JC_A, P_JC_B, P_JC_N, P_JC_C, P_JC_M, P_JC_RATE0, P_JC_TM, P_JC_TR,
  P_JC_CP) = range(P_MODEL, P_MODEL + 9)
 
+# elastic_plastic and johnson_cook with an EOS: the lowest pressure (LS-DYNA *MAT_ELASTIC_PLASTIC_HYDRO PC),
+# after both models' own slots (the last model slot)
+P_PRESSURE_CUTOFF = P_EOS_TYPE - 1
+
 # fluid and high_explosive (a high explosive packs as an inviscid fluid)
 P_VISCOSITY, P_DETONATION_VELOCITY = range(P_MODEL, P_MODEL + 2)
 
@@ -109,9 +115,9 @@ COMMON_SLOTS = ("P_RHO0", "P_E", "P_NU", "P_G", "P_K")
 MODEL_SLOTS = {
     "elastic": (),
     "rigid": (),
-    "elastic_plastic": ("P_EP_SIGMA_Y0", "P_EP_ET", "P_EP_BETA", "P_EP_EP"),
+    "elastic_plastic": ("P_EP_SIGMA_Y0", "P_EP_ET", "P_EP_BETA", "P_EP_EP", "P_PRESSURE_CUTOFF"),
     "johnson_cook": ("P_JC_A", "P_JC_B", "P_JC_N", "P_JC_C", "P_JC_M", "P_JC_RATE0", "P_JC_TM",
-                     "P_JC_TR", "P_JC_CP"),
+                     "P_JC_TR", "P_JC_CP", "P_PRESSURE_CUTOFF"),
     "fluid": ("P_VISCOSITY", "P_DETONATION_VELOCITY"),
 }
 COMMON_EOS_SLOTS = ("Q_RHO0", "Q_E0", "Q_V0")

@@ -13,7 +13,7 @@ from . import ids
 from .slots import (
     EOS_OFFSET, NPARAM, NQ, P_DETONATION_VELOCITY, P_E, P_EOS_TYPE, P_EP_BETA, P_EP_EP, P_EP_ET,
     P_EP_SIGMA_Y0, P_G, P_JC_A, P_JC_B, P_JC_C, P_JC_CP, P_JC_M, P_JC_N, P_JC_RATE0, P_JC_TM, P_JC_TR,
-    P_K, P_NU, P_RHO0, P_VISCOSITY, Q_E0, Q_GR_A, Q_GR_C, Q_GR_GAMMA0, Q_GR_S1, Q_GR_S2, Q_GR_S3,
+    P_K, P_NU, P_PRESSURE_CUTOFF, P_RHO0, P_VISCOSITY, Q_E0, Q_GR_A, Q_GR_C, Q_GR_GAMMA0, Q_GR_S1, Q_GR_S2, Q_GR_S3,
     Q_IG_GAMMA, Q_JWL_A, Q_JWL_B, Q_JWL_OMEGA, Q_JWL_R1, Q_JWL_R2, Q_LP_C0, Q_LP_C1, Q_LP_C2, Q_LP_C3,
     Q_LP_C4, Q_LP_C5, Q_LP_C6, Q_RHO0, Q_SG_GAMMA, Q_SG_PINF, Q_TAIT_B, Q_TAIT_C0, Q_TAIT_GAMMA,
     Q_TAIT_PB, Q_TAIT_RHO_REF, Q_V0,
@@ -100,6 +100,9 @@ def pack_material(material, eos=None) -> tuple[int, np.ndarray]:
     p[P_E], p[P_NU] = e, nu
     p[P_G] = e / (2.0 * (1.0 + nu))
     p[P_K] = e / (3.0 * (1.0 - 2.0 * nu))
+    if isinstance(material, (sm.ElasticPlastic, sm.JohnsonCook)):
+        cut = material.pressure_cutoff
+        p[P_PRESSURE_CUTOFF] = -np.inf if cut is None else cut
     if isinstance(material, sm.ElasticPlastic):
         et = material.tangent_modulus
         p[P_EP_SIGMA_Y0], p[P_EP_ET], p[P_EP_BETA] = material.yield_stress, et, material.hardening_beta

@@ -177,6 +177,41 @@ def test_jc_with_eos_takes_pressure_from_eos():
     assert -sig[:3].mean() == pytest.approx(kb * mu + 2 * kb * mu * mu, rel=1e-12)
 
 
+@pytest.mark.parametrize("model", ["elastic_plastic", "johnson_cook"])
+def test_pressure_cutoff_bounds_the_eos_pressure(model):
+    """pressure_cutoff (LS-DYNA *MAT_ELASTIC_PLASTIC_HYDRO PC): in tension the EOS pressure stops at
+    p_cut, in compression it is untouched, and the deviator still comes from the rate form; without
+    the field the row holds -inf and the EOS's tension is kept."""
+    water = dict(type="tait", reference_density=1000.0, sound_speed=1483.0)
+    base = (dict(type="elastic_plastic", density=1000.0, youngs_modulus=3e7, poisson_ratio=0.49, yield_stress=1e4)
+            if model == "elastic_plastic" else dict(JC, density=1000.0))
+    t, p = material(**base, eos="water", pressure_cutoff=-1e5, _eos=water)
+    t0, p0 = material(**base, eos="water", _eos=water)
+    assert p[ms.P_PRESSURE_CUTOFF] == -1e5 and p0[ms.P_PRESSURE_CUTOFF] == -np.inf
+    stretch = np.array([0.001, 0.0, 0.0, 0.0, 0.0, 0.0])
+    for row, expect in ((p, -1e5), (p0, None)):
+        sig = np.zeros(6)
+        k.update_stress(t, row, sig, np.zeros(ms.NHIST), stretch, 1e-6, 1.001, 0.0)
+        p_eos = k.eos_pressure(ms_eos_type(row), row[ms.EOS_OFFSET:], 1.0 / 1.001, 0.0)
+        assert p_eos < -1e6  # the Tait tension at 0.1 % stretch: about -2.2 MPa
+        assert -sig[:3].mean() == pytest.approx(p_eos if expect is None else expect, rel=1e-12)
+    sig = np.zeros(6)
+    k.update_stress(t, p, sig, np.zeros(ms.NHIST), -stretch, 1e-6, 0.999, 0.0)
+    assert -sig[:3].mean() == pytest.approx(k.eos_pressure(ms_eos_type(p), p[ms.EOS_OFFSET:], 1.0 / 0.999, 0.0), rel=1e-12)
+
+
+def ms_eos_type(row):
+    return int(row[ms.P_EOS_TYPE])
+
+
+def test_pressure_cutoff_needs_an_eos():
+    with pytest.raises(ValidationError, match="give the material an `eos`"):
+        MAT.validate_python(dict(type="elastic_plastic", density=RHO, youngs_modulus=E, poisson_ratio=NU,
+                                 yield_stress=SY, pressure_cutoff=-1e5))
+    with pytest.raises(ValidationError):  # a cut-off above 0 would be a tension floor
+        MAT.validate_python(dict(JC, eos="water", pressure_cutoff=1e5))
+
+
 # ----------------------------------------------------------------------------------- EOS
 
 

@@ -35,6 +35,12 @@ __all__ = [
 # --------------------------------------------------------------------------------------- materials
 
 
+def _cutoff_needs_eos(material) -> None:
+    """A pressure_cutoff bounds the pressure of an equation of state: without `eos` it is an error."""
+    if material.pressure_cutoff is not None and material.eos is None:
+        raise ValueError("pressure_cutoff bounds an equation of state's pressure: give the material an `eos`")
+
+
 class _Solid(DeckModel):
     density: float = Field(gt=0, description="Reference (initial) mass density rho0 [mass/length^3].")
     youngs_modulus: float = Field(gt=0, description="Young's modulus E [pressure].")
@@ -63,9 +69,15 @@ class ElasticPlastic(_Solid):
     eos: Optional[str] = Field(
         None, description="Name of an equation of state for the pressure; without one the pressure is hypoelastic (bulk modulus)."
     )
+    pressure_cutoff: Optional[float] = Field(
+        None, le=0, description="Lowest pressure the equation of state may give (cavitation, spall; LS-DYNA "
+        "*MAT_ELASTIC_PLASTIC_HYDRO PC), at most 0; needs `eos`. A water-like soft body (a Lagrangian bird) "
+        "cavitates near -0.1 MPa instead of pulling the EOS's tension. Default none [pressure]."
+    )
 
     @model_validator(mode="after")
     def _tangent_below_youngs(self) -> "ElasticPlastic":
+        _cutoff_needs_eos(self)
         if self.tangent_modulus >= self.youngs_modulus:
             raise ValueError(
                 f"tangent_modulus ({self.tangent_modulus:g}) must be smaller than youngs_modulus ({self.youngs_modulus:g})"
@@ -95,9 +107,15 @@ class JohnsonCook(_Solid):
     eos: Optional[str] = Field(
         None, description="Name of an equation of state for the pressure; without one the pressure is hypoelastic (bulk modulus)."
     )
+    pressure_cutoff: Optional[float] = Field(
+        None, le=0, description="Lowest pressure the equation of state may give (cavitation, spall; LS-DYNA "
+        "*MAT_ELASTIC_PLASTIC_HYDRO PC), at most 0; needs `eos`. A water-like soft body (a Lagrangian bird) "
+        "cavitates near -0.1 MPa instead of pulling the EOS's tension. Default none [pressure]."
+    )
 
     @model_validator(mode="after")
     def _melt_above_room(self) -> "JohnsonCook":
+        _cutoff_needs_eos(self)
         if self.melt_temperature <= self.room_temperature:
             raise ValueError(
                 f"melt_temperature ({self.melt_temperature:g}) must be above room_temperature ({self.room_temperature:g})"
