@@ -41,7 +41,6 @@ class MeshMover:
         bf = fn[topo["face_elem"][:, 1] < 0]
         on_boundary[bf.ravel()] = True
         self._interior = ~on_boundary
-        self._winslow = _winslow_target if dim == 2 else _winslow_target_3d
         self._stencil = (np.zeros(0, dtype=np.int64), np.zeros((0, 8 if dim == 2 else 18), dtype=np.int64))
         if smoothed and motion.smoothing == "equipotential":  # its only user
             self._stencil = (_winslow_stencil if dim == 2 else _winslow_stencil_3d)(conn, n_nodes, self._interior)
@@ -87,7 +86,7 @@ class MeshMover:
             mean /= self._degree[:, None]
             target = mean
             if mo.smoothing == "equipotential":
-                target = self._winslow(x, mean, self._stencil)
+                target = (_winslow_target if x.shape[1] == 2 else _winslow_target_3d)(x, mean, self._stencil)
             x_prev = x.copy()
             x[inner] = x[inner] + w * (target[inner] - x[inner])
             x[~inner] = self.x0[~inner]

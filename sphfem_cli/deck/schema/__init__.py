@@ -112,22 +112,17 @@ RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")
 
 AXISYMMETRIC_ONLY_SOLIDS = ("axisymmetric models support solid, SPH and ALE parts only for now (rigid parts are "
                             "2D/3D only, issue 15)")
-AXISYMMETRIC_ALE = ("axisymmetric ALE parts are eulerian or lagrangian meshes for now "
-                    "(smoothed ALE meshes are 2D/3D only, issue 15)")
 AXISYMMETRIC_SPH = "axisymmetric SPH supports inviscid fluids with slip ghost walls only for now (issue 15)"
 
 
 def _check_axisymmetric(deck: Deck) -> None:
-    """What an axisymmetric deck cannot hold yet: rigid parts, smoothed ALE meshes (an ALE part is
-    eulerian or lagrangian, ale/axisymmetric.py); SPH
-    parts only of inviscid non-explosive fluids, with slip ghost walls (sph/axisymmetric.py)."""
+    """What an axisymmetric deck cannot hold yet: rigid parts; SPH parts only of inviscid
+    non-explosive fluids, with slip ghost walls (sph/axisymmetric.py)."""
     sph = False
     for pname, part in deck.parts.items():
         section = deck.sections.get(part.section)
         kind = getattr(section, "type", "solid")
         material = deck.materials.get(part.material)
-        if kind == "ale_multi_material" and section.mesh_motion == "smoothed":
-            raise ValueError(f"@sections.{part.section}.mesh_motion: {AXISYMMETRIC_ALE}; '{part.section}' is smoothed")
         if kind == "sph":
             sph = True
             _check_meridian_half_plane(pname, part)
@@ -478,13 +473,6 @@ def _check_ale_part(deck: Deck, pname: str, part) -> None:
     if section.mesh_motion == "smoothed" and section.smoothing == "straight_lines" and deck.dimension == 2 \
             and section.line_axis == "z":
         raise ValueError(f"@sections.{part.section}.line_axis: a 2D mesh has lines along x or y only")
-    if deck.dimension == 3:
-        if section.mesh_motion == "smoothed" and section.smoothing == "equipotential":
-            raise ValueError(f"@sections.{part.section}.smoothing: 3D ALE meshes are smoothed by 'average' or "
-                             "'straight_lines' ('equipotential' is 2D)")
-        if section.mesh_motion == "smoothed" and section.smoothing_boundary != "fixed":
-            raise ValueError(f"@sections.{part.section}.smoothing_boundary: 3D ALE meshes keep their boundary nodes "
-                             "fixed ('sliding' is 2D)")
     for j, fill in enumerate(part.fill):
         if fill.polygon is not None and deck.dimension != 2:
             raise ValueError(f"@{where}.fill.{j}.polygon: polygons are 2D (use box, ball, cylinder or half_space in 3D)")
