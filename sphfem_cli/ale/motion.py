@@ -364,8 +364,8 @@ def _sliding_nodes_3d(x0: np.ndarray, boundary_faces: np.ndarray, n_nodes: int) 
     place[p_ids] = np.arange(p_ids.size)
     in_face = place[a] >= 0
     p_row, p_nbr = place[a[in_face]], b[in_face]
-    plane = (p_ids.astype(np.int64), p_row, p_nbr.astype(np.int64), np.bincount(p_row, minlength=p_ids.size).astype(float),
-             ref1[one])
+    p_count = np.bincount(p_row, minlength=p_ids.size).astype(float)
+    plane = (p_ids.astype(np.int64), p_row, p_nbr.astype(np.int64), p_count, ref1[one])
     # along an edge
     t_node = np.zeros((n_nodes, 3))
     t_node[nodes[two]] = tang[two] / t_len[two][:, None]

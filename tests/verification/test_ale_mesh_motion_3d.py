@@ -65,7 +65,8 @@ def _structured_winslow(x, n):
     c = [[(b[i] * b[j]).sum(axis=1)[:, None] for j in range(3)] for i in range(3)]
     num = sum(c[d][d] * (xp[d] + xm[d]) for d in range(3))
     for i, j in ((0, 1), (0, 2), (1, 2)):
-        cross = at(*(unit[i] + unit[j])) - at(*(unit[i] - unit[j])) - at(*(unit[j] - unit[i])) + at(*-(unit[i] + unit[j]))
+        ei, ej = unit[i], unit[j]
+        cross = at(*(ei + ej)) - at(*(ei - ej)) - at(*(ej - ei)) + at(*-(ei + ej))
         num = num + 0.5 * c[i][j] * cross
     ids = np.arange(len(x)).reshape(grid.shape[:3])[1:-1, 1:-1, 1:-1].ravel()
     return ids, num / (2.0 * (c[0][0] + c[1][1] + c[2][2]))
