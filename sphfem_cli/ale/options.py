@@ -33,8 +33,8 @@ class MeshMotion:
     interior nodes ``smoothing_weight`` of the way to their target, ``smoothing`` "average" (mean
     of their edge neighbours), "equipotential" (Winslow) or "straight_lines" (along the mesh lines
     along ``line_axis``), then ``eulerian_pull`` of the way back to their start;
-    ``smoothing_boundary`` "fixed" (boundary nodes Eulerian) or "sliding" (along straight sides,
-    corners fixed)).
+    ``smoothing_boundary`` "fixed" (boundary nodes Eulerian) or "sliding" (along straight sides; in
+    3D in flat faces and along straight edges; corners fixed)).
     """
 
     mesh_motion: str = "eulerian"

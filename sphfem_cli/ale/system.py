@@ -20,8 +20,7 @@ Constructor arguments:
 
 - ``nodes`` (N, 2), ``conn`` (E, 4) counter-clockwise quad4 (``model.mesh.box_mesh`` order), or
   ``nodes`` (N, 3), ``conn`` (E, 8) hex8 in VTK order (``box_mesh`` in 3D): the same method with
-  three sweep directions (docs/theory/ale.md, "3D"); a 3D smoothed mesh takes smoothing "average"
-  or "straight_lines" with fixed boundary nodes only; vectors below have 3 components there;
+  three sweep directions (docs/theory/ale.md, "3D"); vectors below have 3 components there;
 - ``materials``: one entry per material, a parameter row of ``materials.tables.pack_material``
   (or its ``(type id, row)`` pair), or ``None`` for void (no mass, no pressure);
 - ``fractions`` (E, N) initial volume fractions (rows summing to 1; see ``fill.fill_fractions``);
@@ -94,8 +93,6 @@ class AleSystem:
                 raise ValueError("an axisymmetric AleSystem is a quad4 mesh of the meridian plane (x = r, y = the axis)")
             if np.any(self.x0[:, 0] < 0.0):
                 raise ValueError("an axisymmetric AleSystem lies in x = r >= 0 (y is the axis)")
-            if opt.motion.mesh_motion == "smoothed":
-                raise ValueError("an axisymmetric AleSystem is eulerian or lagrangian (smoothed meshes are 2D/3D only)")
         self.n_mat = n_mat = len(materials)
         self.mat_eos, self.mat_q, self.mat_rho0, rows = material_tables(materials)
         # the options as the kernels take them

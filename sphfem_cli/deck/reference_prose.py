@@ -155,7 +155,7 @@ a solid part's faces (a meridian segment sweeps a ring, the force on a particle 
 ring's, docs/theory/contact.md "Axisymmetric"; faces on the axis are no contact surface); a **rigid part**
 is a body of revolution that moves along the axis only (its mass the sum of its ring masses, its force the
 axial sum of its rings' forces; a radial initial or prescribed velocity on it is a deck error);
-`sph_boundary` couplings and smoothed ALE meshes are deck errors (issue 15);
+`sph_boundary` couplings are deck errors (issue 15);
 ALE `lagrange_in_solid` couplings work in r–z (a coupling point stands for its ring, docs/theory/coupling.md). The element is the one-point volume-weighted ring quad4 with
 Flanagan-Belytschko hourglass control; the hoop strain rate v_r/r at the element centre is the
 stress's `zz` component (docs/theory/fem.md, `sphfem_cli/fem/axisymmetric.py`).
@@ -166,8 +166,10 @@ derivative of that volume times the pressure and viscosity (the volume-weighted 
 stress and conserves mass, axial momentum and total energy to round-off), its remap fluxes the ring volumes
 the faces sweep. The axis is automatic (nodes at x = 0 slide along it); `ale_boundary` sides, fills,
 programmed burn, gravity along y and probes are those of 2D (a fill's volume fraction is its share of the
-element's ring volume, 2 pi r dA over 3 x 3 Jacobian-weighted points). `mesh_motion` is `eulerian` or
-`lagrangian`; `smoothed` meshes are 2D/3D only; `lagrange_in_solid` couplings to structures work in r–z.
+element's ring volume, 2 pi r dA over 3 x 3 Jacobian-weighted points). `mesh_motion` is `eulerian`,
+`lagrangian` or `smoothed` (the 2D smoothing of the meridian plane, every `smoothing`; axis nodes stay
+fixed, or with `smoothing_boundary: sliding` slide along the axis, at x = 0 exactly; the swept ring
+volumes keep the remap conservative); `lagrange_in_solid` couplings to structures work in r–z.
 
 An **SPH part** in an axisymmetric deck is a set of rings: its geometry (a box, ball or polygon in
 x = r >= 0, y = z; a deck error if it reaches x < 0) is filled at `spacing` as in 2D, and each particle

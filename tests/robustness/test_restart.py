@@ -51,7 +51,7 @@ def _fields(out: Path) -> list[tuple[str, np.ndarray]]:
 
 FUZZ = Path(__file__).parents[1] / "data" / "fuzz"
 
-AXISYMMETRIC = {
+INLINE = {  # decks of this module: r-z, and a smoothed 3D ALE mesh
     "axi_ale": """
 title: elastic disc into r-z ALE water (restart test)
 units: {length: m, mass: kg, time: s}
@@ -111,16 +111,39 @@ loads:
   - {type: gravity, acceleration: [0.0, -9.81]}
 output: {interval: 0.005, history_interval: 0.0005}
 """,
+    "ale_3d_smoothed": """
+title: 3D ALE box, equipotential mesh with sliding walls (restart test)
+units: {length: m, mass: kg, time: s}
+dimension: 3
+control: {end_time: 1.0e-4}
+equations_of_state:
+  air: {type: ideal_gas, gamma: 1.4}
+materials:
+  air: {type: fluid, density: 1.2, eos: air}
+sections:
+  fluid: {type: ale_multi_material, mesh_motion: smoothed, smoothing: equipotential, smoothing_boundary: sliding}
+parts:
+  box:
+    material: air
+    section: fluid
+    geometry: {box: {min: [0, 0, 0], max: [0.1, 0.08, 0.06], divisions: [5, 4, 3]}}
+    fill: [{material: air, ball: {center: [0, 0, 0], radius: 0.04}, pressure: 1.0e6}]
+boundaries:
+  - {type: ale_boundary, part: box, sides: [left, right, bottom, top, front, back], condition: slip}
+output: {interval: 5.0e-5, history_interval: 1.0e-5}
+""",
 }
 
 
 @pytest.mark.parametrize("kind, stop_step", [("solid", 333), ("sph", 97), ("ale", 71),
                                              ("fsi_sph", 31), ("fsi_ale", 7),
-                                             ("axi_ale", 9), ("axi_sph", 11)])
+                                             ("axi_ale", 9), ("axi_sph", 11), ("ale_3d_smoothed", 13)])
 def test_restart_is_bit_identical(tmp_path, monkeypatch, kind, stop_step):
     """fsi_sph has a nodes_to_surface contact, fsi_ale a lagrange_in_solid coupling (their state and work
-    travel in the checkpoint too); axi_ale and axi_sph are the same in r-z (rings, the axis)."""
-    text = (FUZZ / f"{kind}.yaml").read_text() if kind.startswith("fsi") else AXISYMMETRIC.get(kind)
+    travel in the checkpoint too); axi_ale and axi_sph are the same in r-z (rings, the axis);
+    ale_3d_smoothed a moving hex8 mesh (the mesh mover's stencil and sliding sets are rebuilt, the
+    mesh restored)."""
+    text = (FUZZ / f"{kind}.yaml").read_text() if kind.startswith("fsi") else INLINE.get(kind)
     deck = decks.write(tmp_path, kind, text)
     code, text = _run(deck, "-o", tmp_path / "whole")
     assert code == 0, text

@@ -111,24 +111,19 @@ RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")
 
 
 AXISYMMETRIC_RIGID = "an axisymmetric rigid part moves along the axis (y) only"
-AXISYMMETRIC_ALE = ("axisymmetric ALE parts are eulerian or lagrangian meshes for now "
-                    "(smoothed ALE meshes are 2D/3D only, issue 15)")
 AXISYMMETRIC_SPH = "axisymmetric SPH supports inviscid fluids with slip ghost walls only for now (issue 15)"
 
 
 def _check_axisymmetric(deck: Deck) -> None:
-    """What an axisymmetric deck cannot hold yet: smoothed ALE meshes (an ALE part is
-    eulerian or lagrangian, ale/axisymmetric.py); SPH parts only of inviscid non-explosive fluids,
-    with slip ghost walls (sph/axisymmetric.py); a radial velocity on a rigid part, which moves
-    along the axis only (solver.boundary.RigidBodies)."""
+    """What an axisymmetric deck cannot hold: SPH parts only of inviscid non-explosive fluids, with
+    slip ghost walls (sph/axisymmetric.py); a radial velocity on a rigid part, which moves along the
+    axis only (solver.boundary.RigidBodies)."""
     sph = False
     rigid: set[str] = set()
     for pname, part in deck.parts.items():
         section = deck.sections.get(part.section)
         kind = getattr(section, "type", "solid")
         material = deck.materials.get(part.material)
-        if kind == "ale_multi_material" and section.mesh_motion == "smoothed":
-            raise ValueError(f"@sections.{part.section}.mesh_motion: {AXISYMMETRIC_ALE}; '{part.section}' is smoothed")
         if kind == "sph":
             sph = True
             _check_meridian_half_plane(pname, part)
@@ -485,13 +480,6 @@ def _check_ale_part(deck: Deck, pname: str, part) -> None:
     if section.mesh_motion == "smoothed" and section.smoothing == "straight_lines" and deck.dimension == 2 \
             and section.line_axis == "z":
         raise ValueError(f"@sections.{part.section}.line_axis: a 2D mesh has lines along x or y only")
-    if deck.dimension == 3:
-        if section.mesh_motion == "smoothed" and section.smoothing == "equipotential":
-            raise ValueError(f"@sections.{part.section}.smoothing: 3D ALE meshes are smoothed by 'average' or "
-                             "'straight_lines' ('equipotential' is 2D)")
-        if section.mesh_motion == "smoothed" and section.smoothing_boundary != "fixed":
-            raise ValueError(f"@sections.{part.section}.smoothing_boundary: 3D ALE meshes keep their boundary nodes "
-                             "fixed ('sliding' is 2D)")
     for j, fill in enumerate(part.fill):
         if fill.polygon is not None and deck.dimension != 2:
             raise ValueError(f"@{where}.fill.{j}.polygon: polygons are 2D (use box, ball, cylinder or half_space in 3D)")

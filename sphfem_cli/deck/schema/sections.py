@@ -100,7 +100,8 @@ class SphSection(DeckModel):
 class AleSection(DeckModel):
     """Multi-material ALE (quad4 in 2D, hex8 in 3D): a Lagrangian phase on the mesh, then a remap back
     (Eulerian) or to a smoothed mesh, moving each material's volume, mass and energy across element
-    faces. In 3D a smoothed mesh takes smoothing average with fixed boundary nodes."""
+    faces. Every smoothing and smoothing boundary works in 2D, 3D and r-z (where axis nodes slide along
+    the axis or stay fixed)."""
 
     type: Literal["ale_multi_material"] = Field(description="Section selector: multi-material ALE.")
     advection: Literal["donor_cell", "van_leer"] = Field(
@@ -110,7 +111,7 @@ class AleSection(DeckModel):
         "eulerian", description="eulerian: the mesh returns to its start after each Lagrangian phase; lagrangian: no remap, the mesh moves with the material (no advection; no transmit or inflow sides); smoothed: the Lagrangian mesh relaxed by `smoothing` (LS-DYNA *CONTROL_ALE METH with AFAC/DFAC). Default eulerian."
     )
     smoothing: Literal["average", "equipotential", "straight_lines"] = Field(
-        "average", description="smoothed meshes: average (each interior node towards the mean of its edge neighbours, LS-DYNA AFAC), equipotential (Winslow's equipotential point on the four-element stencil, LS-DYNA DFAC; other nodes averaged; 2D only) or straight_lines (the paper's variant: every node moves only along the straight mesh line through it along `line_axis`, the lines' end nodes with the material, the nodes inside a line kept at their initial parameter between its ends, like LS-DYNA *ALE_SMOOTHING; a structured mesh; smoothing_weight, smoothing_iterations and smoothing_boundary do not apply). Default average."
+        "average", description="smoothed meshes: average (each interior node towards the mean of its edge neighbours, LS-DYNA AFAC), equipotential (Winslow's equipotential point on the structured stencil of an interior node with four elements, eight in 3D, LS-DYNA DFAC; other nodes averaged) or straight_lines (the paper's variant: every node moves only along the straight mesh line through it along `line_axis`, the lines' end nodes with the material, the nodes inside a line kept at their initial parameter between its ends, like LS-DYNA *ALE_SMOOTHING; a structured mesh; smoothing_weight, smoothing_iterations and smoothing_boundary do not apply). Default average."
     )
     line_axis: Literal["x", "y", "z"] = Field(
         "y", description="straight_lines smoothing: the axis the mesh lines run along (the lines' ends follow the material along it, e.g. a free surface). Default y."
@@ -123,7 +124,7 @@ class AleSection(DeckModel):
         0.2, description="After smoothing, fraction of the way back to its start each moving node goes (bounds the drift of a mesh in a steady stream; 0 for pure smoothing). Default 0.2."
     )
     smoothing_boundary: Literal["fixed", "sliding"] = Field(
-        "fixed", description="Boundary nodes of a smoothed mesh: fixed (Eulerian) or sliding along straight sides (corners fixed). Default fixed."
+        "fixed", description="Boundary nodes of a smoothed mesh: fixed (Eulerian) or sliding: along straight sides in 2D and r-z (axis nodes along the axis), in 3D in the plane of a flat face of the boundary and along straight edges where two such faces meet; corners and nodes of curved boundary faces fixed. Default fixed."
     )
     advect_every: Annotated[int, Field(ge=1)] = Field(1, description="Remap every N steps. Default 1.")
     interface: Literal["slic", "donor"] = Field(
