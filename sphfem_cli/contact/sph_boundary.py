@@ -132,7 +132,7 @@ class SphBoundaryCoupling:
         if len(self.ws) and pts is not None:
             # the slots of this coupling's SPH part (another part has its own coupling)
             perm = pts["perm"]
-            mine = np.zeros(len(pts["sx"]), dtype=np.bool_)
+            mine = np.zeros(pts["sx"].shape[1], dtype=np.bool_)
             real = np.flatnonzero(perm < ps.n)
             mine[real] = self.sim.model.particles.part[ps.ids[perm[real]]] == self.part_index
             args = (pts["sx"], pts["sd"], mine)

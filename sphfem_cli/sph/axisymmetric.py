@@ -75,7 +75,7 @@ from numba import njit, prange
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_sigma
 from .search import neighbour_list
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GI_NX,
-                    GI_NY, KIND_FLUID, KIND_GHOST, KIND_WALL, ND, SF_ALPHA, SF_BETA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
+                    GI_NY, KIND_FLUID, KIND_GHOST, KIND_WALL, SF_ALPHA, SF_BETA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
                     SI_DELTA_HYDROSTATIC, SI_KERNEL, SI_CONTINUITY, CONTINUITY_MASS)
 
 TWO_PI = 2.0 * math.pi
@@ -102,9 +102,9 @@ def ring_smoothing_lengths(x, rho, m, active, eta, h):
 def axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph):
     """Continuity, momentum, energy, delta-SPH and XSPH rates of every fluid point (module docstring).
 
-    ``sd[k, D_VZ]`` of a ghost slot holds its source particle's radius r_j (``SphSystem`` writes it
+    ``sd[D_VZ, k]`` of a ghost slot holds its source particle's radius r_j (``SphSystem`` writes it
     into the ghost velocities' third column, unused in 2D); of a particle it is 0 and r_j = x_j.
-    The loop is the plane code's (``rates._fluid_rates``): per particle a branch-free neighbour list,
+    The loop is the plane code's before its row scan (``rates._fluid_rates``): per particle a branch-free neighbour list,
     padded with the sentinel slot, summed by ``_pair_sums`` (which LLVM vectorises). Plain Python
     that picks the kernel's and the term set's specialisation (as ``rates.fluid_rates``).
     """
@@ -124,18 +124,16 @@ _FMV = {"nsz", "arcp", "reassoc"}  # for the neighbour sums only (as rates._FMV)
 
 
 @njit(cache=True, fastmath=_FM, forceinline=True, error_model="numpy")
-def _pair_terms(j, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
+def _pair_terms(j, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
                 gx, gy, dhydro, mform):
     """The terms of neighbour slot ``j`` in the sums of ``_pair_sums`` (module docstring); exactly 0 for a
     wall point or the sentinel. Always inlined, without "reassoc" (see ``rates._pair_terms``)."""
     wend = kshape.ndim == 2
     full = tshape.ndim == 1
-    jx = j * np.uint64(4)
-    jd = j * np.uint64(ND)
-    xj = sxf[jx]
+    xj = sx[0, j]
     dx = xi - xj
-    dy = yi - sxf[jx + 1]
-    hij = 0.5 * (hi + sxf[jx + 3])
+    dy = yi - sx[1, j]
+    hij = 0.5 * (hi + sx[3, j])
     r2 = dx * dx + dy * dy
     r = math.sqrt(r2)
     a = 1.0 / (hij * r)
@@ -155,22 +153,22 @@ def _pair_terms(j, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, 
     f = norm * inv * inv * dth  # F_ij = (1/r) dW/dr
     wgx = f * dx
     wgy = f * dy
-    mk = sdf[jd + D_MK]  # mat * 4 + kind, decoded in floating point (exact for these integers)
+    mk = sd[D_MK, j]  # mat * 4 + kind, decoded in floating point (exact for these integers)
     matj = np.floor(0.25 * mk)
     kind = mk - 4.0 * matj
     notwall = 1.0 if kind != KIND_WALL else 0.0
-    rj = xj if kind == KIND_FLUID else (sdf[jd + D_VZ] if kind == KIND_GHOST else 1.0)  # the source's radius
+    rj = xj if kind == KIND_FLUID else (sd[D_VZ, j] if kind == KIND_GHOST else 1.0)  # the source's radius
     irj = INV_TWO_PI / rj
-    rhoj = sdf[jd + D_RHO]
-    vol = sdf[jd + D_VOL] * notwall  # ring volume m_j / rho_j (0 for walls and the sentinel)
+    rhoj = sd[D_RHO, j]
+    vol = sd[D_VOL, j] * notwall  # ring volume m_j / rho_j (0 for walls and the sentinel)
     mj = vol * rhoj
     area = vol * irj  # A_j
-    qj = sdf[jd + D_PR] * irj
-    du = ui - sdf[jd + D_VX]
-    dv = vi - sdf[jd + D_VY]
+    qj = sd[D_PR, j] * irj
+    du = ui - sd[D_VX, j]
+    dv = vi - sd[D_VY, j]
     vdotg = du * wgx + dv * wgy
     vdotr = min(du * dx + dv * dy, 0.0)
-    cij = 0.5 * (ci + sdf[jd + D_C])
+    cij = 0.5 * (ci + sd[D_C, j])
     rij = 0.5 * (rhoi + rhoj)
     dd = r2 + eps * hij * hij
     hv = hij * vdotr
@@ -191,7 +189,7 @@ def _pair_terms(j, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, 
 
 
 @njit(cache=True, fastmath=_FMV, error_model="numpy")
-def _pair_sums(nbj, cnt, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
+def _pair_sums(nbj, cnt, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
                gx, gy, dhydro, mform):
     """Branch-free sums over ``nbj[:cnt]`` of ``_pair_terms``: (ax, ay, work, cont, kappa_r, kappa_z, diff, sxu,
     sxv)."""
@@ -199,7 +197,7 @@ def _pair_sums(nbj, cnt, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi
     fmati = float(mati)
     ax = ay = work = cont = kap = kapz = diff = sxu = sxv = 0.0
     for t in range(cnt):
-        tx, ty, tw, tc, tk, tkz, td, tu, tv = _pair_terms(nbj[t], sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi,
+        tx, ty, tw, tc, tk, tkz, td, tu, tv = _pair_terms(nbj[t], sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi,
                                                      rhoi, ci, qi, fmati, alpha, beta, eps, gx, gy, dhydro, mform)
         ax -= tx
         ay -= ty
@@ -231,27 +229,25 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i
     inv_cell = 1.0 / cell
     sig = kernel_sigma(kernel, 2)
     npts = cell_start[-1]
-    sxf = sx.reshape(-1)
-    sdf = sd.reshape(-1)
     for b in prange((npts + _BLOCK - 1) // _BLOCK):
         nbj = np.empty(512, dtype=np.uint64)
         for k in range(b * _BLOCK, min(npts, (b + 1) * _BLOCK)):
-            mki = int(sd[k, D_MK])
+            mki = int(sd[D_MK, k])
             if (mki & 3) != KIND_FLUID:
                 continue
-            xi, yi, hi = sx[k, 0], sx[k, 1], sx[k, 3]
+            xi, yi, hi = sx[0, k], sx[1, k], sx[3, k]
             # every 2 h_kj is below sreach[k] (search.search_reach)
-            cnt, npad = neighbour_list(nbj, k, xi, yi, 0.0, hi, sreach[k], sxf, cell_start, (ox, oy, 0.0), inv_cell,
+            cnt, npad = neighbour_list(nbj, k, xi, yi, 0.0, hi, sreach[k], sx, cell_start, (ox, oy, 0.0), inv_cell,
                                        (nx, ny, 1), _PLANE, _PAD)
             if cnt < 0:  # the list is too short for the candidates: a longer one, and again
                 nbj = np.empty(-2 * cnt, dtype=np.uint64)
-                cnt, npad = neighbour_list(nbj, k, xi, yi, 0.0, hi, sreach[k], sxf, cell_start, (ox, oy, 0.0),
+                cnt, npad = neighbour_list(nbj, k, xi, yi, 0.0, hi, sreach[k], sx, cell_start, (ox, oy, 0.0),
                                            inv_cell, (nx, ny, 1), _PLANE, _PAD)
-            ui, vi = sd[k, D_VX], sd[k, D_VY]
-            rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]  # pri = p_i / rho_i^2
+            ui, vi = sd[D_VX, k], sd[D_VY, k]
+            rhoi, pri, ci = sd[D_RHO, k], sd[D_PR, k], sd[D_C, k]  # pri = p_i / rho_i^2
             qi = pri * INV_TWO_PI / xi  # Q_i = p_i / (2 pi r_i rho_i^2)
             ax, ay, work, cont, kap, kapz, diff, sxu, sxv = _pair_sums(
-                nbj, npad, sxf, sdf, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mki >> 2,
+                nbj, npad, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mki >> 2,
                 alpha, beta, eps, gx, gy, dhydro, mform)
             i = perm[k]
             hoop = pri * rhoi / xi  # p_i / (rho_i r_i), times kappa_i = sum_j A_j (x_j - r_i) grad_i W_ij

@@ -103,12 +103,12 @@ def renormalise_continuity(sx, sd, perm, cell_start, sreach, settings_i, grid_f,
     u = np.zeros(3)
     done = 0
     for k in range(cell_start[-1]):
-        if (int(sd[k, D_MK]) & 3) != KIND_FLUID:
+        if (int(sd[D_MK, k]) & 3) != KIND_FLUID:
             continue
         i = perm[k]
         if i >= n or not flag[i]:
             continue
-        xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
+        xi, yi, zi, hi = sx[0, k], sx[1, k], sx[2, k], sx[3, k]
         reach = sreach[k]  # bounds every 2 h_kj (search.search_reach)
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
@@ -122,18 +122,18 @@ def renormalise_continuity(sx, sd, perm, cell_start, sreach, settings_i, grid_f,
                 for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
                     if j == k:
                         continue
-                    r[0] = xi - sx[j, 0]
-                    r[1] = yi - sx[j, 1]
-                    r[2] = zi - sx[j, 2]
+                    r[0] = xi - sx[0, j]
+                    r[1] = yi - sx[1, j]
+                    r[2] = zi - sx[2, j]
                     dist2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2]
-                    hs = hi + sx[j, 3]
+                    hs = hi + sx[3, j]
                     if dist2 >= hs * hs:
                         continue
                     f = kernel_f(kernel, dim, np.sqrt(dist2), 0.5 * hs)  # grad_i W_ij = f r_ij
-                    vol = sd[j, D_VOL]
-                    u[0] = sd[k, D_VX] - sd[j, D_VX]
-                    u[1] = sd[k, D_VY] - sd[j, D_VY]
-                    u[2] = sd[k, D_VZ] - sd[j, D_VZ]
+                    vol = sd[D_VOL, j]
+                    u[0] = sd[D_VX, k] - sd[D_VX, j]
+                    u[1] = sd[D_VY, k] - sd[D_VY, j]
+                    u[2] = sd[D_VZ, k] - sd[D_VZ, j]
                     for p in range(dim):
                         plain += vol * u[p] * f * r[p]
                         for q in range(dim):
@@ -141,6 +141,6 @@ def renormalise_continuity(sx, sd, perm, cell_start, sreach, settings_i, grid_f,
                             a[p, q] -= vol * u[p] * f * r[q]
                             m[p, q] -= vol * r[p] * f * r[q]
         div = renormalised_divergence(a, m, dim)
-        drho[i] -= sd[k, D_RHO] * (plain + div)
+        drho[i] -= sd[D_RHO, k] * (plain + div)
         done += 1
     return done

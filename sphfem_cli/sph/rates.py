@@ -14,22 +14,22 @@ from numba import njit, prange
 
 from ..materials.slots import P_VISCOSITY
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, inv_pow, kernel_shape, kernel_f, kernel_sigma, kernel_w
-from .search import cell_range, neighbour_list
+from .search import cell_range
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
-                    GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, ND, SF_ALPHA, SF_BETA,
+                    GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, N_LANES, SF_ALPHA, SF_BETA,
                     SF_DELTA, SF_DILATATIONAL_VISCOSITY, SF_EPS, SF_GX, SF_GY, SF_GZ, SF_XSPH, SI_DELTA_HYDROSTATIC,
                     SI_CONTINUITY, SI_DIM, SI_KERNEL, SI_NWALL, SI_VISCOUS, CONTINUITY_MASS)
 
 # Fast-math flags without nnan/ninf (NaN checks keep working), without "contract" and, but for the
-# additions of the neighbour sums (_FMV, _pair_sums), without "reassoc". numba links a copy of each
-# callee's optimised LLVM IR into its caller's module (linkonce_odr) and optimises that module
-# again, and the caller's module is what it writes to its on-disk cache. The process that compiles
-# runs the callee's own code, optimised once (the JIT linker resolves the weak copies to the
-# definition it loaded first), a process that loads runs the copies in the cached caller: for
-# _pair_sums the one in _fluid_rates, optimised three times (its library, the parfor gufunc's,
-# _fluid_rates'). With "contract" or "reassoc" on every instruction each optimisation may fuse or
-# regroup differently (reassoc on all of _pair_sums: the second pass regrouped the product of the
-# delta-SPH term), so a run that compiled its kernels and one that loaded them differed at
+# additions of the neighbour sums (_FMV, _row_sums; before it _pair_sums), without "reassoc". numba
+# links a copy of each callee's optimised LLVM IR into its caller's module (linkonce_odr) and
+# optimises that module again, and the caller's module is what it writes to its on-disk cache. The
+# process that compiles runs the callee's own code, optimised once (the JIT linker resolves the weak
+# copies to the definition it loaded first), a process that loads runs the copies in the cached
+# caller: for _pair_sums the one in _fluid_rates, optimised three times (its library, the parfor
+# gufunc's, _fluid_rates'). With "contract" or "reassoc" on every instruction each optimisation may
+# fuse or regroup differently (reassoc on all of _pair_sums: the second pass regrouped the product of
+# the delta-SPH term), so a run that compiled its kernels and one that loaded them differed at
 # round-off (4 % in an elastic gate's tip velocity after 0.02 s, where the contact amplifies it).
 # Without them re-optimising changes no result (the copies differ only in commuted operands), and
 # the two are bit-identical (tests/robustness/test_determinism.py).
@@ -61,15 +61,15 @@ def viscous_stress(sx, sd, svf, cell_start, sreach, settings_f, settings_i, grid
     sig = kernel_sigma(kernel, dim)
     flips = svf.shape[0] > 1
     for k in prange(cell_start[-1]):
-        mat = int(sd[k, D_MK]) >> 2
+        mat = int(sd[D_MK, k]) >> 2
         mu = params[mat, P_VISCOSITY]
         if mu == 0.0 and mu_dil == 0.0:
             for a in range(6):
                 stau[k, a] = 0.0
             continue
-        xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
+        xi, yi, zi, hi = sx[0, k], sx[1, k], sx[2, k], sx[3, k]
         fk = np.int64(k) if flips else np.int64(0)
-        ui, vi, wi = sd[k, D_VX] * svf[fk, 0], sd[k, D_VY] * svf[fk, 1], sd[k, D_VZ] * svf[fk, 2]
+        ui, vi, wi = sd[D_VX, k] * svf[fk, 0], sd[D_VY, k] * svf[fk, 1], sd[D_VZ, k] * svf[fk, 2]
         reach = sreach[k]  # search.search_reach: bounds every 2 h_kj
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
@@ -79,21 +79,21 @@ def viscous_stress(sx, sd, svf, cell_start, sreach, settings_f, settings_i, grid
             for cy in range(y0, y1 + 1):
                 base = (cz * ny + cy) * nx
                 for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
-                    dx = xi - sx[j, 0]
-                    dy = yi - sx[j, 1]
-                    dz = zi - sx[j, 2]
-                    hij = 0.5 * (hi + sx[j, 3])
+                    dx = xi - sx[0, j]
+                    dy = yi - sx[1, j]
+                    dz = zi - sx[2, j]
+                    hij = 0.5 * (hi + sx[3, j])
                     r2 = dx * dx + dy * dy + dz * dz
                     if r2 >= 4.0 * hij * hij or r2 == 0.0:
                         continue
                     inv = 1.0 / hij
                     f = sig * inv_pow(inv, dim) * inv * inv * kernel_shape(kernel, dim, math.sqrt(r2) * inv)[1]
-                    vol = sd[j, D_VOL] * f
+                    vol = sd[D_VOL, j] * f
                     gx, gy, gz = vol * dx, vol * dy, vol * dz
                     fj = np.int64(j) if flips else np.int64(0)
-                    du = sd[j, D_VX] * svf[fj, 0] - ui
-                    dv = sd[j, D_VY] * svf[fj, 1] - vi
-                    dw = sd[j, D_VZ] * svf[fj, 2] - wi
+                    du = sd[D_VX, j] * svf[fj, 0] - ui
+                    dv = sd[D_VY, j] * svf[fj, 1] - vi
+                    dw = sd[D_VZ, j] * svf[fj, 2] - wi
                     l00 += du * gx
                     l01 += du * gy
                     l02 += du * gz
@@ -114,7 +114,6 @@ def viscous_stress(sx, sd, svf, cell_start, sreach, settings_f, settings_i, grid
 
 
 _BLOCK = 32
-_PAD = 4  # pair lists are padded to a multiple of the vector width with the sentinel slot
 
 # reassoc lets LLVM vectorise the neighbour sums (their order of additions is then LLVM's); it is
 # given to the sums only, not to the terms (see _FM)
@@ -122,29 +121,33 @@ _FMV = {"nsz", "arcp", "reassoc"}
 
 
 @njit(cache=True, fastmath=_FM, forceinline=True, error_model="numpy")
-def _pair_terms(j, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, fmati,
+def _pair_terms(j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, fmati,
                 alpha, beta, eps, gx, gy, gz, dhydro, mform):
-    """The terms of neighbour slot ``j`` in the sums of ``_pair_sums`` (same arguments, same order).
+    """The terms of candidate slot ``j`` (unsigned) in the sums of ``_row_sums`` (same arguments, same order).
 
-    Without "reassoc" and always inlined into ``_pair_sums`` (LLVM keeps each instruction's flags
-    when it inlines), so re-optimising the inlined code cannot reorder these products and sums.
+    Slot ``j`` is a neighbour of slot ``k`` when j != k, j < e (the end of the row's candidates) and
+    |x_k - x_j|^2 < (h_k + h_j)^2 = (2 h_kj)^2 (the test of ``search.neighbour_list``); for any other
+    candidate every term is selected to exactly 0 (its arithmetic, which may be inf or NaN at
+    j == k, is discarded, not multiplied). Without "reassoc" and always inlined into ``_row_sums``
+    (LLVM keeps each instruction's flags when it inlines), so re-optimising the inlined code cannot
+    reorder these products and sums.
     """
     kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
     dim = dshape.ndim
     full = tshape.ndim == 1
     wend = kernel == WENDLAND_C2
     one_d = dim == 1
-    jx = j * np.uint64(4)
-    jd = j * np.uint64(ND)
-    dx = xi - sxf[jx]
-    dy = yi - sxf[jx + 1] if dim > 1 else 0.0
-    dz = zi - sxf[jx + 2] if dim > 2 else 0.0
-    hij = 0.5 * (hi + sxf[jx + 3])
+    dx = xi - sx[0, j]
+    dy = yi - sx[1, j] if dim > 1 else 0.0
+    dz = zi - sx[2, j] if dim > 2 else 0.0
+    hs = hi + sx[3, j]
+    hij = 0.5 * hs
     r2 = dx * dx
     if dim > 1:
         r2 += dy * dy
     if dim > 2:
         r2 += dz * dz
+    ok = (r2 < hs * hs) & (j != k) & (j < e)
     r = math.sqrt(r2)
     a = 1.0 / (hij * r)
     inv = r * a  # 1/h_ij
@@ -166,11 +169,11 @@ def _pair_terms(j, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi
     wgx = f * dx
     wgy = f * dy
     wgz = f * dz
-    du = ui - sdf[jd + D_VX]
-    dv = vi - sdf[jd + D_VY] if dim > 1 else 0.0
-    dw = wi - sdf[jd + D_VZ] if dim > 2 else 0.0
-    rhoj = sdf[jd + D_RHO]
-    vol = sdf[jd + D_VOL]
+    du = ui - sd[D_VX, j]
+    dv = vi - sd[D_VY, j] if dim > 1 else 0.0
+    dw = wi - sd[D_VZ, j] if dim > 2 else 0.0
+    rhoj = sd[D_RHO, j]
+    vol = sd[D_VOL, j]
     mj = vol * rhoj
     vdotg = du * wgx
     vdr = du * dx
@@ -181,7 +184,7 @@ def _pair_terms(j, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi
         vdotg += dw * wgz
         vdr += dw * dz
     vdotr = min(vdr, 0.0)
-    cj = sdf[jd + D_C]
+    cj = sd[D_C, j]
     cij = 0.5 * (ci + cj)
     rij = 0.5 * (rhoi + rhoj)
     dd = r2 + eps * hij * hij
@@ -189,9 +192,9 @@ def _pair_terms(j, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi
     hv = hij * vdotr
     # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
     pi_ij = hv * (beta * hv - alpha * cij * dd) * rcp
-    coef = mj * (pri + sdf[jd + D_PR] + pi_ij)
+    coef = mj * (pri + sd[D_PR, j] + pi_ij)
     work = coef * vdotg
-    mk = sdf[jd + D_MK]  # mat * 4 + kind, decoded in floating point (exact for these integers)
+    mk = sd[D_MK, j]  # mat * 4 + kind, decoded in floating point (exact for these integers)
     matj = np.floor(0.25 * mk)
     notwall = 1.0 if mk - 4.0 * matj != KIND_WALL else 0.0
     wall_work = (1.0 - notwall) * work if full else 0.0
@@ -207,27 +210,36 @@ def _pair_terms(j, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi
     diff = same * hij * cij * psi * f * vol
     wr = notwall * norm * th * mj * (dd * dd * rcp) if full else 0.0
     cw = mj if mform else vol  # the continuity weight: m_j (mass form) or V_j (volume form)
-    return (coef * wgx, coef * wgy, coef * wgz, cw * vdotg, work, wall_work, diff, wr * du, wr * dv, wr * dw)
+    z = 0.0
+    return (coef * wgx if ok else z, coef * wgy if ok else z, coef * wgz if ok else z, cw * vdotg if ok else z,
+            work if ok else z, wall_work if ok else z, diff if ok else z, wr * du if ok else z,
+            wr * dv if ok else z, wr * dw if ok else z)
 
 
-@njit(cache=True, fastmath=_FMV, error_model="numpy")
-def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mati,
-               alpha, beta, eps, gx, gy, gz, dhydro, mform):
-    """Branch-free sums over the neighbour slots ``nbj[:cnt]`` of one particle (LLVM vectorises it).
+@njit(cache=True, fastmath=_FMV, forceinline=True, error_model="numpy")
+def _row_sums(s, e, k, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mati,
+              alpha, beta, eps, gx, gy, gz, dhydro, mform):
+    """Branch-free sums over the candidate slots ``s .. e - 1`` (one row of cells) of slot ``k``.
 
-    ``sxf``, ``sdf``: ``sx``, ``sd`` flattened (rows of 4 and ``ND`` = 8), indexed with the unsigned
-    slots of ``nbj`` (no negative-index handling in the gathers). The kernel, the dimension and
-    the term set are compile-time constants, the numbers of dimensions of the empty arrays
-    ``kshape``, ``dshape`` and ``tshape`` (see ``fluid_rates``): one compiled version per
-    combination, in which the other kernel's shape, the coordinates and velocities above ``dim``
-    (in 2D exactly 0) and, with ``tshape.ndim == 2``, the wall work and XSPH sums (then exactly 0)
-    are not computed. The terms of one pair are ``_pair_terms``'.
+    The slots are read in whole chunks of ``N_LANES`` (``s`` to the multiple of ``N_LANES`` above
+    ``e``, at most ``e + N_LANES - 1``: the sentinel columns of ``sx``, ``sd``), contiguously from the
+    rows of ``sx`` and ``sd`` (structure of arrays, unsigned slots: no negative-index handling), so
+    LLVM vectorises the loop with plain vector loads and no remainder; a candidate that is no
+    neighbour adds exactly 0 (``_pair_terms``). The kernel, the dimension and the term set are
+    compile-time constants, the numbers of dimensions of the empty arrays ``kshape``, ``dshape``
+    and ``tshape`` (see ``fluid_rates``): one compiled version per combination, in which the other
+    kernel's shape, the coordinates and velocities above ``dim`` (in 2D exactly 0) and, with
+    ``tshape.ndim == 2``, the wall work and XSPH sums (then exactly 0) are not computed.
 
     Returns (ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw): the pressure + artificial-viscosity
     acceleration -sum m_j S grad W (S = p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij), sum V_j v_ij.grad W
     (with ``mform``, the mass form: sum m_j v_ij.grad W),
     sum m_j S v_ij.grad W, its part over dummy wall points j, the delta-SPH sum sum h c psi F V (same material, no wall) and the
-    XSPH sums sum (m_j/rho_ij) W (v_j - v_i) (no wall). Sentinel entries add exactly zero.
+    XSPH sums sum (m_j/rho_ij) W (v_j - v_i) (no wall).
+
+    Always inlined (``forceinline``, at the LLVM level: its instructions keep their flags) into the
+    parfor loop of ``_fluid_rates``: called, the copy of it optimised in the caller's module ran as a
+    scalar loop (rates 355 against 210 ns per particle-step, 2D dam break of 89 888 particles).
     """
     dim = dshape.ndim
     full = tshape.ndim == 1
@@ -235,9 +247,11 @@ def _pair_sums(nbj, cnt, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, 
     ax = ay = az = 0.0
     cont = work = wall_work = diff = 0.0
     sxu = sxv = sxw = 0.0
-    for t in range(cnt):
+    lanes = np.uint64(N_LANES)
+    end = s + (e - s + lanes - np.uint64(1)) // lanes * lanes
+    for j in range(s, end):
         tx, ty, tz, tc, tw, tww, td, tu, tv, tws = _pair_terms(
-            nbj[t], sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, fmati,
+            j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, fmati,
             alpha, beta, eps, gx, gy, gz, dhydro, mform)
         ax -= tx
         if dim > 1:
@@ -279,14 +293,14 @@ def fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, 
     the fluid particle keeps half (in de_i), the other half is the power the wall absorbs,
     ``wall_power[i]`` = m_i/2 sum_(wall j) m_j S v_ij.grad W (the energy balance counts it).
 
-    Per particle: the candidates of the cell rows within reach (each row of cells along x is one
-    contiguous slot range) are filtered into a neighbour list without branches (the index is
-    always written, the count advances only for a neighbour); the list is padded to a multiple of
-    ``_PAD`` with the sentinel slot (the last row of ``sx``/``sd``, ``search.sort_points``) and summed
-    by ``_pair_sums``; the viscous-stress terms, when present, are a second loop. Slots are taken
-    in blocks of ``_BLOCK`` per parallel task. Each particle's sums depend only on its own
-    neighbour list, so the result does not depend on the thread count. Equations and
-    references: docs/theory/sph.md.
+    Per particle: each row of cells along x within reach is one contiguous slot range, whose
+    candidates ``_row_sums`` sums without branches and without a neighbour list (whole chunks of
+    ``N_LANES`` slots read with vector loads from the rows of ``sx``/``sd``; a candidate out of
+    range adds exactly 0); the row sums are added in row order. The viscous-stress terms, when
+    present, are a second scan of the same rows, over the neighbours in slot order. Slots are
+    taken in blocks of ``_BLOCK`` per parallel task. Each particle's sums depend only on its own
+    rows, so the result does not depend on the thread count. Equations and references:
+    docs/theory/sph.md.
 
     The work is done by ``_fluid_rates``, compiled once per kernel, dimension and term set: these
     are compile-time constants there, the numbers of dimensions of three empty arrays
@@ -322,55 +336,77 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i,
     inv_cell = 1.0 / cell
     sig = kernel_sigma(kernel, dim)
     npts = cell_start[-1]
-    sxf = sx.reshape(-1)
-    sdf = sd.reshape(-1)
     for b in prange((npts + _BLOCK - 1) // _BLOCK):
-        nbj = np.empty(512, dtype=np.uint64)
         for k in range(b * _BLOCK, min(npts, (b + 1) * _BLOCK)):
-            mki = int(sd[k, D_MK])
+            mki = int(sd[D_MK, k])
             if (mki & 3) != KIND_FLUID:
                 continue
-            xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
-            # every 2 h_kj is below sreach[k] (search.search_reach)
-            cnt, npad = neighbour_list(nbj, k, xi, yi, zi, hi, sreach[k], sxf, cell_start, (ox, oy, oz), inv_cell,
-                                       (nx, ny, nz), dshape, _PAD)
-            if cnt < 0:  # the list is too short for the candidates: a longer one, and again
-                nbj = np.empty(-2 * cnt, dtype=np.uint64)
-                cnt, npad = neighbour_list(nbj, k, xi, yi, zi, hi, sreach[k], sxf, cell_start, (ox, oy, oz), inv_cell,
-                                           (nx, ny, nz), dshape, _PAD)
-            ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
-            rhoi, pri, ci = sd[k, D_RHO], sd[k, D_PR], sd[k, D_C]
-            ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw = _pair_sums(
-                nbj, npad, sxf, sdf, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
-                alpha, beta, eps, gx, gy, gz, dhydro, mform)
+            xi, yi, zi, hi = sx[0, k], sx[1, k], sx[2, k], sx[3, k]
+            ui, vi, wi = sd[D_VX, k], sd[D_VY, k], sd[D_VZ, k]
+            rhoi, pri, ci = sd[D_RHO, k], sd[D_PR, k], sd[D_C, k]
+            reach = sreach[k]  # every 2 h_kj is below sreach[k] (search.search_reach)
+            x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
+            y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
+            z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)
+            ku = np.uint64(k)
+            ax = ay = az = 0.0
+            cont = work = wall_work = diff = 0.0
+            sxu = sxv = sxw = 0.0
+            for cz in range(z0, z1 + 1):
+                for cy in range(y0, y1 + 1):
+                    base = (cz * ny + cy) * nx
+                    r0, r1, r2, r3, r4, r5, r6, r7, r8, r9 = _row_sums(
+                        np.uint64(cell_start[base + x0]), np.uint64(cell_start[base + x1 + 1]), ku, sx, sd,
+                        kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
+                        alpha, beta, eps, gx, gy, gz, dhydro, mform)
+                    ax += r0
+                    ay += r1
+                    az += r2
+                    cont += r3
+                    work += r4
+                    wall_work += r5
+                    diff += r6
+                    sxu += r7
+                    sxv += r8
+                    sxw += r9
             if viscous:
                 irho2 = 1.0 / (rhoi * rhoi)
                 t0i, t1i, t2i = stau[k, 0] * irho2, stau[k, 1] * irho2, stau[k, 2] * irho2
                 t3i, t4i, t5i = stau[k, 3] * irho2, stau[k, 4] * irho2, stau[k, 5] * irho2
-                for t in range(cnt):
-                    j = nbj[t]
-                    dx, dy, dz = xi - sx[j, 0], yi - sx[j, 1], zi - sx[j, 2]
-                    f = kernel_f(kernel, dim, math.sqrt(dx * dx + dy * dy + dz * dz), 0.5 * (hi + sx[j, 3]))
-                    wgx, wgy, wgz = f * dx, f * dy, f * dz
-                    rhoj = sd[j, D_RHO]
-                    mj = sd[j, D_VOL] * rhoj
-                    irj = 1.0 / (rhoj * rhoj)
-                    s0 = mj * (t0i + stau[j, 0] * irj)
-                    s1 = mj * (t1i + stau[j, 1] * irj)
-                    s2 = mj * (t2i + stau[j, 2] * irj)
-                    s3 = mj * (t3i + stau[j, 3] * irj)
-                    s4 = mj * (t4i + stau[j, 4] * irj)
-                    s5 = mj * (t5i + stau[j, 5] * irj)
-                    tx = s0 * wgx + s3 * wgy + s5 * wgz
-                    ty = s3 * wgx + s1 * wgy + s4 * wgz
-                    tz = s5 * wgx + s4 * wgy + s2 * wgz
-                    ax += tx
-                    ay += ty
-                    az += tz
-                    if (int(sd[j, D_MK]) & 3) == KIND_GHOST:  # a wall at rest does no work: all of it to i
-                        work -= 2.0 * (ui * tx + vi * ty + wi * tz)
-                    else:
-                        work -= (ui - sd[j, D_VX]) * tx + (vi - sd[j, D_VY]) * ty + (wi - sd[j, D_VZ]) * tz
+                for cz in range(z0, z1 + 1):
+                    for cy in range(y0, y1 + 1):
+                        base = (cz * ny + cy) * nx
+                        for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
+                            dx, dy, dz = xi - sx[0, j], yi - sx[1, j], zi - sx[2, j]
+                            r2 = dx * dx
+                            if dim > 1:
+                                r2 += dy * dy
+                            if dim > 2:
+                                r2 += dz * dz
+                            hs = hi + sx[3, j]
+                            if not r2 < hs * hs or j == k:  # the neighbour test of _pair_terms
+                                continue
+                            f = kernel_f(kernel, dim, math.sqrt(dx * dx + dy * dy + dz * dz), 0.5 * (hi + sx[3, j]))
+                            wgx, wgy, wgz = f * dx, f * dy, f * dz
+                            rhoj = sd[D_RHO, j]
+                            mj = sd[D_VOL, j] * rhoj
+                            irj = 1.0 / (rhoj * rhoj)
+                            s0 = mj * (t0i + stau[j, 0] * irj)
+                            s1 = mj * (t1i + stau[j, 1] * irj)
+                            s2 = mj * (t2i + stau[j, 2] * irj)
+                            s3 = mj * (t3i + stau[j, 3] * irj)
+                            s4 = mj * (t4i + stau[j, 4] * irj)
+                            s5 = mj * (t5i + stau[j, 5] * irj)
+                            tx = s0 * wgx + s3 * wgy + s5 * wgz
+                            ty = s3 * wgx + s1 * wgy + s4 * wgz
+                            tz = s5 * wgx + s4 * wgy + s2 * wgz
+                            ax += tx
+                            ay += ty
+                            az += tz
+                            if (int(sd[D_MK, j]) & 3) == KIND_GHOST:  # a wall at rest does no work: all of it to i
+                                work -= 2.0 * (ui * tx + vi * ty + wi * tz)
+                            else:
+                                work -= (ui - sd[D_VX, j]) * tx + (vi - sd[D_VY, j]) * ty + (wi - sd[D_VZ, j]) * tz
             i = perm[k]
             acc[i, 0] = ax
             if dim > 1:
@@ -379,7 +415,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i,
                 acc[i, 2] = az
             drho[i] = (cont if mform else rhoi * cont) - 2.0 * delta * diff
             de[i] = 0.5 * work
-            wall_power[i] = 0.5 * sd[k, D_VOL] * rhoi * wall_work
+            wall_power[i] = 0.5 * sd[D_VOL, k] * rhoi * wall_work
             xsph[i, 0] = exsph * sxu
             if dim > 1:
                 xsph[i, 1] = exsph * sxv
@@ -412,18 +448,18 @@ def interpolate_points(points, sx, sd, cell_start, settings_i, grid_f, grid_i, c
             for cy in range(y0, y1 + 1):
                 base = (cz * ny + cy) * nx
                 for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
-                    if (int(sd[j, D_MK]) & 3) == KIND_WALL and not include_walls:
+                    if (int(sd[D_MK, j]) & 3) == KIND_WALL and not include_walls:
                         continue
-                    dx, dy, dz = xi - sx[j, 0], yi - sx[j, 1], zi - sx[j, 2]
+                    dx, dy, dz = xi - sx[0, j], yi - sx[1, j], zi - sx[2, j]
                     r = math.sqrt(dx * dx + dy * dy + dz * dz)
-                    wv = kernel_w(kernel, dim, r, sx[j, 3])
+                    wv = kernel_w(kernel, dim, r, sx[3, j])
                     if wv == 0.0:
                         continue
-                    vw = sd[j, D_VOL] * wv
+                    vw = sd[D_VOL, j] * wv
                     if column < 0:
-                        val = sd[j, D_PR] * sd[j, D_RHO] * sd[j, D_RHO]
+                        val = sd[D_PR, j] * sd[D_RHO, j] * sd[D_RHO, j]
                     else:
-                        val = sd[j, column]
+                        val = sd[column, j]
                     num += vw * val
                     den += vw
         out[a] = num / den if den > 0.0 else np.nan

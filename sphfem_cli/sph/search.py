@@ -12,10 +12,15 @@ index ``i < n``), the ghost (mirror) particles of the planar walls (``n + g``) a
 wall particles (``n + ng + w``). Every point carries a kind (``KIND_FLUID``, ``KIND_GHOST``,
 ``KIND_WALL``) and a material id, packed as ``mat * 4 + kind`` in one float column.
 
-Layout of an evaluation, all in cell order (slot ``k`` holds point ``perm[k]``):
+Layout of an evaluation, all in cell order (slot ``k`` holds point ``perm[k]``), structure of arrays:
+one row per quantity, one column per slot, so that a run of slots is a run of memory in every row:
 
-* ``sx`` (npts, 4): x, y, z, h (coordinates padded with 0 above the dimension);
-* ``sd`` (npts, ND): vx, vy, vz, rho, V = m/rho, p/rho^2, c, mat*4+kind (columns ``D_*``);
+* ``sx`` (4, width): x, y, z, h (coordinates padded with 0 above the dimension);
+* ``sd`` (ND, width): vx, vy, vz, rho, V = m/rho, p/rho^2, c, mat*4+kind (rows ``D_*``);
+  for both, columns ``0 .. npts - 1`` are the points, column ``npts`` the sentinel (a point far from
+  everything whose every pair term is exactly 0) and ``npts + 1 .. npts + N_SENTINEL - 1`` copies of
+  it; the width may be larger (the storage is reused from one evaluation to the next, ``sort_points``)
+  and the columns beyond are not read;
 * ``stau`` (npts, 6): viscous stress tau (xx, yy, zz, xy, yz, zx), only when a material has
   viscosity (otherwise a (1, 6) dummy);
 * ``cell_start`` (ncell + 1): slots of cell ``key`` are ``cell_start[key]:cell_start[key+1]`` with
@@ -50,7 +55,7 @@ import numpy as np
 from numba import njit
 
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
-                    GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, ND)
+                    GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, N_SENTINEL, ND)
 
 SPREAD = 2.0  # hmax / hmin above which the cells are sized by hmin and the reach is local
 SPREAD_FLOOR = 1.5  # T / hmin: points of h <= T are not spread into G (their h is bounded by T)
@@ -169,45 +174,45 @@ def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr,
         pid = perm[k]
         if pid < n:
             i = pid
-            sx[k, 0] = x[i, 0]
-            sx[k, 1] = x[i, 1] if dim > 1 else 0.0
-            sx[k, 2] = x[i, 2] if dim > 2 else 0.0
-            sx[k, 3] = h[i]
-            sd[k, D_VX] = v[i, 0]
-            sd[k, D_VY] = v[i, 1] if dim > 1 else 0.0
-            sd[k, D_VZ] = v[i, 2] if dim > 2 else 0.0
+            sx[0, k] = x[i, 0]
+            sx[1, k] = x[i, 1] if dim > 1 else 0.0
+            sx[2, k] = x[i, 2] if dim > 2 else 0.0
+            sx[3, k] = h[i]
+            sd[D_VX, k] = v[i, 0]
+            sd[D_VY, k] = v[i, 1] if dim > 1 else 0.0
+            sd[D_VZ, k] = v[i, 2] if dim > 2 else 0.0
             r = rho[i]
-            sd[k, D_RHO] = r
-            sd[k, D_VOL] = m[i] / r
-            sd[k, D_PR] = p[i] / (r * r)
-            sd[k, D_C] = c[i]
-            sd[k, D_MK] = mat[i] * 4 + KIND_FLUID
+            sd[D_RHO, k] = r
+            sd[D_VOL, k] = m[i] / r
+            sd[D_PR, k] = p[i] / (r * r)
+            sd[D_C, k] = c[i]
+            sd[D_MK, k] = mat[i] * 4 + KIND_FLUID
         elif pid < n + ng:
             g = pid - n
             i = gsrc[g]
-            sx[k, 0], sx[k, 1], sx[k, 2] = gpos[g, 0], gpos[g, 1], gpos[g, 2]
-            sx[k, 3] = h[i]
-            sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ] = gvel[g, 0], gvel[g, 1], gvel[g, 2]
+            sx[0, k], sx[1, k], sx[2, k] = gpos[g, 0], gpos[g, 1], gpos[g, 2]
+            sx[3, k] = h[i]
+            sd[D_VX, k], sd[D_VY, k], sd[D_VZ, k] = gvel[g, 0], gvel[g, 1], gvel[g, 2]
             r = rho[i] + gdr[g]
-            sd[k, D_RHO] = r
-            sd[k, D_VOL] = m[i] / r
-            sd[k, D_PR] = (p[i] + gdp[g]) / (r * r)
-            sd[k, D_C] = c[i]
-            sd[k, D_MK] = mat[i] * 4 + KIND_GHOST
+            sd[D_RHO, k] = r
+            sd[D_VOL, k] = m[i] / r
+            sd[D_PR, k] = (p[i] + gdp[g]) / (r * r)
+            sd[D_C, k] = c[i]
+            sd[D_MK, k] = mat[i] * 4 + KIND_GHOST
         else:
             w = pid - n - ng
-            sx[k, 0] = wpos[w, 0]
-            sx[k, 1] = wpos[w, 1] if dim > 1 else 0.0
-            sx[k, 2] = wpos[w, 2] if dim > 2 else 0.0
-            sx[k, 3] = wh[w]
-            sd[k, D_VX] = wvel[w, 0]
-            sd[k, D_VY] = wvel[w, 1] if dim > 1 else 0.0
-            sd[k, D_VZ] = wvel[w, 2] if dim > 2 else 0.0
-            sd[k, D_RHO] = wrho[w]
-            sd[k, D_VOL] = wm[w] / wrho[w]
-            sd[k, D_PR] = 0.0
-            sd[k, D_C] = 0.0
-            sd[k, D_MK] = wmat[w] * 4 + KIND_WALL
+            sx[0, k] = wpos[w, 0]
+            sx[1, k] = wpos[w, 1] if dim > 1 else 0.0
+            sx[2, k] = wpos[w, 2] if dim > 2 else 0.0
+            sx[3, k] = wh[w]
+            sd[D_VX, k] = wvel[w, 0]
+            sd[D_VY, k] = wvel[w, 1] if dim > 1 else 0.0
+            sd[D_VZ, k] = wvel[w, 2] if dim > 2 else 0.0
+            sd[D_RHO, k] = wrho[w]
+            sd[D_VOL, k] = wm[w] / wrho[w]
+            sd[D_PR, k] = 0.0
+            sd[D_C, k] = 0.0
+            sd[D_MK, k] = wmat[w] * 4 + KIND_WALL
 
 
 @njit(cache=True)
@@ -223,7 +228,7 @@ def search_reach(sx, cell_start, cell, ox, oy, oz, nx, ny, nz, dim, hmax, hmin, 
     sreach[npts] = 0.0
     if hmax <= SPREAD * hmin:
         for k in range(npts):
-            sreach[k] = sx[k, 3] + hmax
+            sreach[k] = sx[3, k] + hmax
         return
     floor = SPREAD_FLOOR * hmin
     total = cell_start.shape[0] - 1
@@ -232,7 +237,7 @@ def search_reach(sx, cell_start, cell, ox, oy, oz, nx, ny, nz, dim, hmax, hmin, 
     for key in range(total):
         hc = 0.0
         for k in range(cell_start[key], cell_start[key + 1]):
-            hc = max(hc, sx[k, 3])
+            hc = max(hc, sx[3, k])
         if hc <= floor:
             continue
         cx = key % nx
@@ -251,43 +256,45 @@ def search_reach(sx, cell_start, cell, ox, oy, oz, nx, ny, nz, dim, hmax, hmin, 
     for key in range(total):
         g = max(grow[key], floor)
         for k in range(cell_start[key], cell_start[key + 1]):
-            hk = sx[k, 3]
+            hk = sx[3, k]
             sreach[k] = hk + max(hk, g)
 
 
 @njit(cache=True)
 def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
-                wpos, wvel, wrho, wm, wh, wmat, max_cells_per_point, grid_f, grid_i, sx_buf, sd_buf):
+                wpos, wvel, wrho, wm, wh, wmat, max_cells_per_point, grid_f, grid_i, buf):
     """Cell-sort all points (``bin_points``), copy their data into cell order (``gather_points``)
     and set every slot's search radius (``search_reach``).
 
-    Returns ``(perm, cell_start, sreach, sx_buf, sd_buf)``. ``sx`` and ``sd`` are the leading
-    ``npts + 1`` rows of ``sx_buf`` and ``sd_buf`` (npts = len(perm)), and they and ``sreach`` have
-    one extra last row, the sentinel: a point far from everything (1e30 in every coordinate) with
-    zero volume and kind wall, whose every pair term is exactly 0; neighbour lists are padded with
-    it. The buffers are reused from one evaluation to the next: fresh zeroed buffers 5/4 of the
-    size needed are made (and returned) only when those passed in are too small. (A fresh 50 MB array at every step of 5e5
-    particles costs its page faults and zeroing; startup17 report, section 3.)
+    Returns ``(perm, cell_start, sreach, buf)``: ``sx`` and ``sd`` are the rows ``buf[:4]`` and
+    ``buf[4:]`` of the (4 + ND, width) storage ``buf`` (layout in the module docstring): columns
+    ``npts .. npts + N_SENTINEL - 1`` (npts = len(perm)) hold the sentinel, a point far from everything
+    (1e30 in every coordinate) with zero volume and kind wall, whose every pair term is exactly 0;
+    ``sreach`` has npts + 1 entries, the last one the sentinel's. The storage is reused from one
+    evaluation to the next: a fresh zeroed one 5/4 as wide as needed is made (and returned) only
+    when the one passed in is too narrow. (A fresh 50 MB array at every step of 5e5 particles costs
+    its page faults and zeroing; startup17 report, section 3.)
     Writes the grid (hmax, cell, origin; nx, ny, nz) into ``grid_f`` and ``grid_i``.
     """
     perm, cell_start, ox, oy, oz, cell, nx, ny, nz, hmax, hmin = bin_points(x, h, active, gpos, gsrc, wpos, wh,
                                                                             max_cells_per_point)
     npts = perm.shape[0]
-    if sx_buf.shape[0] < npts + 1 or sd_buf.shape[0] < npts + 1:
-        cap = (npts + 1) + (npts + 1) // 4
-        sx_buf = np.zeros((cap, 4))
-        sd_buf = np.zeros((cap, ND))
-    sx = sx_buf[:npts + 1]
-    sd = sd_buf[:npts + 1]
+    width = npts + N_SENTINEL
+    if buf.shape[0] != 4 + ND or buf.shape[1] < width:
+        buf = np.zeros((4 + ND, width + width // 4))
+    sx = buf[:4]
+    sd = buf[4:]
     gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr, wpos, wvel, wrho, wm, wh, wmat, sx, sd)
-    sx[npts, 0] = 1e30
-    sx[npts, 1] = 1e30
-    sx[npts, 2] = 1e30
-    sx[npts, 3] = 1.0
-    sd[npts, :] = 0.0
-    sd[npts, D_RHO] = 1.0
-    sd[npts, D_C] = 1.0
-    sd[npts, D_MK] = KIND_WALL
+    for k in range(npts, width):
+        sx[0, k] = 1e30
+        sx[1, k] = 1e30
+        sx[2, k] = 1e30
+        sx[3, k] = 1.0
+        for d in range(ND):
+            sd[d, k] = 0.0
+        sd[D_RHO, k] = 1.0
+        sd[D_C, k] = 1.0
+        sd[D_MK, k] = KIND_WALL
     sreach = np.empty(npts + 1)
     search_reach(sx, cell_start, cell, ox, oy, oz, nx, ny, nz, x.shape[1], hmax, hmin, sreach)
     grid_f[GF_HMAX] = hmax
@@ -298,7 +305,7 @@ def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
     grid_i[GI_NX] = nx
     grid_i[GI_NY] = ny
     grid_i[GI_NZ] = nz
-    return perm, cell_start, sreach, sx_buf, sd_buf
+    return perm, cell_start, sreach, buf
 
 
 @njit(cache=True, fastmath=False)  # called from fast-math kernels too (see rates._FM)
@@ -314,21 +321,21 @@ def cell_range(v, reach, o, inv_cell, n):
 
 
 @njit(cache=True, inline="always", error_model="numpy")
-def neighbour_list(nbj, k, xi, yi, zi, hi, reach, sxf, cell_start, grid_o, inv_cell, grid_n, dshape, pad):
+def neighbour_list(nbj, k, xi, yi, zi, hi, reach, sx, cell_start, grid_o, inv_cell, grid_n, dshape, pad):
     """Neighbour slots of slot ``k`` into ``nbj``, found without branches: returns ``(cnt, npad)``.
 
     Scans the cell rows within ``reach`` of (xi, yi, zi) (a row of cells along x is one contiguous
     slot range) and keeps, in slot order, every slot j != k with
     |x_k - x_j|^2 < (h_k + h_j)^2 = (2 h_kj)^2: the index is always written, the count advances only
     for a neighbour. Entries ``cnt .. npad - 1`` (npad: cnt rounded up to a multiple of ``pad``) are
-    the sentinel slot (the last row of ``sx``, ``sort_points``), whose pair terms are exactly 0.
+    the sentinel slot (column npts of ``sx``, ``sort_points``), whose pair terms are exactly 0.
     When the candidates could overflow ``nbj`` nothing is scanned and ``(-need, 0)`` is returned:
     the caller allocates a list of at least ``need`` entries and calls again. (Growing the list
     inside the scan, as the loops of rates.py did before, kept LLVM from holding the list's pointer
     in a register and cost about a third of the rates pass; so did returning the array, whose
     reference count then changes at every call; issue 17.)
 
-    ``sxf``: ``sx`` flattened (rows of 4: x, y, z, h), read with unsigned slots (no negative-index
+    ``sx``: rows x, y, z, h (``sort_points``), read with unsigned slots (no negative-index
     wrap-around in the loads); ``grid_o`` = (ox, oy, oz), ``grid_n`` = (nx, ny, nz);
     ``dshape.ndim``: the dimension, a compile-time constant. The neighbours and their order are
     those of the scan this replaces, so every sum over them is bit-identical. Inlined into the
@@ -354,21 +361,20 @@ def neighbour_list(nbj, k, xi, yi, zi, hi, reach, sxf, cell_start, grid_o, inv_c
         for cy in range(y0, y1 + 1):
             base = (cz * ny + cy) * nx
             for j in range(np.uint64(cell_start[base + x0]), np.uint64(cell_start[base + x1 + 1])):
-                jx = j * np.uint64(4)
-                dx = xi - sxf[jx]
+                dx = xi - sx[0, j]
                 r2 = dx * dx
                 if dim > 1:
-                    dy = yi - sxf[jx + np.uint64(1)]
+                    dy = yi - sx[1, j]
                     r2 += dy * dy
                 if dim > 2:
-                    dz = zi - sxf[jx + np.uint64(2)]
+                    dz = zi - sx[2, j]
                     r2 += dz * dz
-                hs = hi + sxf[jx + np.uint64(3)]  # 2 h_kj
+                hs = hi + sx[3, j]  # 2 h_kj
                 nbj[cnt] = j
                 cnt += np.uint64((r2 < hs * hs) & (j != ku))
     n = np.int64(cnt)
     npad = (n + pad - 1) // pad * pad
-    sentinel = np.uint64(sxf.shape[0] // 4 - 1)
+    sentinel = np.uint64(cell_start[-1])
     for t in range(n, npad):
         nbj[t] = sentinel
     return n, npad
@@ -381,7 +387,7 @@ def count_neighbours(sx, cell_start, sreach, grid_f, grid_i, counts):
     inv_cell = 1.0 / grid_f[GF_CELL]
     ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
     for k in range(cell_start[-1]):
-        xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
+        xi, yi, zi, hi = sx[0, k], sx[1, k], sx[2, k], sx[3, k]
         reach = sreach[k]
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
@@ -393,8 +399,8 @@ def count_neighbours(sx, cell_start, sreach, grid_f, grid_i, counts):
                 for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
                     if j == k:
                         continue
-                    dx, dy, dz = xi - sx[j, 0], yi - sx[j, 1], zi - sx[j, 2]
-                    hij = 0.5 * (hi + sx[j, 3])
+                    dx, dy, dz = xi - sx[0, j], yi - sx[1, j], zi - sx[2, j]
+                    hij = 0.5 * (hi + sx[3, j])
                     if dx * dx + dy * dy + dz * dz < 4.0 * hij * hij:
                         cnt += 1
         counts[k] = cnt
@@ -407,7 +413,7 @@ def fill_neighbours(sx, cell_start, sreach, grid_f, grid_i, offsets, out):
     inv_cell = 1.0 / grid_f[GF_CELL]
     ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
     for k in range(cell_start[-1]):
-        xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
+        xi, yi, zi, hi = sx[0, k], sx[1, k], sx[2, k], sx[3, k]
         reach = sreach[k]
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
@@ -419,8 +425,8 @@ def fill_neighbours(sx, cell_start, sreach, grid_f, grid_i, offsets, out):
                 for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
                     if j == k:
                         continue
-                    dx, dy, dz = xi - sx[j, 0], yi - sx[j, 1], zi - sx[j, 2]
-                    hij = 0.5 * (hi + sx[j, 3])
+                    dx, dy, dz = xi - sx[0, j], yi - sx[1, j], zi - sx[2, j]
+                    hij = 0.5 * (hi + sx[3, j])
                     if dx * dx + dy * dy + dz * dz < 4.0 * hij * hij:
                         out[pos] = j
                         pos += 1

@@ -8,7 +8,7 @@ module-level integers into constants):
 * ``grid_f`` (``N_GF``) and ``grid_i`` (``N_GI``): the cell grid of the current evaluation,
   rewritten by ``search.sort_points`` at every neighbour search.
 
-The per-point columns of the sorted data array ``sd`` (``D_*``, ``ND`` of them) and the point
+The rows of the sorted data array ``sd`` (``D_*``, ``ND`` of them; one column per point) and the point
 kinds (``KIND_*``, packed with the material id as ``mat * 4 + kind``) are declared here too; the
 layout of an evaluation is described in ``sph/search.py``.
 """
@@ -24,6 +24,10 @@ KIND_WALL = 2
 # columns of the sorted data array sd: vx, vy, vz, rho, V = m/rho, p/rho^2, c, mat*4+kind
 D_VX, D_VY, D_VZ, D_RHO, D_VOL, D_PR, D_C, D_MK = 0, 1, 2, 3, 4, 5, 6, 7
 ND = 8
+# columns of sx and sd after the last point's: the sentinel and copies of it, so that the rates, which
+# read their candidate slots in whole chunks of N_LANES (rates.py), never read past the arrays
+N_LANES = 8
+N_SENTINEL = N_LANES
 
 # settings_f: Monaghan viscosity alpha, beta, eps; delta-SPH coefficient; XSPH coefficient;
 # gravity; dilatational viscosity mu'; pressure cut-off (the deck's pressure_cutoff)

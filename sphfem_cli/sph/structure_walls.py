@@ -80,19 +80,19 @@ def wall_state(ws, mat, sx, sd, mine, cell_start, settings_f, settings_i, grid_f
             for cy in range(y0, y1 + 1):
                 base = (cz * ny + cy) * nx
                 for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
-                    if (int(sd[j, D_MK]) & 3) != KIND_FLUID or not mine[j]:
+                    if (int(sd[D_MK, j]) & 3) != KIND_FLUID or not mine[j]:
                         continue
-                    if not _on_side(ws, w, sx[j, 0], sx[j, 1], sx[j, 2]):
+                    if not _on_side(ws, w, sx[0, j], sx[1, j], sx[2, j]):
                         continue
-                    dx, dy, dz = xw - sx[j, 0], yw - sx[j, 1], zw - sx[j, 2]
-                    hij = 0.5 * (hw + sx[j, 3])
+                    dx, dy, dz = xw - sx[0, j], yw - sx[1, j], zw - sx[2, j]
+                    hij = 0.5 * (hw + sx[3, j])
                     r2 = dx * dx + dy * dy + dz * dz
                     if r2 >= 4.0 * hij * hij:
                         continue
                     wv = kernel_w(kernel, dim, math.sqrt(r2), hij)
-                    rj = sd[j, D_RHO]
+                    rj = sd[D_RHO, j]
                     sw += wv
-                    spw += sd[j, D_PR] * rj * rj * wv  # sd holds p / rho^2
+                    spw += sd[D_PR, j] * rj * rj * wv  # sd holds p / rho^2
                     srx += rj * wv * dx
                     sry += rj * wv * dy
                     srz += rj * wv * dz
@@ -148,18 +148,18 @@ def wall_pairs(ws, slip, sx, sd, mine, perm, cell_start, settings_f, settings_i,
             for cy in range(y0, y1 + 1):
                 base = (cz * ny + cy) * nx
                 for k in range(cell_start[base + x0], cell_start[base + x1 + 1]):
-                    if (int(sd[k, D_MK]) & 3) != KIND_FLUID or not mine[k]:
+                    if (int(sd[D_MK, k]) & 3) != KIND_FLUID or not mine[k]:
                         continue
-                    if not _on_side(ws, w, sx[k, 0], sx[k, 1], sx[k, 2]):
+                    if not _on_side(ws, w, sx[0, k], sx[1, k], sx[2, k]):
                         continue
-                    dx, dy, dz = sx[k, 0] - xw, sx[k, 1] - yw, sx[k, 2] - zw  # x_i - x_w
-                    hij = 0.5 * (hw + sx[k, 3])
+                    dx, dy, dz = sx[0, k] - xw, sx[1, k] - yw, sx[2, k] - zw  # x_i - x_w
+                    hij = 0.5 * (hw + sx[3, k])
                     r2 = dx * dx + dy * dy + dz * dz
                     if r2 >= 4.0 * hij * hij or r2 == 0.0:
                         continue
                     f = kernel_f(kernel, dim, math.sqrt(r2), hij)
                     gx, gy, gz = f * dx, f * dy, f * dz
-                    du, dv, dw = sd[k, D_VX] - uw, sd[k, D_VY] - vw, sd[k, D_VZ] - ww
+                    du, dv, dw = sd[D_VX, k] - uw, sd[D_VY, k] - vw, sd[D_VZ, k] - ww
                     vdotg = du * gx + dv * gy + dw * gz
                     vr = du * dx + dv * dy + dw * dz
                     if slip:  # the normal part of v_iw only, in the viscosity
@@ -167,15 +167,15 @@ def wall_pairs(ws, slip, sx, sd, mine, perm, cell_start, settings_f, settings_i,
                         rn = dx * nxw + dy * nyw + dz * nzw
                         vr = vn * rn
                     vr = min(vr, 0.0)
-                    rhoi = sd[k, D_RHO]
+                    rhoi = sd[D_RHO, k]
                     dd = r2 + eps * hij * hij
                     rij = 0.5 * (rhoi + rw)
-                    cij = 0.5 * (sd[k, D_C] + cw)
+                    cij = 0.5 * (sd[D_C, k] + cw)
                     hv = hij * vr
                     pi_iw = hv * (beta * hv - alpha * cij * dd) / (dd * dd * rij)
-                    s = sd[k, D_PR] + sw + pi_iw
+                    s = sd[D_PR, k] + sw + pi_iw
                     i = perm[k]
-                    mi = sd[k, D_VOL] * rhoi
+                    mi = sd[D_VOL, k] * rhoi
                     c = mi * mw * s
                     f_fluid[i, 0] -= c * gx
                     fx += c * gx

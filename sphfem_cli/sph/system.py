@@ -355,12 +355,15 @@ class SphSystem:
             arr = getattr(self, name)
             arr[...] = arr[order]  # in place: references held by callers stay valid
 
-    def _sort_buffers(self) -> tuple[np.ndarray, np.ndarray]:
-        """The buffers behind the last evaluation's ``sx`` and ``sd`` (empty ones before the first)."""
+    def _sort_buffer(self) -> np.ndarray:
+        """The storage behind the last evaluation's ``sx`` and ``sd`` (an empty one before the first)."""
         if self._sorted is None:
-            return np.zeros((0, 4)), np.zeros((0, sl.ND))
+            return np.zeros((0, 0))
         sx, sd = self._sorted["sx"], self._sorted["sd"]
-        return (sx if sx.base is None else sx.base), (sd if sd.base is None else sd.base)
+        buf = sx.base
+        if buf is None or sd.base is not buf or buf.ndim != 2:  # restored from a checkpoint: fresh storage
+            return np.zeros((0, 0))
+        return buf
 
     def _build_points(self, hmax: float) -> dict:
         """Ghosts, cell sort and the sorted point set of one evaluation."""
@@ -375,21 +378,20 @@ class SphSystem:
             gpos, gvel, gflip, gsrc, gdp, gdr = self._no_ghosts
         if self.axisymmetric:  # the ghosts' source radius, read by sph.axisymmetric (third column unused in 2D)
             gvel[:, 2] = self.x[gsrc, 0]
-        # the storage of the last sx and sd, reused (search.sort_points): the arrays their views were
-        # cut from, not attributes, so that a checkpoint holds only the views (after a restart the
-        # restored arrays themselves serve)
-        sx_buf, sd_buf = self._sort_buffers()
-        perm, cell_start, sreach, sx_buf, sd_buf = search.sort_points(
+        # the storage of the last sx and sd, reused (search.sort_points): the array their views were
+        # cut from, not an attribute, so that a checkpoint holds only the views (after a restart a
+        # fresh storage is made)
+        perm, cell_start, sreach, buf = search.sort_points(
             self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat, self.active, gpos, gvel, gsrc,
             gdp, gdr, self.wall_x, self.wall_v, self.wall_rho, self.wall_m, self.wall_h, self.wall_mat,
-            int(opt.max_cells_per_point), self.grid_f, self.grid_i, sx_buf, sd_buf)
-        sx, sd = sx_buf[: len(perm) + 1], sd_buf[: len(perm) + 1]  # views (sort_points)
+            int(opt.max_cells_per_point), self.grid_f, self.grid_i, self._sort_buffer())
+        sx, sd = buf[:4], buf[4:]  # views (sort_points)
         # no-slip ghosts: per-slot velocity factors (fill_ghosts) and the fluid slots next to them
         svf, friction_slots = self._no_flips, np.zeros(0, dtype=np.int64)
         stuck = np.flatnonzero((gflip != 1.0).any(axis=1))
         if stuck.size:
             n = self.n
-            svf = np.ones((len(sx), 3))
+            svf = np.ones((len(perm) + 1, 3))
             slot_of = np.empty(n + len(gsrc) + len(self.wall_x), dtype=np.int64)  # point id -> slot (active points)
             slot_of[perm] = np.arange(len(perm))
             svf[slot_of[n + stuck]] = gflip[stuck]
@@ -415,7 +417,7 @@ class SphSystem:
         if len(self.wall_x):
             walls.wall_pressure(sx, sd, cs, sr, sf, si, gf, gi, self.params)
         if self.viscous:
-            stau = np.zeros((len(sx), 6))
+            stau = np.zeros((len(perm) + 1, 6))
             rates.viscous_stress(sx, sd, pts["svf"], cs, sr, sf, si, gf, gi, self.params, stau)
         else:
             stau = self._no_stress

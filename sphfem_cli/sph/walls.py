@@ -178,10 +178,10 @@ def wall_pressure(sx, sd, cell_start, sreach, settings_f, settings_i, grid_f, gr
     inv_cell = 1.0 / cell
     sig = kernel_sigma(kernel, dim)
     for k in prange(cell_start[-1]):
-        mk = int(sd[k, D_MK])
+        mk = int(sd[D_MK, k])
         if (mk & 3) != KIND_WALL:
             continue
-        xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
+        xi, yi, zi, hi = sx[0, k], sx[1, k], sx[2, k], sx[3, k]
         reach = sreach[k]  # bounds every 2 h_kj (search.search_reach)
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
@@ -195,20 +195,20 @@ def wall_pressure(sx, sd, cell_start, sreach, settings_f, settings_i, grid_f, gr
             for cy in range(y0, y1 + 1):
                 base = (cz * ny + cy) * nx
                 for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
-                    if (int(sd[j, D_MK]) & 3) != KIND_FLUID:
+                    if (int(sd[D_MK, j]) & 3) != KIND_FLUID:
                         continue
-                    dx = xi - sx[j, 0]
-                    dy = yi - sx[j, 1]
-                    dz = zi - sx[j, 2]
-                    hij = 0.5 * (hi + sx[j, 3])
+                    dx = xi - sx[0, j]
+                    dy = yi - sx[1, j]
+                    dz = zi - sx[2, j]
+                    hij = 0.5 * (hi + sx[3, j])
                     r2 = dx * dx + dy * dy + dz * dz
                     if r2 >= 4.0 * hij * hij:
                         continue
                     inv = 1.0 / hij
                     wv = sig * inv_pow(inv, dim) * kernel_shape(kernel, dim, math.sqrt(r2) * inv)[0]
-                    rj = sd[j, D_RHO]
+                    rj = sd[D_RHO, j]
                     sw += wv
-                    spw += sd[j, D_PR] * rj * rj * wv
+                    spw += sd[D_PR, j] * rj * rj * wv
                     rw = rj * wv
                     srx += rw * dx
                     sry += rw * dy
@@ -222,11 +222,11 @@ def wall_pressure(sx, sd, cell_start, sreach, settings_f, settings_i, grid_f, gr
             pw = (spw + gx * srx + gy * sry + gz * srz) / sw
         if pw < pressure_cutoff:
             pw = pressure_cutoff
-        rw = density_from_pressure(eos, q, rho0, pw, q[Q_E0], sd[k, D_RHO])
-        sd[k, D_VOL] *= sd[k, D_RHO] / rw  # same mass at the new density
-        sd[k, D_RHO] = rw
-        sd[k, D_PR] = pw / (rw * rw)
-        sd[k, D_C] = sound_speed(eos, q, rw / rho0, q[Q_E0])
+        rw = density_from_pressure(eos, q, rho0, pw, q[Q_E0], sd[D_RHO, k])
+        sd[D_VOL, k] *= sd[D_RHO, k] / rw  # same mass at the new density
+        sd[D_RHO, k] = rw
+        sd[D_PR, k] = pw / (rw * rw)
+        sd[D_C, k] = sound_speed(eos, q, rw / rho0, q[Q_E0])
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
@@ -252,9 +252,9 @@ def ghost_friction(sx, sd, svf, slots, perm, cell_start, sreach, settings_f, set
     inv_cell = 1.0 / cell
     for t in prange(slots.shape[0]):
         k = slots[t]
-        xi, yi, zi, hi = sx[k, 0], sx[k, 1], sx[k, 2], sx[k, 3]
-        ui, vi, wi = sd[k, D_VX], sd[k, D_VY], sd[k, D_VZ]
-        rhoi, ci = sd[k, D_RHO], sd[k, D_C]
+        xi, yi, zi, hi = sx[0, k], sx[1, k], sx[2, k], sx[3, k]
+        ui, vi, wi = sd[D_VX, k], sd[D_VY, k], sd[D_VZ, k]
+        rhoi, ci = sd[D_RHO, k], sd[D_C, k]
         reach = sreach[k]  # bounds every 2 h_kj (search.search_reach)
         x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
         y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
@@ -264,26 +264,26 @@ def ghost_friction(sx, sd, svf, slots, perm, cell_start, sreach, settings_f, set
             for cy in range(y0, y1 + 1):
                 base = (cz * ny + cy) * nx
                 for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
-                    if (int(sd[j, D_MK]) & 3) != KIND_GHOST:
+                    if (int(sd[D_MK, j]) & 3) != KIND_GHOST:
                         continue
                     f0, f1, f2 = svf[j, 0], svf[j, 1], svf[j, 2]
                     if f0 == 1.0 and f1 == 1.0 and f2 == 1.0:
                         continue
-                    dx, dy, dz = xi - sx[j, 0], yi - sx[j, 1], zi - sx[j, 2]
-                    hij = 0.5 * (hi + sx[j, 3])
+                    dx, dy, dz = xi - sx[0, j], yi - sx[1, j], zi - sx[2, j]
+                    hij = 0.5 * (hi + sx[3, j])
                     r2 = dx * dx + dy * dy + dz * dz
                     if r2 >= 4.0 * hij * hij:
                         continue
-                    uj, vj, wj = sd[j, D_VX], sd[j, D_VY], sd[j, D_VZ]
+                    uj, vj, wj = sd[D_VX, j], sd[D_VY, j], sd[D_VZ, j]
                     slip = min((ui - uj) * dx + (vi - vj) * dy + (wi - wj) * dz, 0.0)
                     stuck = min((ui - f0 * uj) * dx + (vi - f1 * vj) * dy + (wi - f2 * wj) * dz, 0.0)
                     dd = r2 + eps * hij * hij
-                    rhoij = 0.5 * (rhoi + sd[j, D_RHO])
-                    cij = 0.5 * (ci + sd[j, D_C])
+                    rhoij = 0.5 * (rhoi + sd[D_RHO, j])
+                    cij = 0.5 * (ci + sd[D_C, j])
                     scale = hij / (dd * rhoij)
                     mu_s, mu_n = scale * slip, scale * stuck  # mu_ij / rho_ij
                     dpi = (beta * rhoij * (mu_n * mu_n - mu_s * mu_s) - alpha * cij * (mu_n - mu_s))
-                    coef = sd[j, D_VOL] * sd[j, D_RHO] * dpi * kernel_f(kernel, dim, math.sqrt(r2), hij)
+                    coef = sd[D_VOL, j] * sd[D_RHO, j] * dpi * kernel_f(kernel, dim, math.sqrt(r2), hij)
                     ax -= coef * dx
                     ay -= coef * dy
                     az -= coef * dz

@@ -64,7 +64,7 @@ def test_neighbour_search_equals_brute_force(dim, single_thread):
     ps = build(s, full_options(dim, s["L"]), (wx, s["dx"], 0))
     ps.compute_rates()
     offsets, nb, perm = ps.neighbour_lists()
-    sx = ps._sorted["sx"][: len(perm)]  # slot k holds point perm[k]: fluid, ghosts, walls
+    sx = ps._sorted["sx"][:, : len(perm)].T  # slot k holds point perm[k]: fluid, ghosts, walls
     cell = {(k, int(j)) for k in range(len(perm)) for j in nb[offsets[k]:offsets[k + 1]]}
     brute = ref.neighbour_pairs(sx[:, :3], sx[:, 3])
     assert len(brute) > 3 * len(perm)
@@ -94,7 +94,7 @@ def test_neighbour_search_with_large_h_equals_brute_force(dim, single_thread):
     assert ps.h.max() > search.SPREAD * ps.h.min()
     assert ps.grid_f[GF_CELL] < 0.5 * ps.grid_f[GF_HMAX]  # the fine grid
     offsets, nb, perm = ps.neighbour_lists()
-    sx = ps._sorted["sx"][: len(perm)]
+    sx = ps._sorted["sx"][:, : len(perm)].T
     sreach = ps._sorted["sreach"][: len(perm)]
     if dim < 3:  # local reaches, shorter than the plain h_k + hmax (in 3D the large supports cover the box)
         assert (sreach < sx[:, 3] + ps.grid_f[GF_HMAX]).mean() > 0.3
@@ -231,15 +231,14 @@ def test_rates_neighbour_list_is_the_csr_list_in_order_padded_with_the_sentinel(
     offsets, nb, perm = ps.neighbour_lists()
     pts = ps._sorted
     sx, cs, sreach, gf, gi = pts["sx"], pts["cell_start"], pts["sreach"], pts["grid_f"], pts["grid_i"]
-    sxf = sx.reshape(-1)
-    sentinel = len(sx) - 1
+    sentinel = len(perm)
     grid_o = (gf[GF_OX], gf[GF_OY], gf[GF_OZ])
     grid_n = (int(gi[GI_NX]), int(gi[GI_NY]), int(gi[GI_NZ]))
-    args = (sxf, cs, grid_o, 1.0 / gf[GF_CELL], grid_n, _SHAPES[dim], 4)
+    args = (sx, cs, grid_o, 1.0 / gf[GF_CELL], grid_n, _SHAPES[dim], 4)
     short = np.empty(1, dtype=np.uint64)
     grown = 0
     for k in range(len(perm)):
-        xi, yi, zi, hi = sx[k]
+        xi, yi, zi, hi = sx[:, k]
         need, _ = search.neighbour_list(short, k, xi, yi, zi, hi, sreach[k], *args)
         assert need < 0  # the candidates (at least the padding) never fit in one entry
         nbj = np.empty(-need, dtype=np.uint64)

@@ -120,12 +120,12 @@ def test_ghost_images_of_a_corner_particle():
     s = ps._sorted
     npts = len(s["perm"])
     is_ghost = s["perm"] >= 1
-    ghosts = s["sx"][:npts][is_ghost, :2]
-    vel = s["sd"][:npts][is_ghost, :2]
+    ghosts = s["sx"][:2, :npts].T[is_ghost]
+    vel = s["sd"][:2, :npts].T[is_ghost]
     order = np.lexsort(ghosts.T)
     np.testing.assert_allclose(ghosts[order], [[-0.02, -0.03], [0.02, -0.03], [-0.02, 0.03]])
     np.testing.assert_allclose(vel[order], [[-1.0, -2.0], [1.0, -2.0], [-1.0, 2.0]])
-    viscous = (s["sd"][:npts, :2] * s["svf"][:npts, :2])[is_ghost]
+    viscous = (s["sd"][:2, :npts].T * s["svf"][:npts, :2])[is_ghost]
     np.testing.assert_allclose(viscous[order], [[1.0, 2.0], [-1.0, -2.0], [-1.0, -2.0]])
     assert s["friction_slots"].tolist() == np.flatnonzero(s["perm"] == 0).tolist()
 
