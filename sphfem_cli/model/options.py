@@ -95,10 +95,11 @@ class InitialVelocity(Options):
 
 @dataclass(frozen=True)
 class Erosion(Options):
-    """A solid part's `erosion`: on negative volume, and the plastic-strain limit (None: none)."""
+    """A solid part's `erosion`: on negative volume, the plastic-strain limit and the time-step fraction (None: none)."""
 
     on_negative_volume: bool
     max_plastic_strain: float | None
+    min_time_step_ratio: float | None
 
 
 @dataclass(frozen=True)
@@ -305,7 +306,7 @@ def _solid_options(deck, model) -> SolidOptions:
     for name, part in deck.parts.items():
         spec = getattr(part, "erosion", None)
         if spec is not None:
-            erosion[name] = Erosion(spec.on_negative_volume, spec.max_plastic_strain)
+            erosion[name] = Erosion(spec.on_negative_volume, spec.max_plastic_strain, spec.min_time_step_ratio)
     return SolidOptions(
         conditions=tuple(conditions),
         gravity=tuple(GravityLoad(_vec(g.acceleration), None if g.parts is None else tuple(g.parts), g.curve)

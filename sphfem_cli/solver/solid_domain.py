@@ -80,8 +80,9 @@ class SolidDomain(Domain):
         self._dt_elem = np.zeros(model.n_elements)
         self.has_solids = model.n_nodes > 0
         self.parts = tuple(i for i, p in enumerate(model.parts) if p.kind == "solid")
-        self._erode_inverted, self._erode_strain = self._erosion_tables()
+        self._erode_inverted, self._erode_strain, self._erode_dt_ratio = self._erosion_tables()
         self._has_strain_erosion = bool(np.isfinite(self._erode_strain).any())
+        self._erode_dt = np.zeros(model.n_elements)  # the step below which an element erodes (0: never); initial_state
         self.eroded: list[tuple[float, int, str, str]] = []  # (time, element, part, reason)
 
     # ------------------------------------------------------------------------------- set-up
@@ -108,14 +109,17 @@ class SolidDomain(Domain):
         if self.has_solids:  # zero-length step
             self._element_pass(st, 0.0)
             self.loads.compute(0.0, st.x, st.f_ext)
+            self._erode_dt = self._erosion_steps()
         st.dt = self._solid_dt(st)
         return st
 
-    def _erosion_tables(self) -> tuple[np.ndarray, np.ndarray]:
-        """Per element: erode when inverted (bool), plastic-strain limit (inf: none), from the parts' `erosion`."""
+    def _erosion_tables(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Per element, from the parts' `erosion`: erode when inverted (bool), plastic-strain limit (inf: none),
+        time-step fraction (0: none)."""
         m = self.model
         inverted = np.zeros(m.n_elements, dtype=bool)
         strain = np.full(m.n_elements, np.inf)
+        dt_ratio = np.zeros(m.n_elements)
         for p in m.parts:
             spec = m.options.solids.erosion.get(p.name)
             if p.kind != "solid" or spec is None:
@@ -123,7 +127,21 @@ class SolidDomain(Domain):
             inverted[p.elements] = spec.on_negative_volume
             if spec.max_plastic_strain is not None:
                 strain[p.elements] = spec.max_plastic_strain
-        return inverted, strain
+            if spec.min_time_step_ratio is not None:
+                dt_ratio[p.elements] = spec.min_time_step_ratio
+        return inverted, strain, dt_ratio
+
+    def _erosion_steps(self) -> np.ndarray:
+        """Per element the step below which it erodes: min_time_step_ratio times its part's smallest element step
+        of the initial state (LS-DYNA's DTMIN is a fraction of the first step too); 0 where no ratio is given."""
+        m = self.model
+        raw = self._dt_elem if m.element_dt_factor is None else self._dt_elem / m.element_dt_factor  # as _check_elements sees it
+        out = np.zeros(m.n_elements)
+        for p in m.parts:
+            ratio = self._erode_dt_ratio[p.elements]
+            if p.kind == "solid" and ratio.size and ratio.max() > 0.0:
+                out[p.elements] = ratio * float(raw[p.elements].min())
+        return out
 
     # ---------------------------------------------------------------------------------- loop
 
@@ -267,6 +285,9 @@ class SolidDomain(Domain):
             over = np.flatnonzero(m.element_active & (st.hist[:, H_EPS] > self._erode_strain))
             if len(over):
                 self._erode(st, over, "plastic strain")
+        small = np.flatnonzero(m.element_active & (self._dt_elem > 0.0) & (self._dt_elem < self._erode_dt))
+        if len(small):
+            self._erode(st, small, "time step")
         if len(bad):
             e = int(bad[0])
             raise RunStopped(

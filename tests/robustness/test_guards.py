@@ -185,6 +185,23 @@ def test_plastic_strain_erosion_goes_on_and_reports(tmp_path):
     assert np.all(sim.state.hist[~sim.model.element_active, 0] > 0.5)
 
 
+def test_time_step_erosion_removes_the_crushed_elements(tmp_path):
+    """min_time_step_ratio (LS-DYNA DTMIN with ERODE = 1): the bar driven at 500 m/s erodes the elements
+    whose step fell below the fraction of the part's first smallest step, and the run's step never falls
+    below it by more than timestep_scale's margin; the eroded nodes keep their mass."""
+    deck = _edit(tmp_path, "solid", lambda t: _eroding(t, min_time_step_ratio=0.5))
+    code, text = _run(deck, tmp_path / "out")
+    assert code == 0, text
+    log = (tmp_path / "out" / "run.log").read_text()
+    assert "(time step)" in log
+    sim = _checkpointed(deck, tmp_path / "out")
+    gone = ~sim.model.element_active
+    assert 0 < int(gone.sum()) == len(sim.eroded)
+    floor = float(sim.solids._erode_dt[gone].min())
+    assert floor > 0.0 and float(sim.solids._dt_elem[sim.model.element_active].min()) >= floor
+    assert np.array_equal(sim.model.mass, load_model(str(deck)).model.mass)
+
+
 def test_negative_volume_erosion_instead_of_a_stop(tmp_path):
     deck = _edit(tmp_path, "solid", lambda t: (t["control"].update(timestep_scale=1.5, energy_band=None),
                                                t["parts"]["bar"].update(erosion={"on_negative_volume": True})))

@@ -146,6 +146,12 @@ class Erosion(DeckModel):
     max_plastic_strain: PositiveFloat | None = Field(
         None, description="Erode an element whose effective plastic strain exceeds this [-]. Default none."
     )
+    min_time_step_ratio: Annotated[float, Field(gt=0, lt=1)] | None = Field(
+        None, description="Erode an element whose stable time step falls below this fraction of the part's smallest "
+        "initial element step (LS-DYNA *CONTROL_TERMINATION DTMIN with *CONTROL_TIMESTEP ERODE = 1): a crushed "
+        "element of a soft body (a Lagrangian bird) no longer sets the whole model's step; its nodes keep their "
+        "mass and stay contact slaves [-]. Default none."
+    )
 
 
 class Part(DeckModel):
