@@ -383,6 +383,9 @@ _REMEDIES = {
     "time_step": "look at the element or domain named; a collapsing element or violent impact; lower dt_min",
     "energy_ratio": "lower timestep_scale; raise the hourglass stiffness when hourglass energy grows; refine; "
                     "check contact stiffness; widen control.energy_band if the energy change is physical",
+    "energy_injected": "lower timestep_scale; use the stiffness hourglass form or raise its coefficient; erode "
+                       "crushed elements (erosion.min_time_step_ratio); check contact stiffness and initial "
+                       "penetrations; widen control.energy_band",
     "lost_particles": "enlarge the SPH section's domain or add walls; lower timestep_scale if particles were "
                       "thrown out by a blow-up; raise control.max_lost_fraction",
     "penetration": "raise the contact's penalty_scale; lower timestep_scale; refine the master surface",

@@ -43,7 +43,7 @@ import numpy as np
 
 from ..model.build import Model
 from .domain import Domain, build_domains
-from .guards import ENERGY_GUARD_EVERY, RunStopped, energy_band_at, energy_out_of_band, first_non_finite
+from .guards import ENERGY_GUARD_EVERY, RunStopped, energy_band_at, energy_injected, energy_out_of_band, first_non_finite
 from .solid_domain import State
 
 __all__ = ["DT_COLLAPSE", "EnergyRow", "RunStopped", "Simulation", "State"]
@@ -313,6 +313,20 @@ class Simulation:
                                      "total": row.total, "reference": reference, "energy in play": self._energy_scale,
                                      "kinetic": row.kinetic, "internal": row.internal, "hourglass": row.hourglass,
                                      "contact": row.contact},
+                )
+            term = energy_injected(row.contact, row.hourglass, self._energy_scale, band, st.step)
+            if term is not None:
+                value = row.contact if term == "contact" else row.hourglass
+                raise RunStopped(
+                    f"{term} energy {value:.4e} is below -{1.0 - band[0]:.0%} of the energy in play "
+                    f"{self._energy_scale:.4e} at t = {st.time:.6e}, step {st.step}: the {term} put energy into "
+                    f"the model (kinetic {row.kinetic:.4e}, internal {row.internal:.4e}, hourglass {row.hourglass:.4e}, "
+                    f"contact {row.contact:.4e}, energy ratio {row.ratio:.4f}) (remedies: lower timestep_scale, "
+                    "raise the hourglass stiffness or use its stiffness form, erode crushed elements "
+                    "(erosion.min_time_step_ratio), check contact stiffness and initial penetrations)",
+                    "energy_injected", {"term": term, "value": value, "energy in play": self._energy_scale,
+                                        "kinetic": row.kinetic, "internal": row.internal, "hourglass": row.hourglass,
+                                        "contact": row.contact, "ratio": row.ratio},
                 )
 
     def _check_penetration(self) -> None:

@@ -30,7 +30,8 @@ def _check(group, name, tree, tmp_path):
     if row["exit"] == 0:
         assert BAND[0] <= row["ratio"] <= BAND[1], row  # completed means trustworthy by the energy balance
     else:
-        assert row["guard"] in ("energy_ratio", "negative_volume", "non_finite", "time_step", "lost_particles"), row
+        assert row["guard"] in ("energy_ratio", "energy_injected", "negative_volume", "non_finite", "time_step",
+                                "lost_particles"), row
         assert row["diagnosis"], row
     return row
 

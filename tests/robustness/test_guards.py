@@ -220,3 +220,18 @@ def test_non_finite_sph_state_stops_with_the_guard_not_an_exception(tmp_path):
     assert code == 3, text
     diag = _diagnostics(tmp_path / "out")
     assert diag["guard"] == "non_finite" and "non-finite SPH " in diag["message"]
+
+
+def test_energy_injected_by_a_contact_or_the_hourglass_is_caught():
+    """guards.energy_injected: a contact or hourglass energy below -(1 - band low) x the energy in play is
+    energy those put in (the balance stays closed, so the ratio guard cannot see it); a small negative one
+    (a penalty spring's first-order error) is not, nor anything before ENERGY_GUARD_FIRST."""
+    from sphfem_cli.solver.guards import ENERGY_GUARD_FIRST, energy_injected
+
+    band, step = (0.9, 1.1), ENERGY_GUARD_FIRST
+    assert energy_injected(-132.0, -53.0, 380.0, band, step) == "contact"  # the 1.25 mm Lagrangian bird at 2.8 ms
+    assert energy_injected(1.0, -53.0, 380.0, band, step) == "hourglass"
+    assert energy_injected(-9.4e-4, 0.0, 1.0, band, step) is None  # a rigid block into ALE water
+    assert energy_injected(-37.0, 0.0, 380.0, band, step) is None  # 9.7 % of the energy in play
+    assert energy_injected(-132.0, 0.0, 380.0, band, step - 1) is None
+    assert energy_injected(-0.2, 0.0, 1.0, (0.7, 1.3), step) is None  # a wider band allows more

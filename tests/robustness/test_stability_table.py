@@ -7,6 +7,9 @@ vector width; an AVX-512 host and an AVX2 one agree to round-off, which the viol
 "SPH column, gravity 9810 m/s^2" took 3291 steps (energy ratio 1.0047, min distance/dx 0.62) where the table
 was written and 3274 (1.0052, 0.70) on an AVX-512 EPYC; every other quick case agreed to the digit. The
 outcome must match exactly; steps within 2 %, energy ratios within 2e-3, the state figures within 20 %.
+The SPH rates' regrouped sums (structure-of-arrays rows, December 2026; round-off) moved the same case to
+3316 steps (1.0048, 0.72) and its last minimum pressure from +2.94e4 to -3.32e3 Pa: that row was rewritten
+from the fresh run.
 """
 from __future__ import annotations
 

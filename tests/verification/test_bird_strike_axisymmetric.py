@@ -1,4 +1,4 @@
-"""decks/bird_strike_axisymmetric_{sph,ale}.yaml: a water cylinder (D 0.1 m, L 0.2 m) at 100 m/s onto a fixed
+"""decks/bird_strike_axisymmetric_{sph,ale,lagrangian}.yaml: a water cylinder (D 0.1 m, L 0.2 m) at 100 m/s onto a fixed
 disc, r-z, against Wilbeck's exact results for a fluid on a rigid target (Wilbeck 1978, AFML-TR-77-134):
 
 * the impulse on the target is the bird's momentum m v (157.1 N s; the water leaves radially);
@@ -68,3 +68,19 @@ def test_ale_bird_gives_its_momentum_and_the_hugoniot_pressure(tmp_path):
     print(f"ALE 2.5 mm: impulse / (m v) {impulse:.4f}, centre peak / P_H {peak:.4f}")
     assert abs(impulse - 1.0) < 0.03, impulse
     assert abs(peak - 1.0) < 0.05, peak
+
+
+@pytest.mark.validation
+def test_lagrangian_bird_gives_its_momentum(tmp_path):
+    """The shipped 5 mm Lagrangian bird (ring elements with a water EOS, cut-off and time-step erosion; about
+    15 s CPU; finer meshes fail, see the deck's header). Only the impulse is checked: the centre's peak is one
+    material element's sample next to the penalty contact (1.33 P_H), no measure of the Hugoniot pressure.
+    Measured 0.955 m v; tolerance 5 %: the load still acting at 3 ms leaves every method short at this size
+    (SPH 1.5 %, ALE 3.4 %). Energy ratio within 1 %, and no energy put in by the contact (the run completes:
+    the energy_injected guard stops it otherwise)."""
+    impulse, _, result = impact("bird_strike_axisymmetric_lagrangian.yaml", tmp_path / "lagrangian")
+    print(f"Lagrangian 5 mm: impulse / (m v) {impulse:.4f}")
+    assert abs(impulse - 1.0) < 0.05, impulse
+    glstat = result.histories()["glstat"]
+    assert abs(glstat["energy_ratio"][-1] - 1.0) < 0.01
+    assert glstat["contact"].min() > -0.01 * glstat["kinetic"][0]
