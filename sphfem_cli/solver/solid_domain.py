@@ -179,8 +179,21 @@ class SolidDomain(Domain):
             self.constraints.v_prescribed, dt_avg, dt, st.node_power,
         )
         st.external_work += float(np.sum(st.node_power))
+        if self.model.axisymmetric:
+            self._reflect_at_axis(st)
         if self.rigid.bodies:
             self.rigid.drift(dt, st.x)
+
+    @staticmethod
+    def _reflect_at_axis(st: State) -> None:
+        """r-z: a node that crossed the axis (x = r < 0) is put back on its mirror image with its radial velocity
+        reversed: a ring that closes on the axis meets itself there (the symmetric collision). Only a loose node
+        can get there (one whose elements were all eroded; the axis nodes keep u_r = 0): before, such nodes
+        reached r = -3 mm in the Lagrangian bird, where a ring has no meaning."""
+        crossed = st.x[:, 0] < 0.0
+        if crossed.any():
+            st.x[crossed, 0] = -st.x[crossed, 0]
+            st.v[crossed, 0] = -st.v[crossed, 0]
 
     def _element_pass(self, st: State, dt: float) -> None:
         """Element stresses, forces and stable steps of state n+1 (the zero step of the initial state in
