@@ -34,7 +34,7 @@ Measured per case, at 80 us (the rod has stopped at about 66 us):
 - the final plastic strain at the impact centre (history impact_centre: the element nearest the axis point
   of the face), CPU seconds of the run (process time, one thread, after a warm-up run that loads the numba
   cache), steps, energy ratio and hourglass energy over internal at the end.
-Convergence per method: observed order, Richardson value and GCI (Fs 1.25) of the three finest levels run,
+Convergence per method: observed order, Richardson value and GCI (Fs 1.25) of each three consecutive levels run,
 sphfem_cli.study.metrics.three_grid / describe, with h = 2^(1-k).
 """
 from __future__ import annotations
@@ -228,6 +228,15 @@ def summary() -> None:
                 band = f"{100 * c.gci_fine:.2f} %" if math.isfinite(c.gci_fine) else "-"
                 vals = " / ".join(f"{scale * v:.3f}" for v in c.phi)
                 print(f"| {model} | {label} | {use[-1]},{use[1]},{use[0]} | {vals} | {describe(c)} | {ext} | {band} |")
+    print("\n| case | D_area at t = 0 [mm] | D_area / D_rim at t = 0 | at 80 us | D_rim / 2R | D_area / D_area(0) |"
+          "\n|---|---|---|---|---|---|")
+    for n, r in rows.items():
+        if "area_t0" in r:
+            d0 = 2 * math.sqrt(r["area_t0"] / math.pi)
+            print(f"| {n} | {1e3 * d0:.4f} | {d0 / (2 * R):.5f} | {r['D_area'] / r['D_rim']:.5f} | "
+                  f"{r['D_rim'] / (2 * R):.4f} | {r['D_area'] / d0:.4f} |")
+        elif r["model"] == "rz":
+            print(f"| ({n}, r-z) | {2e3 * R:.4f} | 1 | 1 | {r['D_rim'] / (2 * R):.4f} | {r['D_rim'] / (2 * R):.4f} |")
     print("\n| level | length r-z / 3D - 1 | D_rim r-z / 3D - 1 | D_area r-z / 3D - 1 |\n|---|---|---|---|")
     for k in (1, 2, 3, 4):
         a, b = rows.get(f"rz_{k}"), rows.get(f"q3d_{k}")
