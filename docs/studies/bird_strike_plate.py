@@ -5,7 +5,9 @@ element size), SPH against ALE, and both against a rigid-plastic membrane estima
     python docs/studies/bird_strike_plate.py --method sph --plates 1 2 4          # plate series, SPH dx 5 mm
     python docs/studies/bird_strike_plate.py --method sph --sizes 0.005 0.0025 0.00125   # fluid series, plate level 2
     python docs/studies/bird_strike_plate.py --method ale --sizes 0.005 0.0025 --end-time 2e-3
+    python docs/studies/bird_strike_plate.py --method ale --sizes 0.00125 --end-time 2e-3   # peak only
     python docs/studies/bird_strike_plate.py --table       # every run under WORK, from its files
+    python docs/studies/bird_strike_plate.py --series ale_5mm_p2_5ms ale_2.5mm_p2_5ms ale_1.25mm_p2_2ms
     python docs/studies/bird_strike_plate.py --plot docs/studies/bird_strike_plate_deflection.png
 
 Plate level k is k x 50 elements along the radius and 2 k through the 4 mm thickness (k = 2 is the shipped
@@ -134,6 +136,19 @@ def series(runs: list[tuple[float, dict]], label: str) -> None:
             print(f"  {key}: {describe(three_grid(h, [r[key] for _, r in runs[-3:]]))}")
 
 
+def named_series(names: list[str]) -> None:
+    """Order and GCI over three run folders under WORK, coarse to fine (sizes from their names: the fluid size,
+    or the plate's element through the thickness where the fluid sizes agree)."""
+    parts = [name.split("_") for name in names]
+    fluid = [float(p[1][:-2]) * 1e-3 for p in parts]
+    sizes = fluid if len(set(fluid)) > 1 else [PLATE_H / (2 * int(p[2][1:])) for p in parts]
+    rows = [measure(WORK / name) for name in names]
+    for key in ("peak_mm", "t_peak_ms", "permanent_mm", "impulse/mv"):
+        values = [r[key] for r in rows]
+        if all(math.isfinite(v) for v in values):
+            print(f"{key} {' / '.join(f'{v:.4g}' for v in values)}: {describe(three_grid(sizes, values))}")
+
+
 def table() -> None:
     for out in sorted(WORK.iterdir()):
         if (out / "histories").exists():
@@ -152,7 +167,8 @@ def plot(path: Path) -> None:
             continue
         method, size, plate, _ = out.name.split("_")
         hist = read_histories(out)["centre"]
-        ax.plot(hist["time"] * 1e3, -hist["displacement_y"] * 1e3, "-" if method == "sph" else "--", lw=1.0,
+        ax.plot(hist["time"] * 1e3, -hist["displacement_y"] * 1e3, "-" if method == "sph" else "--",
+                lw=1.0 if method == "sph" else 1.6, zorder=2 if method == "sph" else 3,
                 label=f"{method.upper()} fluid {size[:-2]} mm, plate {50 * int(plate[1:])} x {2 * int(plate[1:])}")
     ax.set_xlabel("time (ms)")
     ax.set_ylabel("plate centre deflection (mm)")
@@ -173,10 +189,14 @@ def main() -> None:
     parser.add_argument("--end-time", type=float, default=5.0e-3)
     parser.add_argument("--fresh", action="store_true", help="run again even where a completed run exists")
     parser.add_argument("--table", action="store_true", help="only measure the runs under WORK")
+    parser.add_argument("--series", nargs=3, help="only: order and GCI over three run folders, coarse to fine")
     parser.add_argument("--plot", type=Path, help="only plot the runs under WORK into this PNG")
     args = parser.parse_args()
     if args.plot:
         plot(args.plot)
+        return
+    if args.series:
+        named_series(args.series)
         return
     if args.table:
         table()
