@@ -17,8 +17,9 @@ What is checked, with the tolerance and where it comes from:
 * plastic but not torn: plastic strain at the centre > 1 % and the largest in the plate below 18 % (a
   typical elongation at break of 2024-T3 sheet; the decks have no failure model).
 
-The SPH deck runs whole (5 ms, about 25 s CPU warm); the ALE deck (about 300 s CPU) is behind -m validation
-and is checked against the SPH figures (code to code: peak within 5 %, permanent within 10 %).
+The SPH deck runs whole (5 ms, the pytest process about 32 s CPU warm); the ALE deck (about 300 s CPU) is
+behind -m validation and is checked against the SPH figures (code to code: peak within 5 %, permanent within
+10 %).
 """
 from __future__ import annotations
 
