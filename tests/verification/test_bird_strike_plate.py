@@ -1,0 +1,78 @@
+"""decks/bird_strike_axisymmetric_plate_{sph,ale}.yaml: a water bird (D 0.1 m, L 0.2 m, 1.571 kg, 100 m/s)
+onto a clamped 4 mm aluminium 2024-T3 plate of radius 0.25 m, r-z; figures from
+docs/studies/bird_strike_plate.py (docs/studies/bird_strike_plate.md).
+
+What is checked, with the tolerance and where it comes from:
+
+* energy balance of the SPH deck (no outflow there): |energy ratio - 1| <= 1 % at every glstat row
+  (measured at most 0.17 %);
+* the peak centre deflection against the SPH deck at dx 1.25 mm (the finest fluid level, 30.31 mm): within
+  3 % (the fluid series 30.65 / 30.02 / 30.31 mm is not monotone; the shipped 5 mm is +1.1 %);
+* the permanent centre deflection (mean over 3.5-5 ms) against the same run's 22.57 mm: within 8 % (the
+  shipped 5 mm reads +6.0 %; the series 23.92 / 22.64 / 22.57 mm converges, GCI 0.02 % on the finest);
+* the peak against the rigid-plastic membrane estimate (study, "Independent estimate"): 26.6-35.7 mm over
+  the flow stresses 496-369 MPa;
+* the impulse of the bird on the plate within 15 % of m v = 157.1 N s (measured 1.03-1.13 m v: the plate's
+  spring-back throws water back, so it exceeds m v);
+* plastic but not torn: plastic strain at the centre > 1 % and the largest in the plate below 18 % (a
+  typical elongation at break of 2024-T3 sheet; the decks have no failure model).
+
+The SPH deck runs whole (5 ms, the pytest process about 32 s CPU warm); the ALE deck (about 300 s CPU) is
+behind -m validation and is checked against the SPH figures (code to code: peak within 5 %, permanent within
+10 %).
+"""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+
+from sphfem_cli import api
+
+DECKS = Path(__file__).parents[2] / "decks"
+MOMENTUM = 1000.0 * math.pi * 0.05 ** 2 * 0.2 * 100.0  # m v of the bird, N s
+PERMANENT = (3.5e-3, 5.0e-3)  # s, after the bird has gone
+SPH_FINEST = {"peak": 30.31e-3, "permanent": 22.57e-3}  # m: SPH dx 1.25 mm, plate 100 x 4
+MEMBRANE_BAND = (26.6e-3, 35.7e-3)  # m: the membrane estimate's peak, flow stress 496 and 369 MPa
+
+
+def strike(deck: str, folder: Path) -> dict:
+    result = api.run(DECKS / deck, folder, threads=1)
+    assert result.completed, result.message
+    hist = result.histories()
+    t, w = hist["centre"]["time"], -hist["centre"]["displacement_y"]
+    late = (t >= PERMANENT[0]) & (t <= PERMANENT[1])
+    with h5py.File(result.folder / "results.h5") as f:
+        plate = f["plate"]
+        strain = max(float(plate[s]["cell"]["plastic_strain"][:].max()) for s in plate if s.startswith("step"))
+    return {"peak": float(w.max()), "permanent": float(w[late].mean()),
+            "impulse": float(np.trapezoid(-hist["plate"]["contact_force_y"], hist["plate"]["time"])) / MOMENTUM,
+            "energy_err": float(np.abs(hist["glstat"]["energy_ratio"] - 1.0).max()),
+            "centre_strain": float(hist["centre"]["plastic_strain"][-1]), "max_strain": strain}
+
+
+def test_sph_bird_on_plate(tmp_path):
+    got = strike("bird_strike_axisymmetric_plate_sph.yaml", tmp_path / "sph")
+    print("SPH 5 mm, plate 100 x 4:", {k: round(v, 5) for k, v in got.items()})
+    assert got["energy_err"] < 0.01, got
+    assert got["peak"] == pytest.approx(SPH_FINEST["peak"], rel=0.03), got
+    assert got["permanent"] == pytest.approx(SPH_FINEST["permanent"], rel=0.08), got
+    assert MEMBRANE_BAND[0] <= got["peak"] <= MEMBRANE_BAND[1], got
+    assert got["permanent"] < got["peak"], got
+    assert abs(got["impulse"] - 1.0) < 0.15, got
+    assert 0.01 < got["centre_strain"] and got["max_strain"] < 0.18, got
+
+
+@pytest.mark.validation
+def test_ale_bird_on_plate_against_sph(tmp_path):
+    """The shipped 2.5 mm ALE deck (about 300 s CPU) against the SPH deck's finest figures."""
+    got = strike("bird_strike_axisymmetric_plate_ale.yaml", tmp_path / "ale")
+    print("ALE 2.5 mm, plate 100 x 4:", {k: round(v, 5) for k, v in got.items()})
+    assert got["peak"] == pytest.approx(SPH_FINEST["peak"], rel=0.05), got
+    assert got["permanent"] == pytest.approx(SPH_FINEST["permanent"], rel=0.10), got
+    assert MEMBRANE_BAND[0] <= got["peak"] <= MEMBRANE_BAND[1], got
+    assert abs(got["impulse"] - 1.0) < 0.15, got
+    assert 0.01 < got["centre_strain"] and got["max_strain"] < 0.18, got
