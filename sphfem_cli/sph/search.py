@@ -262,17 +262,18 @@ def search_reach(sx, cell_start, cell, ox, oy, oz, nx, ny, nz, dim, hmax, hmin, 
 
 @njit(cache=True)
 def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
-                wpos, wvel, wrho, wm, wh, wmat, max_cells_per_point, grid_f, grid_i, buf):
+                wpos, wvel, wrho, wm, wh, wmat, max_cells_per_point, grid_f, grid_i, sx, sd):
     """Cell-sort all points (``bin_points``), copy their data into cell order (``gather_points``)
     and set every slot's search radius (``search_reach``).
 
-    Returns ``(perm, cell_start, sreach, buf)``: ``sx`` and ``sd`` are the rows ``buf[:4]`` and
-    ``buf[4:]`` of the (4 + ND, width) storage ``buf`` (layout in the module docstring): columns
+    Returns ``(perm, cell_start, sreach, sx, sd)``: ``sx`` (4, width) and ``sd`` (ND, width), one column per
+    slot (layout in the module docstring), two arrays of their own: columns
     ``npts .. npts + N_SENTINEL - 1`` (npts = len(perm)) hold the sentinel, a point far from everything
     (1e30 in every coordinate) with zero volume and kind wall, whose every pair term is exactly 0;
-    ``sreach`` has npts + 1 entries, the last one the sentinel's. The storage is reused from one
-    evaluation to the next: a fresh zeroed one 5/4 as wide as needed is made (and returned) only
-    when the one passed in is too narrow. (A fresh 50 MB array at every step of 5e5 particles costs
+    ``sreach`` has npts + 1 entries, the last one the sentinel's. The ``sx`` and ``sd`` passed in are
+    reused from one evaluation to the next: fresh zeroed ones 5/4 as wide as needed are made (and
+    returned) only when those passed in are too narrow. (Two arrays, not two views of one: a checkpoint
+    restores them as they are and the restored run reuses them, bit-identical to the one it continues.) (A fresh 50 MB array at every step of 5e5 particles costs
     its page faults and zeroing; startup17 report, section 3.)
     Writes the grid (hmax, cell, origin; nx, ny, nz) into ``grid_f`` and ``grid_i``.
     """
@@ -280,10 +281,9 @@ def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
                                                                             max_cells_per_point)
     npts = perm.shape[0]
     width = npts + N_SENTINEL
-    if buf.shape[0] != 4 + ND or buf.shape[1] < width:
-        buf = np.zeros((4 + ND, width + width // 4))
-    sx = buf[:4]
-    sd = buf[4:]
+    if sx.shape[0] != 4 or sd.shape[0] != ND or sx.shape[1] < width or sd.shape[1] != sx.shape[1]:
+        sx = np.zeros((4, width + width // 4))
+        sd = np.zeros((ND, width + width // 4))
     gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr, wpos, wvel, wrho, wm, wh, wmat, sx, sd)
     for k in range(npts, width):
         sx[0, k] = 1e30
@@ -305,7 +305,7 @@ def sort_points(x, v, rho, m, p, c, h, mat, active, gpos, gvel, gsrc, gdp, gdr,
     grid_i[GI_NX] = nx
     grid_i[GI_NY] = ny
     grid_i[GI_NZ] = nz
-    return perm, cell_start, sreach, buf
+    return perm, cell_start, sreach, sx, sd
 
 
 @njit(cache=True, fastmath=False)  # called from fast-math kernels too (see rates._FM)

@@ -355,15 +355,11 @@ class SphSystem:
             arr = getattr(self, name)
             arr[...] = arr[order]  # in place: references held by callers stay valid
 
-    def _sort_buffer(self) -> np.ndarray:
-        """The storage behind the last evaluation's ``sx`` and ``sd`` (an empty one before the first)."""
+    def _sort_storage(self) -> tuple[np.ndarray, np.ndarray]:
+        """The last evaluation's ``sx`` and ``sd``, reused by the next sort (empty ones before the first)."""
         if self._sorted is None:
-            return np.zeros((0, 0))
-        sx, sd = self._sorted["sx"], self._sorted["sd"]
-        buf = sx.base
-        if buf is None or sd.base is not buf or buf.ndim != 2:  # restored from a checkpoint: fresh storage
-            return np.zeros((0, 0))
-        return buf
+            return np.zeros((0, 0)), np.zeros((0, 0))
+        return self._sorted["sx"], self._sorted["sd"]
 
     def _build_points(self, hmax: float) -> dict:
         """Ghosts, cell sort and the sorted point set of one evaluation."""
@@ -378,14 +374,11 @@ class SphSystem:
             gpos, gvel, gflip, gsrc, gdp, gdr = self._no_ghosts
         if self.axisymmetric:  # the ghosts' source radius, read by sph.axisymmetric (third column unused in 2D)
             gvel[:, 2] = self.x[gsrc, 0]
-        # the storage of the last sx and sd, reused (search.sort_points): the array their views were
-        # cut from, not an attribute, so that a checkpoint holds only the views (after a restart a
-        # fresh storage is made)
-        perm, cell_start, sreach, buf = search.sort_points(
+        # the last sx and sd, reused (search.sort_points); a checkpoint holds them, so a restart reuses them too
+        perm, cell_start, sreach, sx, sd = search.sort_points(
             self.x, self.v, self.rho, self.m, self.p, self.c, self.h, self.mat, self.active, gpos, gvel, gsrc,
             gdp, gdr, self.wall_x, self.wall_v, self.wall_rho, self.wall_m, self.wall_h, self.wall_mat,
-            int(opt.max_cells_per_point), self.grid_f, self.grid_i, self._sort_buffer())
-        sx, sd = buf[:4], buf[4:]  # views (sort_points)
+            int(opt.max_cells_per_point), self.grid_f, self.grid_i, *self._sort_storage())
         # no-slip ghosts: per-slot velocity factors (fill_ghosts) and the fluid slots next to them
         svf, friction_slots = self._no_flips, np.zeros(0, dtype=np.int64)
         stuck = np.flatnonzero((gflip != 1.0).any(axis=1))
@@ -579,6 +572,6 @@ class SphSystem:
         total = sum(a.nbytes for a in vars(self).values() if isinstance(a, np.ndarray))
         if self._sorted is not None:
             held = {id(a.base if a.base is not None else a): (a.base if a.base is not None else a)
-                    for a in self._sorted.values() if isinstance(a, np.ndarray)}  # sx, sd: their buffers
+                    for a in self._sorted.values() if isinstance(a, np.ndarray)}  # views counted once, by their base
             total += sum(getattr(a, "nbytes", 0) for a in held.values())
         return int(total)
