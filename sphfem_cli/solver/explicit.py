@@ -314,9 +314,9 @@ class Simulation:
                                      "kinetic": row.kinetic, "internal": row.internal, "hourglass": row.hourglass,
                                      "contact": row.contact},
                 )
-            term = energy_injected(row.contact, row.hourglass, self._energy_scale, band, st.step)
-            if term is not None:
-                value = row.contact if term == "contact" else row.hourglass
+            injected = energy_injected(row.contact, row.hourglass, self._energy_scale, band, st.step)
+            if injected is not None:
+                term, value = injected
                 raise RunStopped(
                     f"{term} energy {value:.4e} is below -{1.0 - band[0]:.0%} of the energy in play "
                     f"{self._energy_scale:.4e} at t = {st.time:.6e}, step {st.step}: the {term} put energy into "

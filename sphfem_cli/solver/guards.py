@@ -86,8 +86,10 @@ def energy_out_of_band(ratio: float, total: float, reference: float, in_play: fl
     return not band[0] - 1.0 <= error <= band[1] - 1.0
 
 
-def energy_injected(contact: float, hourglass: float, in_play: float, band: tuple[float, float], step: int) -> str | None:
-    """'contact' or 'hourglass' when that energy is below -(1 - band[0]) times the energy in play, else None.
+def energy_injected(contact: float, hourglass: float, in_play: float, band: tuple[float, float],
+                    step: int) -> tuple[str, float] | None:
+    """('contact' or 'hourglass', its energy) when that energy is below -(1 - band[0]) times the energy in
+    play, else None.
 
     Both are what the model gave them: the contact energy is minus the work of the contact forces (the
     springs' energy plus the damping's loss), the hourglass energy the stiffness form's stored energy plus
@@ -104,5 +106,5 @@ def energy_injected(contact: float, hourglass: float, in_play: float, band: tupl
     limit = -(1.0 - band[0]) * in_play
     for name, value in (("contact", contact), ("hourglass", hourglass)):
         if value < limit:
-            return name
+            return name, value
     return None

@@ -82,6 +82,7 @@ class SolidDomain(Domain):
         self.parts = tuple(i for i, p in enumerate(model.parts) if p.kind == "solid")
         self._erode_inverted, self._erode_strain, self._erode_dt_ratio = self._erosion_tables()
         self._has_strain_erosion = bool(np.isfinite(self._erode_strain).any())
+        self._has_dt_erosion = bool(self._erode_dt_ratio.any())
         self._erode_dt = np.zeros(model.n_elements)  # the step below which an element erodes (0: never); initial_state
         self.eroded: list[tuple[float, int, str, str]] = []  # (time, element, part, reason)
 
@@ -109,7 +110,8 @@ class SolidDomain(Domain):
         if self.has_solids:  # zero-length step
             self._element_pass(st, 0.0)
             self.loads.compute(0.0, st.x, st.f_ext)
-            self._erode_dt = self._erosion_steps()
+            if self._has_dt_erosion:
+                self._erode_dt = self._erosion_steps()
         st.dt = self._solid_dt(st)
         return st
 
@@ -298,9 +300,10 @@ class SolidDomain(Domain):
             over = np.flatnonzero(m.element_active & (st.hist[:, H_EPS] > self._erode_strain))
             if len(over):
                 self._erode(st, over, "plastic strain")
-        small = np.flatnonzero(m.element_active & (self._dt_elem > 0.0) & (self._dt_elem < self._erode_dt))
-        if len(small):
-            self._erode(st, small, "time step")
+        if self._has_dt_erosion:
+            small = np.flatnonzero(m.element_active & (self._dt_elem > 0.0) & (self._dt_elem < self._erode_dt))
+            if len(small):
+                self._erode(st, small, "time step")
         if len(bad):
             e = int(bad[0])
             raise RunStopped(

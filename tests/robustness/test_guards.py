@@ -229,8 +229,8 @@ def test_energy_injected_by_a_contact_or_the_hourglass_is_caught():
     from sphfem_cli.solver.guards import ENERGY_GUARD_FIRST, energy_injected
 
     band, step = (0.9, 1.1), ENERGY_GUARD_FIRST
-    assert energy_injected(-132.0, -53.0, 380.0, band, step) == "contact"  # the 1.25 mm Lagrangian bird at 2.8 ms
-    assert energy_injected(1.0, -53.0, 380.0, band, step) == "hourglass"
+    assert energy_injected(-132.0, -53.0, 380.0, band, step) == ("contact", -132.0)  # the 1.25 mm Lagrangian bird at 2.8 ms
+    assert energy_injected(1.0, -53.0, 380.0, band, step) == ("hourglass", -53.0)
     assert energy_injected(-9.4e-4, 0.0, 1.0, band, step) is None  # a rigid block into ALE water
     assert energy_injected(-37.0, 0.0, 380.0, band, step) is None  # 9.7 % of the energy in play
     assert energy_injected(-132.0, 0.0, 380.0, band, step - 1) is None

@@ -35,16 +35,29 @@ __all__ = [
 # --------------------------------------------------------------------------------------- materials
 
 
-def _cutoff_needs_eos(material) -> None:
-    """A pressure_cutoff bounds the pressure of an equation of state: without `eos` it is an error."""
-    if material.pressure_cutoff is not None and material.eos is None:
-        raise ValueError("pressure_cutoff bounds an equation of state's pressure: give the material an `eos`")
-
-
 class _Solid(DeckModel):
     density: float = Field(gt=0, description="Reference (initial) mass density rho0 [mass/length^3].")
     youngs_modulus: float = Field(gt=0, description="Young's modulus E [pressure].")
     poisson_ratio: float = Field(ge=0, lt=0.5, description="Poisson ratio nu, 0 <= nu < 0.5 [-].")
+
+
+class _EosSolid(_Solid):
+    """A solid whose pressure may come from an equation of state, bounded below by a cut-off."""
+
+    eos: Optional[str] = Field(
+        None, description="Name of an equation of state for the pressure; without one the pressure is hypoelastic (bulk modulus)."
+    )
+    pressure_cutoff: Optional[float] = Field(
+        None, le=0, description="Lowest pressure the equation of state may give (cavitation, spall; LS-DYNA "
+        "*MAT_ELASTIC_PLASTIC_HYDRO PC), at most 0; needs `eos`. A water-like soft body (a Lagrangian bird) "
+        "cavitates near -0.1 MPa instead of pulling the EOS's tension. Default none [pressure]."
+    )
+
+    @model_validator(mode="after")
+    def _cutoff_needs_eos(self) -> "_EosSolid":
+        if self.pressure_cutoff is not None and self.eos is None:
+            raise ValueError("pressure_cutoff bounds an equation of state's pressure: give the material an `eos`")
+        return self
 
 
 class Elastic(_Solid):
@@ -53,7 +66,7 @@ class Elastic(_Solid):
     type: Literal["elastic"] = Field(description="Model selector: isotropic linear elastic.")
 
 
-class ElasticPlastic(_Solid):
+class ElasticPlastic(_EosSolid):
     """Bilinear elastic-plastic solid with combined isotropic/kinematic hardening (LS-DYNA MAT_003)."""
 
     type: Literal["elastic_plastic"] = Field(
@@ -66,18 +79,9 @@ class ElasticPlastic(_Solid):
     hardening_beta: float = Field(
         1.0, ge=0, le=1, description="Hardening mix beta: 0 kinematic, 1 isotropic, between combined [-]. Default 1."
     )
-    eos: Optional[str] = Field(
-        None, description="Name of an equation of state for the pressure; without one the pressure is hypoelastic (bulk modulus)."
-    )
-    pressure_cutoff: Optional[float] = Field(
-        None, le=0, description="Lowest pressure the equation of state may give (cavitation, spall; LS-DYNA "
-        "*MAT_ELASTIC_PLASTIC_HYDRO PC), at most 0; needs `eos`. A water-like soft body (a Lagrangian bird) "
-        "cavitates near -0.1 MPa instead of pulling the EOS's tension. Default none [pressure]."
-    )
 
     @model_validator(mode="after")
     def _tangent_below_youngs(self) -> "ElasticPlastic":
-        _cutoff_needs_eos(self)
         if self.tangent_modulus >= self.youngs_modulus:
             raise ValueError(
                 f"tangent_modulus ({self.tangent_modulus:g}) must be smaller than youngs_modulus ({self.youngs_modulus:g})"
@@ -85,7 +89,7 @@ class ElasticPlastic(_Solid):
         return self
 
 
-class JohnsonCook(_Solid):
+class JohnsonCook(_EosSolid):
     """Johnson-Cook strain-rate and temperature dependent plasticity (Johnson & Cook 1983; LS-DYNA MAT_015)."""
 
     type: Literal["johnson_cook"] = Field(description="Model selector: Johnson-Cook plasticity.")
@@ -104,18 +108,9 @@ class JohnsonCook(_Solid):
         gt=0,
         description="Specific heat cp [energy/(mass*temperature)]; if given, all plastic work heats the material adiabatically and softens it.",
     )
-    eos: Optional[str] = Field(
-        None, description="Name of an equation of state for the pressure; without one the pressure is hypoelastic (bulk modulus)."
-    )
-    pressure_cutoff: Optional[float] = Field(
-        None, le=0, description="Lowest pressure the equation of state may give (cavitation, spall; LS-DYNA "
-        "*MAT_ELASTIC_PLASTIC_HYDRO PC), at most 0; needs `eos`. A water-like soft body (a Lagrangian bird) "
-        "cavitates near -0.1 MPa instead of pulling the EOS's tension. Default none [pressure]."
-    )
 
     @model_validator(mode="after")
     def _melt_above_room(self) -> "JohnsonCook":
-        _cutoff_needs_eos(self)
         if self.melt_temperature <= self.room_temperature:
             raise ValueError(
                 f"melt_temperature ({self.melt_temperature:g}) must be above room_temperature ({self.room_temperature:g})"
