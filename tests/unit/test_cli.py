@@ -182,3 +182,25 @@ def test_sigterm_keeps_output(tmp_path):
     times = [float(t.get("Value")) for t in root.iter("Time")]
     assert len(times) >= 2 and times[-1] > 0.0  # the state at the moment of the signal was written
     assert "status: interrupted" in (out / "run.log").read_text()
+
+
+def test_effective_deck_of_an_axisymmetric_run_stays_axisymmetric(tmp_path):
+    """deck.effective.yaml is the deck a run used: an r-z deck's says `dimension: axisymmetric` and reloads
+    as one (it said 2 before, a plane-strain model; `sphfem plot`, which reads it, labelled the whole-ring
+    energies J/m)."""
+    from pathlib import Path
+
+    import yaml
+
+    from sphfem_cli.driver import load_model
+
+    tree = yaml.safe_load((Path(__file__).parents[2] / "decks" / "taylor_bar_axisymmetric.yaml").read_text())
+    tree["control"]["end_time"] = 2.0e-6
+    deck = tmp_path / "rod.yaml"
+    deck.write_text(yaml.safe_dump(tree))
+    out = tmp_path / "out"
+    result = run_cli(["run", str(deck), "-o", str(out), "-q"])
+    assert result.exit_code == 0, result.output
+    effective = yaml.safe_load((out / "deck.effective.yaml").read_text())
+    assert effective["dimension"] == "axisymmetric"
+    assert load_model(str(out / "deck.effective.yaml")).deck.axisymmetric

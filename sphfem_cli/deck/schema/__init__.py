@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field, PrivateAttr, model_validator
+from pydantic import Field, PrivateAttr, field_serializer, model_validator
 
 from ..errors import format_path
 from . import boundaries, control, initial, interaction, loads, materials, output, parts, sections, sets, shapes
@@ -74,6 +74,13 @@ class Deck(DeckModel):
     def axisymmetric(self) -> bool:
         """True for ``dimension: axisymmetric``; `dimension` then reads 2 (two coordinates, r and z)."""
         return self._axisymmetric
+
+    @field_serializer("dimension")
+    def _dimension_as_written(self, value: int | str) -> int | str:
+        """A dump (deck.effective.yaml, the checkpoint's deck hash, the plots' unit labels) says
+        "axisymmetric" where the deck did: `dimension` itself reads 2 once validated. Before, the
+        effective deck of an r-z run said 2, which reloads as a plane-strain model."""
+        return "axisymmetric" if self._axisymmetric else value
 
     @model_validator(mode="after")
     def _cross_references(self) -> "Deck":
