@@ -68,7 +68,7 @@ def ring_volumes(x, conn, out):
 
 
 @njit(parallel=True, cache=True)
-def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
+def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                        phi_eps, pscale, pressure_cutoff, f_elem, pres_m, bulk_m, q_elem, dt_elem):
     """``lagrange.lagrange_forces`` on rings (its own kernel: the plane kernel with a ring flag measured
     slower, the comment there): f_a = (p_mix + q) dV/dx_a - hourglass (module docstring).
@@ -84,7 +84,7 @@ def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
         for e in range(start, stop):
             vmax2, area = quad_corners(conn, e, x, v, xe, ve, b)
             vol = ring_gradient(xe, gv)
-            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
+            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, phi_eps,
                                                    pscale, pressure_cutoff, pres_m, bulk_m)
             rho_e = mtot / vol if vol > 0.0 else 0.0
             trace_d = 0.0

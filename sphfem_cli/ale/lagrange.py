@@ -63,12 +63,12 @@ def quad_area(x0, y0, x1, y1, x2, y2, x3, y3):
 
 
 @njit(cache=True, inline="always")
-def _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m,
-                      bulk_m):
+def _mixture_pressure(e, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, phi_eps, pscale, pressure_cutoff,
+                      pres_m, bulk_m):
     """Material pressures and bulk moduli of element e, and its mixture state (shared by 2D and 3D).
 
-    Each present material's pressure p_m from its EOS at its own density and specific energy (times
-    pscale, at least pressure_cutoff; a cavitated Gruneisen liquid at the cut-off); writes pres_m[e], bulk_m[e]
+    Each present material's pressure p_m from its EOS at its own density and specific energy, the stored
+    one plus e_lag[e, m] (``lagrange_energy``: the stored energy lags half a step), (times pscale, at least pressure_cutoff; a cavitated Gruneisen liquid at the cut-off); writes pres_m[e], bulk_m[e]
     (rho c^2). Returns (p_mix, c_e, M): the volume-weighted pressure sum_m phi_m p_m (the paper's
     mixture theory), the equal-strain mixture sound speed c_e^2 = sum_m M_m c_m^2 / M (see
     ``lagrange_forces``) and the element's mass.
@@ -87,7 +87,7 @@ def _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_ep
         bulk_m[e, m] = 0.0
         if vol_m[e, m] > phi_eps * vtot and mass_m[e, m] > RHO_VOID * mat_rho0[m] * vol_m[e, m]:
             rho = mass_m[e, m] / vol_m[e, m]
-            p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m])
+            p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m] + e_lag[e, m])
             p = max(p * pscale[e, m], pressure_cutoff)
             if pressure_cutoff > -math.inf and mat_eos[m] == EOS_GRUNEISEN and rho < RHO_CAVITATED * mat_rho0[m]:
                 p = pressure_cutoff
@@ -203,7 +203,7 @@ def quad_hourglass(e, xe, ve, b, coef, f_elem):
 # two materials 4.71 / 4.78 -> 4.73 / 4.79, ring 5.88 / 5.95 -> 5.74 / 5.91, hex8 (unchanged) 13.47 / 13.60
 # -> 13.47 / 13.60.
 @njit(parallel=True, cache=True)
-def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
+def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                     phi_eps, pscale, pressure_cutoff, f_elem, pres_m, bulk_m, q_elem, dt_elem):
     """Element forces at x^n with v^{n-1/2} (see module docstring, step 1).
 
@@ -228,7 +228,7 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
         xe, ve, b = quad_scratch()
         for e in range(start, stop):
             vmax2, area = quad_corners(conn, e, x, v, xe, ve, b)
-            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
+            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, phi_eps,
                                                    pscale, pressure_cutoff, pres_m, bulk_m)
             rho_e = mtot / area
             trace_d = 0.0
@@ -245,7 +245,7 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
 
 
 @njit(parallel=True, cache=True)
-def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
+def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                        phi_eps, pscale, pressure_cutoff, f_elem, pres_m, bulk_m, q_elem, dt_elem):
     """``lagrange_forces`` on hex8: element forces at x^n with v^{n-1/2}.
 
@@ -273,7 +273,7 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rh
                     ve[a, k] = v[n, k]
                 vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1] + v[n, 2] * v[n, 2])
             vol = hex8_gradient(xe, b)
-            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, phi_eps,
+            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, phi_eps,
                                                    pscale, pressure_cutoff, pres_m, bulk_m)
             rho_e = mtot / vol
             trace_d = 0.0
@@ -412,14 +412,15 @@ def nodal_update_3d(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, 
 
 
 @njit(cache=True, inline="always")
-def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps, dvm, dev):
+def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta, phi_eps, dvm, dev):
     """Mixed-element closure of element e over the Lagrangian step (shared by 2D and 3D).
 
     The volume change dV = v_lag - sum_m V_m split between the present materials (``lagrange_energy``:
     equal strain, or pressure relaxation limited by beta; a material at most phi_eps of the volume keeps
     its volume), each material's energy changed by its
     own -p_m dV_m plus its mass share of the rest of the element's work w (viscous and hourglass
-    work). dvm, dev: scratch (N,).
+    work). e_lag[e, m]: the second half of the material's own work, -p_m dV_m / (2 M_m) (``lagrange_energy``).
+    dvm, dev: scratch (N,).
     """
     n_mat = vol_m.shape[1]
     vtot = 0.0
@@ -479,8 +480,10 @@ def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure,
     for m in range(n_mat):
         mass_e += mass_m[e, m]
     for m in range(n_mat):
+        e_lag[e, m] = 0.0
         if mass_m[e, m] > 0.0:
             ener_m[e, m] += -pres_m[e, m] * dvm[m] + rest * mass_m[e, m] / mass_e
+            e_lag[e, m] = -0.5 * pres_m[e, m] * dvm[m] / mass_m[e, m]
         vol_m[e, m] += dvm[m]
 
 
@@ -517,7 +520,7 @@ def hex_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p):
 
 
 @njit(cache=True, inline="always")
-def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta,
+def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta,
                     phi_eps, work_elem, ring, npe, dim):
     """The body of ``lagrange_energy`` (quad4, plane or ring) and ``lagrange_energy_3d`` (hex8): per element its
     work and Lagrangian volume (``quad_work_volume``, ``hex_work_volume``; npe and dim literal constants of
@@ -536,7 +539,7 @@ def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pr
             else:
                 w, v_lag = quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring)
             work_elem[e] = w
-            _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta, phi_eps,
+            _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta, phi_eps,
                             dvm, dev)
 
 
@@ -551,7 +554,7 @@ def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pr
 # of 30 alternated calls, 1 thread, load 4-5 (report alefold): plane 1.042 / 1.054, two materials 1.041 / 1.045,
 # ring 1.024 / 1.040, where the unchanged forces kernel read 0.985-1.034 in the same runs (the noise floor).
 @njit(parallel=True, cache=True)
-def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, q_elem,
+def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, q_elem,
                     closure, alpha, beta, phi_eps, work_elem, ring):
     """Internal energy and material volumes over the Lagrangian step (module docstring, step 3).
 
@@ -564,17 +567,17 @@ def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pr
     fraction beta of its volume in one step. The Lagrangian volume is the quad's area (plane) or,
     with ring True (r-z), its exact ring volume (``ring_geometry.ring_volume``). The body: ``energy_elements``.
     """
-    energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta,
+    energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta,
                     phi_eps, work_elem, ring, 4, 2)
 
 
 @njit(parallel=True, cache=True)
-def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, q_elem,
+def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, q_elem,
                        closure, alpha, beta, phi_eps, work_elem):
     """``lagrange_energy`` on hex8: compatible work W_e = -dt sum_I f_eI . (v_I^{n-1/2} + v_I^{n+1/2}) / 2,
     the Lagrangian volume (``fem.geometry.hex8_volume``) at x + dt v^{n+1/2}, then the same closure
     (``energy_elements``)."""
-    energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, pres_m, bulk_m, closure, alpha, beta,
+    energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta,
                     phi_eps, work_elem, False, 8, 3)
 
 

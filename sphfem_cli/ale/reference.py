@@ -23,8 +23,11 @@ def material_state(eos, q, rho0, rho, e_spec):
 
 
 def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0, q1, q2, qhg, phi_eps,
-                    pressure_cutoff=-np.inf):
-    """(f_elem, pres_m, bulk_m, q_elem, dt_elem), vectorised over elements except for the EOS."""
+                    pressure_cutoff=-np.inf, e_lag=None):
+    """(f_elem, pres_m, bulk_m, q_elem, dt_elem), vectorised over elements except for the EOS; the EOS at the
+    specific energy ener_m / mass_m + e_lag (default 0)."""
+    if e_lag is None:
+        e_lag = np.zeros_like(ener_m)
     xe = x[conn]  # (E, 4, 2)
     ve = v[conn]
     nxt = np.roll(np.arange(4), -1)
@@ -43,7 +46,7 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
         for m in range(vol_m.shape[1]):
             if vol_m[e, m] > phi_eps * vtot[e] and mass_m[e, m] > K.RHO_VOID * mat_rho0[m] * vol_m[e, m]:
                 rho = mass_m[e, m] / vol_m[e, m]
-                p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m])
+                p, c = material_state(mat_eos[m], mat_q[m], mat_rho0[m], rho, ener_m[e, m] / mass_m[e, m] + e_lag[e, m])
                 pres[e, m], bulk[e, m], snd[e, m] = max(p, pressure_cutoff), rho * c * c, c
     p_mix = (vol_m / vtot[:, None] * pres).sum(axis=1)
     counted = snd > 0

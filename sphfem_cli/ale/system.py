@@ -120,6 +120,9 @@ class AleSystem:
             raise ValueError("elements with non-positive " + ("area (node order must be counter-clockwise)" if dim == 2
                              else "volume (hex8 corners in VTK order: bottom face counter-clockwise seen from above)"))
         self.vol_m, self.mass_m, self.ener_m = material_state(rows, self.vol0, fractions, density, energy, pressure)
+        # specific energy added to the stored one where the EOS is evaluated: the second half of the last
+        # Lagrangian step's own p dV work (lagrange.lagrange_energy; zero at the start)
+        self.e_lag = np.zeros_like(self.ener_m)
 
         self.x = self.x0.copy()
         self.velocity = np.zeros((n_nodes, dim))
@@ -314,7 +317,7 @@ class AleSystem:
             for m, t_light, d, delta in self.burn:
                 self.pscale[:, m] = burn_fraction(self.time, t_light, d, delta)
         opt = self.options
-        self._k_forces(self.x, self.velocity, self.conn, self.vol_m, self.mass_m, self.ener_m,
+        self._k_forces(self.x, self.velocity, self.conn, self.vol_m, self.mass_m, self.ener_m, self.e_lag,
                        self.mat_eos, self.mat_q, self.mat_rho0, opt.q1, opt.q2, opt.hourglass, opt.phi_eps,
                        self.pscale, self.pressure_cutoff, self.f_elem, self.pres_m, self.bulk_m, self.q_elem, self.dt_elem)
         self._fresh = True
@@ -396,7 +399,7 @@ class AleSystem:
             self.coupling_work += w_couple * float(np.sum(self.f_couple * v_mid))
         K.add_column_sums(self._impulse, self.wall_impulse)  # wall_impulse += impulse.sum(axis=0), same bits
         self._k_energy(self.x, v_old, self.velocity, dt, self.conn, self.f_elem, self.vol_m, self.mass_m,
-                       self.ener_m, self.pres_m, self.bulk_m, self.q_elem, self.closure, self.options.relax_alpha,
+                       self.ener_m, self.e_lag, self.pres_m, self.bulk_m, self.q_elem, self.closure, self.options.relax_alpha,
                        self.options.relax_beta, self.options.phi_eps, self.work_elem)
         self._since_remap += 1
         lagrangian = self.options.motion.mesh_motion == "lagrangian"
