@@ -7,6 +7,10 @@ centre's differences. docs/studies/fsi_convergence_audit.md gives the figures.
 
     PYTHONPATH=. NUMBA_NUM_THREADS=1 python docs/studies/underwater_explosion_echo_check.py plane 0.3 6.2e-4 /tmp/echo
     PYTHONPATH=. NUMBA_NUM_THREADS=1 python docs/studies/underwater_explosion_echo_check.py axi 0.5 8.6e-4 /tmp/echo
+    PYTHONPATH=. NUMBA_NUM_THREADS=1 python docs/studies/underwater_explosion_echo_check.py axi 0.5 1e-3 /tmp/echo source
+
+An optional fifth argument sets the open sides of both runs: transmit, plane (non_reflecting without a
+source) or source (non_reflecting with the charge's centre as source); default: as the deck has them.
 """
 import sys
 from pathlib import Path
@@ -20,9 +24,16 @@ DECKS = Path(__file__).resolve().parents[2] / "decks"
 EPS = 1e-6
 
 
-def deck(which, extra, end):
+def deck(which, extra, end, sides=None):
     name = "underwater_explosion_ale.yaml" if which == "plane" else "underwater_explosion_axisymmetric_ale.yaml"
     d = yaml.safe_load((DECKS / name).read_text())
+    if sides is not None:
+        for bc in d["boundaries"]:
+            if bc["type"] == "ale_boundary" and bc.get("condition") in ("transmit", "non_reflecting"):
+                bc.pop("source", None)
+                bc["condition"] = "transmit" if sides == "transmit" else "non_reflecting"
+                if sides == "source":
+                    bc["source"] = d["detonations"][0]["point"]
     d["control"]["end_time"] = end
     d["output"]["interval"] = 2.0e-4
     if extra == 0:
@@ -45,9 +56,10 @@ def deck(which, extra, end):
 
 def main():
     which, extra, end, out = sys.argv[1], float(sys.argv[2]), float(sys.argv[3]), Path(sys.argv[4])
+    sides = sys.argv[5] if len(sys.argv) > 5 else None
     runs = {}
     for tag, e in (("ship", 0.0), ("big", extra)):
-        r = api.run(deck(which, e, end), out / f"{which}_{tag}", overwrite=True, threads=1)
+        r = api.run(deck(which, e, end, sides), out / f"{which}_{tag}_{sides or 'deck'}", overwrite=True, threads=1)
         print(tag, r.status, r.time, r.steps, flush=True)
         runs[tag] = r.histories()["centre"]
     a, b = runs["ship"], runs["big"]

@@ -38,6 +38,8 @@ and steps it.
 Boundaries (node index arrays): ``set_slip(nodes, normal)`` normal velocity zero,
 ``set_fixed(nodes)`` velocity zero, ``set_transmit(nodes)`` boundary faces whose two nodes are in
 the set are open (outflow / zero-gradient inflow, with the inside pressure applied outside),
+``set_non_reflecting(nodes)`` open faces with an impedance (rho c) outside pressure that lets a plane
+acoustic wave out,
 ``set_inflow(nodes, material, velocity, density, energy | pressure)`` inflow of a material at a
 given state (ghost donor, prescribed nodal velocity).
 Nodes in two slip sets with different normals become fixed (3D: they slide along the two walls'
@@ -144,6 +146,12 @@ class AleSystem:
         # inflow faces: index into the inflow states (-1: none); per state the material fractions,
         # densities, specific energies and pressure of the outside (ghost) donor
         self.face_inflow = -np.ones(len(self.topo["face_nodes"]), dtype=np.int64)
+        # non-reflecting faces: the far-field pressure outside (the inside pressure when the side was set); NaN elsewhere
+        self.face_far_pressure = np.full(len(self.topo["face_nodes"]), np.nan)
+        # with a source: the face's distance to it (inf without) and its pressure impulse int (p - p_far) dt
+        self.face_source_distance = np.full(len(self.topo["face_nodes"]), np.inf)
+        self.face_impulse = np.zeros(len(self.topo["face_nodes"]))
+        self.face_source = np.zeros((len(self.topo["face_nodes"]), dim))
         self.inflow_states: list[tuple[np.ndarray, np.ndarray, np.ndarray, float]] = []
         self.time = 0.0
         self.n_steps = 0
@@ -266,6 +274,83 @@ class AleSystem:
         boundary = self.topo["face_elem"][:, 1] < 0
         self.face_open |= boundary & mark[fn].all(axis=1)
 
+    def set_non_reflecting(self, node_ids, source=None) -> None:
+        """Open boundary faces (as ``set_transmit``) that let acoustic waves out.
+
+        The outside pushes on the face with p_far + p', p_far the inside pressure when the side is set
+        (the far field at rest), Z = sum_m phi_m sqrt(rho_m K_m) the inside element's acoustic impedance
+        (rho c of each material, volume-weighted), c = Z / rho:
+
+        - without ``source``: p' = Z u_n, u_n the face's outward normal velocity (mean of its nodes'). An
+          outgoing plane wave carries p' = Z u_n, so the face's nodes feel no force from it: the viscous
+          boundary of Lysmer & Kuhlemeyer (1969, J. Eng. Mech. Div. ASCE 95, 859-877), LS-DYNA
+          *BOUNDARY_NON_REFLECTING (normal part; a fluid has no shear wave). At an incidence angle theta
+          it reflects (cos theta - 1) / (cos theta + 1) of the pressure (-0.09 at 35 degrees).
+        - with ``source`` (a point, the charge's centre): p' = Z u_r - k (c / r) I, u_r the velocity along
+          the unit vector from the source to the face's centre, r that distance, I = int p' dt the face's
+          pressure impulse, k = 1 in 3D and r-z (spherical waves) and 1/2 in plane 2D (cylindrical). For a
+          spherical wave p' = f(t - r/c) / r this is exact at any incidence, near field and incompressible
+          after-flow included (rho u_r = p' / c + I / r); in plane 2D it is the first-order condition of
+          Bayliss & Turkel (1980, Comm. Pure Appl. Math. 33, 707-725), p_t + c p_r + c p / (2 r) = 0.
+
+        The advection through the face is the transmitting one.
+        """
+        self.set_transmit(node_ids)
+        mark = np.zeros(self.x0.shape[0], dtype=bool)
+        mark[np.asarray(node_ids, dtype=np.int64)] = True
+        fn = self.topo["face_nodes"]
+        faces = np.flatnonzero((self.topo["face_elem"][:, 1] < 0) & mark[fn].all(axis=1))
+        if not self._fresh:
+            self._forces()
+        e = self.topo["face_elem"][faces, 0]
+        vt = self.vol_m[e].sum(axis=1)
+        self.face_far_pressure[faces] = (self.vol_m[e] * self.pres_m[e]).sum(axis=1) / vt
+        if source is not None:
+            src = np.asarray(source, dtype=float)[: self.dim]
+            centre = self.x0[fn[faces]].mean(axis=1)
+            self.face_source[faces] = src
+            self.face_source_distance[faces] = np.linalg.norm(centre - src, axis=1)
+
+    def _face_normals(self, fo: np.ndarray) -> np.ndarray:
+        """Unit outward normals (F, dim) of the boundary faces fo."""
+        fnodes = self.topo["face_nodes"][fo]
+        q = self.x[fnodes]
+        if self.dim == 3:
+            n = np.cross(q[:, 2] - q[:, 0], q[:, 3] - q[:, 1])
+        else:  # (t_y, -t_x), t = x1 - x0: outward for the owner's counter-clockwise order (also r-z)
+            t = q[:, 1] - q[:, 0]
+            n = np.stack([t[:, 1], -t[:, 0]], axis=1)
+        return n / np.linalg.norm(n, axis=1)[:, None]
+
+    def _radiation_pressure(self, fo: np.ndarray, e: np.ndarray, vt: np.ndarray, dt: float) -> np.ndarray:
+        """p_far + p' on the non-reflecting faces among fo (``set_non_reflecting``), their impulses advanced
+        by p' dt; NaN on the other faces."""
+        p_far = self.face_far_pressure[fo]
+        nr = np.flatnonzero(np.isfinite(p_far))
+        out = np.full(len(fo), np.nan)
+        if len(nr) == 0:
+            return out
+        f, el = fo[nr], e[nr]
+        # Z = sum_m phi_m sqrt(rho_m K_m) = sum_m sqrt(M_m V_m K_m) / V
+        z = np.sqrt(self.mass_m[el] * self.vol_m[el] * self.bulk_m[el]).sum(axis=1) / vt[nr]
+        fnodes = self.topo["face_nodes"][f]
+        u = self.velocity[fnodes].mean(axis=1)
+        r = self.face_source_distance[f]
+        direction = self._face_normals(f)
+        spherical = np.isfinite(r)
+        if spherical.any():
+            d = self.x[fnodes[spherical]].mean(axis=1) - self.face_source[f[spherical]]
+            direction[spherical] = d / np.linalg.norm(d, axis=1)[:, None]
+        p = z * (u * direction).sum(axis=1)
+        if spherical.any():
+            k = 0.5 if self.dim == 2 and not self.axisymmetric else 1.0
+            rho = self.mass_m[el].sum(axis=1) / vt[nr]
+            c = np.divide(z, rho, out=np.zeros_like(z), where=rho > 0.0)
+            p -= np.where(spherical, k * c / r * self.face_impulse[f], 0.0)
+            self.face_impulse[f] += p * dt
+        out[nr] = p_far[nr] + p
+        return out
+
     def set_inflow(self, node_ids, material: int, velocity, density: float | None = None,
                    energy: float | None = None, pressure: float | None = None) -> None:
         """Inflow of ``material`` at a given state through the boundary faces whose two nodes are in the set.
@@ -328,7 +413,7 @@ class AleSystem:
             self._forces()
         return float(scale * self.dt_elem.min())
 
-    def _external_forces(self) -> np.ndarray:
+    def _external_forces(self, dt: float) -> np.ndarray:
         f = self._f_ext
         f[:] = 0.0
         if not self.face_open.any():
@@ -338,6 +423,8 @@ class AleSystem:
         e = self.topo["face_elem"][fo, 0]
         vt = self.vol_m[e].sum(axis=1)
         p = (self.vol_m[e] * self.pres_m[e]).sum(axis=1) / vt
+        p_nr = self._radiation_pressure(fo, e, vt, dt)
+        p = np.where(np.isnan(p_nr), p, p_nr)
         ghost = self.face_inflow[fo]
         if np.any(ghost >= 0):  # inflow faces: the ghost's own pressure
             p_in = np.array([st[3] for st in self.inflow_states])
@@ -379,7 +466,7 @@ class AleSystem:
         topo = self.topo
         v_old = self._v_old
         v_old[:] = self.velocity
-        f_ext = self._external_forces()
+        f_ext = self._external_forces(dt)
         has_gravity = bool(np.any(self.gravity))
         if has_gravity:
             f_ext += self.node_mass[:, None] * self.gravity

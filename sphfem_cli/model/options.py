@@ -154,7 +154,8 @@ class SphDomainOptions(Options):
 
 @dataclass(frozen=True)
 class AleSide(Options):
-    """An `ale_boundary` on some sides; `material` indexes the ALE part's materials (inflow only)."""
+    """An `ale_boundary` on some sides; `material` indexes the ALE part's materials (inflow only); `source`
+    the centre of the waves a non_reflecting side lets out."""
 
     sides: tuple[str, ...]
     condition: str
@@ -163,6 +164,7 @@ class AleSide(Options):
     density: float | None
     energy: float | None
     pressure: float | None
+    source: tuple[float, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -376,7 +378,7 @@ def _ale_options(deck, model, detonations) -> AleDomainOptions:
     names = [model.material_names[m] for m in model.ale.materials]
     sides = tuple(
         AleSide(tuple(bc.sides), bc.condition, None if bc.material is None else names.index(bc.material),
-                _vec(bc.velocity), bc.density, bc.energy, bc.pressure)
+                _vec(bc.velocity), bc.density, bc.energy, bc.pressure, _vec(bc.source))
         for bc in deck.boundaries if isinstance(bc, AleBoundary))
     return AleDomainOptions(
         part=name, q1=section.bulk_viscosity.q1, q2=section.bulk_viscosity.q2, hourglass=section.hourglass,

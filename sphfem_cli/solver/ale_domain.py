@@ -58,6 +58,8 @@ class AleDomain(Domain):
                 elif bc.condition == "inflow":
                     self.system.set_inflow(nodes, bc.material, bc.velocity[:model.dim], density=bc.density,
                                            energy=bc.energy, pressure=bc.pressure)
+                elif bc.condition == "non_reflecting":
+                    self.system.set_non_reflecting(nodes, bc.source)
                 else:
                     self.system.set_transmit(nodes)
 

@@ -356,14 +356,14 @@ _FACES = {"left": (0, 0), "right": (0, 1), "bottom": (1, 0), "top": (1, 1)}
 
 
 def _boundaries(out: dict, info: AleInfo, section: str, dx: float) -> None:
-    """ale_boundary -> SPH walls (slip / no_slip) and, for transmit sides, the section's domain."""
+    """ale_boundary -> SPH walls (slip / no_slip) and, for transmit and non_reflecting sides, the section's domain."""
     kept, transmit, walls = [], set(), {"slip": [], "no_slip": []}
     for bc in out.get("boundaries", []):
         if bc.get("type") != "ale_boundary" or bc.get("part") != info.name:
             kept.append(bc)
             continue
         condition = bc.get("condition", "slip")
-        if condition == "transmit":
+        if condition in ("transmit", "non_reflecting"):
             transmit.update(bc["sides"])
         else:
             walls["slip" if condition == "slip" else "no_slip"] += [s for s in bc["sides"] if s not in walls["slip"]

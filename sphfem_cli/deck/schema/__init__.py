@@ -347,7 +347,10 @@ def _check_references(deck: Deck) -> None:
                     raise ValueError(f"@boundaries.{i}.material: an inflow material is a fluid or high explosive, "
                                      f"'{bc.material}' is {deck.materials[bc.material].type}")
             section = deck.sections.get(deck.parts[bc.part].section)
-            if bc.condition in ("inflow", "transmit") and getattr(section, "mesh_motion", "") == "lagrangian":
+            if bc.source is not None and deck.axisymmetric and bc.source[0] != 0.0:
+                raise ValueError(f"@boundaries.{i}.source: in an axisymmetric deck the source is a point on the "
+                                 f"axis (r = 0), not r = {bc.source[0]:g} (a ring)")
+            if bc.condition in ("inflow", "transmit", "non_reflecting") and getattr(section, "mesh_motion", "") == "lagrangian":
                 raise ValueError(f"@boundaries.{i}.condition: a lagrangian ALE mesh has no advection, "
                                  f"so no {bc.condition} sides")
             continue

@@ -149,16 +149,17 @@ DummyWallBoundary.model_rebuild()
 
 class AleBoundary(DeckModel):
     """A condition on sides of an ALE part's mesh: slip wall, fixed (no-slip) wall, transmitting outflow,
-    or inflow of a material at a given state."""
+    non-reflecting (impedance) side, or inflow of a material at a given state."""
 
     type: Literal["ale_boundary"] = Field(description="Boundary selector: sides of an ALE mesh.")
     part: str = Field(description="An ALE part.")
     sides: list[Literal["left", "right", "bottom", "top", "front", "back"]] = Field(
         min_length=1, description="Sides of the part's mesh (front and back: z-min and z-max, 3D)."
     )
-    condition: Literal["slip", "fixed", "transmit", "inflow"] = Field(
-        "slip", description="slip, fixed, transmit (open, zero gradient) or inflow (a ghost element outside, reset to the inflow state every step, is the donor of the advection through the side; the side's nodes move at `velocity`). Default slip."
+    condition: Literal["slip", "fixed", "transmit", "non_reflecting", "inflow"] = Field(
+        "slip", description="slip, fixed, transmit (open, zero gradient: the inside pressure acts from outside), non_reflecting (open as transmit, and the outside pressure is the side's initial pressure plus rho c times the outward normal velocity, Lysmer & Kuhlemeyer 1969, LS-DYNA *BOUNDARY_NON_REFLECTING: a plane acoustic wave leaves at normal incidence without reflection) or inflow (a ghost element outside, reset to the inflow state every step, is the donor of the advection through the side; the side's nodes move at `velocity`). Default slip."
     )
+    source: Vector | None = Field(None, description="non_reflecting: the centre of the waves the side lets out (a charge's centre) [length]. With it the side absorbs a spherical wave from that point (3D, axisymmetric; a cylindrical one in plane 2D) at any incidence, its near field and after-flow included: p = p_far + rho c u_r - k (c / r) int (p - p_far) dt, k = 1 (1/2 in plane 2D). Default none: a plane wave at normal incidence.")
     material: str | None = Field(None, description="inflow: the entering material (fluid or high explosive; added to the part's materials if no fill holds it).")
     velocity: Vector | None = Field(None, description="inflow: velocity of the side's nodes [length/time] (on a slip wall only its tangential part).")
     density: PositiveFloat | None = Field(None, description="inflow: density of the entering material [mass/length^3]. Default the material's.")
@@ -167,6 +168,8 @@ class AleBoundary(DeckModel):
 
     @model_validator(mode="after")
     def _inflow_state(self) -> "AleBoundary":
+        if self.source is not None and self.condition != "non_reflecting":
+            raise ValueError("@source: only non_reflecting boundaries take 'source'")
         keys = ("material", "velocity", "density", "pressure", "energy")
         if self.condition != "inflow":
             for key in keys:
