@@ -203,6 +203,7 @@ _ST_P, _ST_C, _ST_M = 0, 1, 2  # mixture pressure, sound speed, mass (``_mixture
 _ST_AREA, _ST_TRACE, _ST_VMAX2, _ST_LEN = 3, 4, 5, 6  # area, tr d, largest corner |v|^2, length
 _ST_GX, _ST_HQ, _ST_B = 7, 9, 11  # Gamma . x (2), hourglass rates gamma . v (2), mean gradient b_x (4) then b_y (4)
 _ST_ROWS = 19
+_ST_BLOCK = 128  # elements per block: st of 19 x 128 doubles, 19 kB
 
 
 @njit(cache=True, inline="always")
@@ -332,41 +333,44 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
     n_chunks = min(n_elem, N_CHUNKS)
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, n_elem, n_chunks)
-        # three passes over the run, through its rows of st (the run's elements along each row): the
-        # material state; the geometry; the forces (see the comment above the kernel)
-        st = np.empty((_ST_ROWS, stop - start))
-        for i in range(stop - start):
-            p_mix, c_max, mtot = _mixture_pressure(start + i, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
-                                                   phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
-            st[_ST_P, i] = p_mix
-            st[_ST_C, i] = c_max
-            st[_ST_M, i] = mtot
-        for i in range(stop - start):
-            quad_geometry(conn, start + i, x, v, st, i)
-        for i in range(stop - start):
-            e = start + i
-            area = st[_ST_AREA, i]
-            c_max = st[_ST_C, i]
-            rho_e = st[_ST_M, i] / area
-            q = viscosity_and_step(e, rho_e, st[_ST_LEN, i], c_max, st[_ST_TRACE, i], st[_ST_VMAX2, i], q1, q2,
-                                   q_elem, dt_elem)
-            s = area * (st[_ST_P, i] + q)
-            if qhg > 0.0 and rho_e > 0.0:  # quad_hourglass: f_a -= coef (gamma . v) gamma_a
-                coef = 0.25 * qhg * rho_e * c_max * math.sqrt(area)
-                gx0 = st[_ST_GX, i]
-                gx1 = st[_ST_GX + 1, i]
-                hq0 = st[_ST_HQ, i]
-                hq1 = st[_ST_HQ + 1, i]
-                for a in range(4):
-                    b0 = st[_ST_B + a, i]
-                    b1 = st[_ST_B + 4 + a, i]
-                    g = QUAD_GAMMA[a] - gx0 * b0 - gx1 * b1
-                    f_elem[e, a, 0] = s * b0 - coef * hq0 * g
-                    f_elem[e, a, 1] = s * b1 - coef * hq1 * g
-            else:
-                for a in range(4):
-                    f_elem[e, a, 0] = s * st[_ST_B + a, i]
-                    f_elem[e, a, 1] = s * st[_ST_B + 4 + a, i]
+        # three passes over each block of the run, through its rows of st (the block's elements along each
+        # row): the material state; the geometry; the forces (see the comment above the kernel). Blocks of
+        # _ST_BLOCK elements keep st in the first-level cache whatever the run's length.
+        st = np.empty((_ST_ROWS, _ST_BLOCK))
+        for block in range(start, stop, _ST_BLOCK):
+            nb = min(_ST_BLOCK, stop - block)
+            for i in range(nb):
+                p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, mat_eos, mat_q, mat_rho0,
+                                                       phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
+                st[_ST_P, i] = p_mix
+                st[_ST_C, i] = c_max
+                st[_ST_M, i] = mtot
+            for i in range(nb):
+                quad_geometry(conn, block + i, x, v, st, i)
+            for i in range(nb):
+                e = block + i
+                area = st[_ST_AREA, i]
+                c_max = st[_ST_C, i]
+                rho_e = st[_ST_M, i] / area
+                q = viscosity_and_step(e, rho_e, st[_ST_LEN, i], c_max, st[_ST_TRACE, i], st[_ST_VMAX2, i], q1, q2,
+                                       q_elem, dt_elem)
+                s = area * (st[_ST_P, i] + q)
+                if qhg > 0.0 and rho_e > 0.0:  # quad_hourglass: f_a -= coef (gamma . v) gamma_a
+                    coef = 0.25 * qhg * rho_e * c_max * math.sqrt(area)
+                    gx0 = st[_ST_GX, i]
+                    gx1 = st[_ST_GX + 1, i]
+                    hq0 = st[_ST_HQ, i]
+                    hq1 = st[_ST_HQ + 1, i]
+                    for a in range(4):
+                        b0 = st[_ST_B + a, i]
+                        b1 = st[_ST_B + 4 + a, i]
+                        g = QUAD_GAMMA[a] - gx0 * b0 - gx1 * b1
+                        f_elem[e, a, 0] = s * b0 - coef * hq0 * g
+                        f_elem[e, a, 1] = s * b1 - coef * hq1 * g
+                else:
+                    for a in range(4):
+                        f_elem[e, a, 0] = s * st[_ST_B + a, i]
+                        f_elem[e, a, 1] = s * st[_ST_B + 4 + a, i]
 
 
 @njit(parallel=True, cache=True)
