@@ -476,14 +476,15 @@ def node_conditions(live, kind, bc, w0, w1, w2, dim):
 
 @njit(cache=True, inline="always")
 def update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse,
-                 npe, dim):
+                 x, v_old, v_mid, v_lag, x_lag, npe, dim):
     """The body of ``nodal_update`` (quad4) and ``nodal_update_3d`` (hex8): npe corners per element and dim
     components, literal constants of the caller, so that each compiles as if written for its element
     (scalars, the third component's lines dropped in 2D).
 
     Per node: f = f_ext + its corner forces, gathered over node_elem_ptr / node_elem_idx (e * npe + corner)
     in that order; w = v + dt f / m (0 without mass); u = w under the velocity conditions
-    (``node_conditions``); impulse = m (u - w); v = u.
+    (``node_conditions``); impulse = m (u - w); v_old = v (before), v = v_lag = u,
+    v_mid = (v_old + u) * 0.5, x_lag = x + u * dt (the step's node arrays, numpy expressions before).
     """
     for n in prange(v.shape[0]):
         f0 = f_ext[n, 0]
@@ -498,18 +499,33 @@ def update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, 
             if dim == 3:
                 f2 += f_elem[e, a, 2]
         m = mass[n]
-        w0 = v[n, 0] + dt * f0 / m if m > 0.0 else 0.0
-        w1 = v[n, 1] + dt * f1 / m if m > 0.0 else 0.0
-        w2 = v[n, 2] + dt * f2 / m if dim == 3 and m > 0.0 else 0.0
+        v0 = v[n, 0]
+        v1 = v[n, 1]
+        v2 = v[n, 2] if dim == 3 else 0.0
+        w0 = v0 + dt * f0 / m if m > 0.0 else 0.0
+        w1 = v1 + dt * f1 / m if m > 0.0 else 0.0
+        w2 = v2 + dt * f2 / m if dim == 3 and m > 0.0 else 0.0
         u0, u1, u2 = node_conditions(m > m_floor[n] or bc_type[n] == BC_VELOCITY, bc_type[n], bc_normal[n], w0, w1, w2,
                                      dim)
         impulse[n, 0] = m * (u0 - w0)
         impulse[n, 1] = m * (u1 - w1)
         v[n, 0] = u0
         v[n, 1] = u1
+        v_old[n, 0] = v0
+        v_old[n, 1] = v1
+        v_lag[n, 0] = u0
+        v_lag[n, 1] = u1
+        v_mid[n, 0] = (v0 + u0) * 0.5
+        v_mid[n, 1] = (v1 + u1) * 0.5
+        x_lag[n, 0] = x[n, 0] + u0 * dt
+        x_lag[n, 1] = x[n, 1] + u1 * dt
         if dim == 3:
             impulse[n, 2] = m * (u2 - w2)
             v[n, 2] = u2
+            v_old[n, 2] = v2
+            v_lag[n, 2] = u2
+            v_mid[n, 2] = (v2 + u2) * 0.5
+            x_lag[n, 2] = x[n, 2] + u2 * dt
 
 
 # quad4 and hex8: one body (``update_nodes``, inline, the corner count and dimension literal constants), one
@@ -521,7 +537,8 @@ def update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, 
 # plane 0.62 / 0.68 -> 0.55 / 0.64, two materials 0.59 / 0.66 -> 0.56 / 0.61, ring 0.56 / 0.66 -> 0.55 / 0.63,
 # hex8 1.37 / 1.75 -> 1.25 / 1.66.
 @njit(parallel=True, cache=True)
-def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
+def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse,
+                 x, v_old, v_mid, v_lag, x_lag):
     """v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m (eq. 2.7), then the velocity conditions (``update_nodes``).
 
     bc_type per node: BC_FREE, BC_SLIP (normal component along bc_normal removed), BC_FIXED,
@@ -530,14 +547,19 @@ def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, 
     Nodes with a mass at or below m_floor (N,) (numerical fog, or none) are held at zero velocity,
     their momentum booked in impulse like a fixed node's; a prescribed velocity (BC_VELOCITY)
     holds whatever the mass.
+    Also written, for the rest of the step (one pass over the nodes instead of five numpy ones): v_old (N, 2)
+    the velocity before, v_lag = v^{n+1/2}, v_mid = (v_old + v^{n+1/2}) * 0.5, x_lag = x + v^{n+1/2} * dt.
     """
-    update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse, 4, 2)
+    update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse,
+                 x, v_old, v_mid, v_lag, x_lag, 4, 2)
 
 
 @njit(parallel=True, cache=True)
-def nodal_update_3d(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
+def nodal_update_3d(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse,
+                    x, v_old, v_mid, v_lag, x_lag):
     """``nodal_update`` on hex8 nodes (N, 3): the same body (``update_nodes``), 8 corners, 3 components."""
-    update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse, 8, 3)
+    update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse,
+                 x, v_old, v_mid, v_lag, x_lag, 8, 3)
 
 
 @njit(cache=True, inline="always")
