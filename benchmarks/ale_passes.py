@@ -69,6 +69,10 @@ alternately on the two trees twice: before 0.22 / 0.22 (ratio sphfem / CloverLea
 At the issue's 960^2 (``--n 960 --steps 5 --repeat 3 --trees``, one material, 10:08-10:13 UTC, load
 2.3 -> 3.1): total 584.6 / 605.9 -> 507.6 / 561.9 ns per cell-step, speed-up min 1.04, median 1.08
 (rest 105 / 111 -> 40 / 40, apply dual 74 / 75 -> 57 / 65; the other passes within the noise).
+
+Second round (6 December 2026, main 448264a against branch alespeed, 240^2 one and two materials and
+960^2 one material, load 4): the table in benchmarks/README.md ("Measured", ale2d); forces 81-84 -> 50-53,
+rest 15-17 -> 5-8 ns per cell-step, step speed-up median 1.15-1.21.
 """
 from __future__ import annotations
 

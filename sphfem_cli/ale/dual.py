@@ -49,8 +49,9 @@ def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_ope
     fa_in *= elem_sign[e, ka]
     fb_in *= elem_sign[e, kb]
     gh = 0.5 * share * (fa_in - fb_in)
-    open_a = elem_nbr[e, ka] < 0 and face_open[fa]
-    open_b = elem_nbr[e, kb] < 0 and face_open[fb]
+    # open boundary faces (read only when there are some: two rows fewer per element otherwise)
+    open_a = any_open and elem_nbr[e, ka] < 0 and face_open[fa]
+    open_b = any_open and elem_nbr[e, kb] < 0 and face_open[fb]
     for h in range(n_edges):
         src = node_line[e, direction, h, 1]
         dst = node_line[e, direction, h, 2]

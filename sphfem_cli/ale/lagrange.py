@@ -45,13 +45,22 @@ RHO_VOID = 1e-9
 RHO_CAVITATED = 0.5
 
 
-@njit(cache=True)
+# ``materials.kernels.eos_state``, its source inlined into these kernels (numba's inliner, as the other
+# helpers here) rather than called: a call to the shared compiled eos_state, which may raise (its
+# Python-error-model divisions), kept numba's reference counts of the element loop's arrays alive around
+# it, an NRT_incref and NRT_decref (atomic calls) of each of nine arrays per element that the pruning pass
+# could not remove across the raise path: 81 -> 71 ns per cell-step of lagrange_forces, one material,
+# 240^2 cells, 1 thread (the same arithmetic: same bits).
+_eos_state = njit(inline="always")(eos_state.py_func)
+
+
+@njit(cache=True, inline="always")
 def material_state(eos, q, rho0, rho, e_spec):
     """(p, c) of one material at density rho and specific internal energy e_spec; (0, 0) for void."""
     if eos < 0 or rho0 <= 0.0 or rho <= 0.0:
         return 0.0, 0.0
     r = rho / rho0
-    p, dpdmu, dpde = eos_state(eos, q, r, rho0 * e_spec)
+    p, dpdmu, dpde = _eos_state(eos, q, r, rho0 * e_spec)
     c2 = (dpdmu + p * dpde / (r * r)) / rho0
     return p, math.sqrt(c2) if c2 > 0.0 else 0.0
 
@@ -68,8 +77,8 @@ def _mixture_pressure(e, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0,
     """Material pressures and bulk moduli of element e, and its mixture state (shared by 2D and 3D).
 
     Each present material's pressure p_m from its EOS at its own density and specific energy, the stored
-    one plus e_lag[e, m] (``lagrange_energy``: the stored energy lags half a step), (times pscale, at least pressure_cutoff; a cavitated Gruneisen liquid at the cut-off); writes pres_m[e], bulk_m[e]
-    (rho c^2). Returns (p_mix, c_e, M): the volume-weighted pressure sum_m phi_m p_m (the paper's
+    one plus e_lag[e, m] (``lagrange_energy``: the stored energy lags half a step), times pscale, at least
+    pressure_cutoff (a cavitated Gruneisen liquid at the cut-off); writes pres_m[e], bulk_m[e] (rho c^2). Returns (p_mix, c_e, M): the volume-weighted pressure sum_m phi_m p_m (the paper's
     mixture theory), the equal-strain mixture sound speed c_e^2 = sum_m M_m c_m^2 / M (see
     ``lagrange_forces``) and the element's mass.
     """
@@ -189,6 +198,98 @@ def quad_hourglass(e, xe, ve, b, coef, f_elem):
         f_elem[e, a, 1] -= coef * hq1 * g
 
 
+# rows of the plane force kernel's per-run work array st (one column per element of the run)
+_ST_P, _ST_C, _ST_M = 0, 1, 2  # mixture pressure, sound speed, mass (``_mixture_pressure``)
+_ST_AREA, _ST_TRACE, _ST_VMAX2, _ST_LEN = 3, 4, 5, 6  # area, tr d, largest corner |v|^2, length
+_ST_GX, _ST_HQ, _ST_B = 7, 9, 11  # Gamma . x (2), hourglass rates gamma . v (2), mean gradient b_x (4) then b_y (4)
+_ST_ROWS = 19
+_ST_BLOCK = 128  # elements per block: st of 19 x 128 doubles, 19 kB
+
+
+@njit(cache=True, inline="always")
+def quad_geometry(conn, e, x, v, st, i):
+    """Column i of st: the geometry of plane quad e at x with corner velocities v, on scalars.
+
+    The same arithmetic as ``quad_corners`` (``gather_quad``, ``fem.geometry.quad4_gradient``), the
+    velocity divergence tr d = sum_a v_a . b_a, ``_quad_char_length`` and the hourglass rates of
+    ``quad_hourglass`` (Gamma . x and (gamma . v) per component), in the same order: the same bits.
+    """
+    n0 = conn[e, 0]
+    n1 = conn[e, 1]
+    n2 = conn[e, 2]
+    n3 = conn[e, 3]
+    x0, y0, x1, y1 = x[n0, 0], x[n0, 1], x[n1, 0], x[n1, 1]
+    x2, y2, x3, y3 = x[n2, 0], x[n2, 1], x[n3, 0], x[n3, 1]
+    u0, w0, u1, w1 = v[n0, 0], v[n0, 1], v[n1, 0], v[n1, 1]
+    u2, w2, u3, w3 = v[n2, 0], v[n2, 1], v[n3, 0], v[n3, 1]
+    vmax2 = max(0.0, u0 * u0 + w0 * w0)
+    vmax2 = max(vmax2, u1 * u1 + w1 * w1)
+    vmax2 = max(vmax2, u2 * u2 + w2 * w2)
+    vmax2 = max(vmax2, u3 * u3 + w3 * w3)
+    # quad4_gradient: b_xa = (y_{a+1} - y_{a-1}) / 2A, b_ya = (x_{a-1} - x_{a+1}) / 2A
+    area = 0.5 * ((x2 - x0) * (y3 - y1) + (x1 - x3) * (y2 - y0))
+    inv = 0.5 / area if area > 0.0 else 0.0
+    bx0, by0 = (y1 - y3) * inv, (x3 - x1) * inv
+    bx1, by1 = (y2 - y0) * inv, (x0 - x2) * inv
+    bx2, by2 = (y3 - y1) * inv, (x1 - x3) * inv
+    bx3, by3 = (y0 - y2) * inv, (x2 - x0) * inv
+    trace_d = 0.0
+    trace_d += u0 * bx0 + w0 * by0
+    trace_d += u1 * bx1 + w1 * by1
+    trace_d += u2 * bx2 + w2 * by2
+    trace_d += u3 * bx3 + w3 * by3
+    # _quad_char_length: area over the longest edge
+    dx, dy = x1 - x0, y1 - y0
+    longest2 = max(0.0, dx * dx + dy * dy)
+    dx, dy = x2 - x1, y2 - y1
+    longest2 = max(longest2, dx * dx + dy * dy)
+    dx, dy = x3 - x2, y3 - y2
+    longest2 = max(longest2, dx * dx + dy * dy)
+    dx, dy = x0 - x3, y0 - y3
+    longest2 = max(longest2, dx * dx + dy * dy)
+    # quad_hourglass: Gamma . x, gamma_a = Gamma_a - (Gamma . x) b_a, the rates gamma . v
+    gx0 = 0.0
+    gx1 = 0.0
+    gx0 += QUAD_GAMMA[0] * x0
+    gx1 += QUAD_GAMMA[0] * y0
+    gx0 += QUAD_GAMMA[1] * x1
+    gx1 += QUAD_GAMMA[1] * y1
+    gx0 += QUAD_GAMMA[2] * x2
+    gx1 += QUAD_GAMMA[2] * y2
+    gx0 += QUAD_GAMMA[3] * x3
+    gx1 += QUAD_GAMMA[3] * y3
+    g0 = QUAD_GAMMA[0] - gx0 * bx0 - gx1 * by0
+    g1 = QUAD_GAMMA[1] - gx0 * bx1 - gx1 * by1
+    g2 = QUAD_GAMMA[2] - gx0 * bx2 - gx1 * by2
+    g3 = QUAD_GAMMA[3] - gx0 * bx3 - gx1 * by3
+    hq0 = 0.0
+    hq1 = 0.0
+    hq0 += g0 * u0
+    hq1 += g0 * w0
+    hq0 += g1 * u1
+    hq1 += g1 * w1
+    hq0 += g2 * u2
+    hq1 += g2 * w2
+    hq0 += g3 * u3
+    hq1 += g3 * w3
+    st[_ST_AREA, i] = area
+    st[_ST_TRACE, i] = trace_d
+    st[_ST_VMAX2, i] = vmax2
+    st[_ST_LEN, i] = area / math.sqrt(longest2)
+    st[_ST_GX, i] = gx0
+    st[_ST_GX + 1, i] = gx1
+    st[_ST_HQ, i] = hq0
+    st[_ST_HQ + 1, i] = hq1
+    st[_ST_B, i] = bx0
+    st[_ST_B + 1, i] = bx1
+    st[_ST_B + 2, i] = bx2
+    st[_ST_B + 3, i] = bx3
+    st[_ST_B + 4, i] = by0
+    st[_ST_B + 5, i] = by1
+    st[_ST_B + 6, i] = by2
+    st[_ST_B + 7, i] = by3
+
+
 # quad4 and hex8 force kernels: a dimension-generic kernel (inline body with the dimension as a constant,
 # as in FEM solid_element_forces) measured 6-17 % (2D) and 13-20 % (3D) slower per call (benchmarks/
 # ale_throughput.py cases, 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both
@@ -202,6 +303,13 @@ def quad_hourglass(e, xe, ve, b, coef, f_elem):
 # --calls 50, 1 thread, 6 Dec 2026, load 3.9-4.0, BASE = e629c8f): plane 4.62 / 4.71 -> 4.62 / 4.70,
 # two materials 4.71 / 4.78 -> 4.73 / 4.79, ring 5.88 / 5.95 -> 5.74 / 5.91, hex8 (unchanged) 13.47 / 13.60
 # -> 13.47 / 13.60.
+# The plane kernel goes over each run of elements three times (issue 17): the material state
+# (``_mixture_pressure``), the geometry (``quad_geometry``, on scalars), then the viscosity, step and
+# forces, through the run's work array st. One element's chain of divisions and square roots (density,
+# EOS, sound speed, length, step) is long; a short loop lets the processor overlap those of several
+# elements, where the one-pass body (hundreds of instructions per element) kept it waiting. Same
+# arithmetic in the same order (bit-identical states of the one- and two-material benchmark cases and
+# the ALE decks); 71 -> 51 ns per cell-step, one material, 240^2 cells, 1 thread (min of 20 calls).
 @njit(parallel=True, cache=True)
 def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                     phi_eps, pscale, pressure_cutoff, f_elem, pres_m, bulk_m, q_elem, dt_elem):
@@ -225,23 +333,44 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, ma
     n_chunks = min(n_elem, N_CHUNKS)
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, n_elem, n_chunks)
-        xe, ve, b = quad_scratch()
-        for e in range(start, stop):
-            vmax2, area = quad_corners(conn, e, x, v, xe, ve, b)
-            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, phi_eps,
-                                                   pscale, pressure_cutoff, pres_m, bulk_m)
-            rho_e = mtot / area
-            trace_d = 0.0
-            for a in range(4):
-                trace_d += ve[a, 0] * b[0, a] + ve[a, 1] * b[1, a]
-            length = _quad_char_length(xe, area)
-            q = viscosity_and_step(e, rho_e, length, c_max, trace_d, vmax2, q1, q2, q_elem, dt_elem)
-            s = area * (p_mix + q)
-            for a in range(4):
-                f_elem[e, a, 0] = s * b[0, a]
-                f_elem[e, a, 1] = s * b[1, a]
-            if qhg > 0.0 and rho_e > 0.0:
-                quad_hourglass(e, xe, ve, b, 0.25 * qhg * rho_e * c_max * math.sqrt(area), f_elem)
+        # three passes over each block of the run, through its rows of st (the block's elements along each
+        # row): the material state; the geometry; the forces (see the comment above the kernel). Blocks of
+        # _ST_BLOCK elements keep st in the first-level cache whatever the run's length.
+        st = np.empty((_ST_ROWS, _ST_BLOCK))
+        for block in range(start, stop, _ST_BLOCK):
+            nb = min(_ST_BLOCK, stop - block)
+            for i in range(nb):
+                p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
+                                                       mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
+                st[_ST_P, i] = p_mix
+                st[_ST_C, i] = c_max
+                st[_ST_M, i] = mtot
+            for i in range(nb):
+                quad_geometry(conn, block + i, x, v, st, i)
+            for i in range(nb):
+                e = block + i
+                area = st[_ST_AREA, i]
+                c_max = st[_ST_C, i]
+                rho_e = st[_ST_M, i] / area
+                q = viscosity_and_step(e, rho_e, st[_ST_LEN, i], c_max, st[_ST_TRACE, i], st[_ST_VMAX2, i], q1, q2,
+                                       q_elem, dt_elem)
+                s = area * (st[_ST_P, i] + q)
+                if qhg > 0.0 and rho_e > 0.0:  # quad_hourglass: f_a -= coef (gamma . v) gamma_a
+                    coef = 0.25 * qhg * rho_e * c_max * math.sqrt(area)
+                    gx0 = st[_ST_GX, i]
+                    gx1 = st[_ST_GX + 1, i]
+                    hq0 = st[_ST_HQ, i]
+                    hq1 = st[_ST_HQ + 1, i]
+                    for a in range(4):
+                        b0 = st[_ST_B + a, i]
+                        b1 = st[_ST_B + 4 + a, i]
+                        g = QUAD_GAMMA[a] - gx0 * b0 - gx1 * b1
+                        f_elem[e, a, 0] = s * b0 - coef * hq0 * g
+                        f_elem[e, a, 1] = s * b1 - coef * hq1 * g
+                else:
+                    for a in range(4):
+                        f_elem[e, a, 0] = s * st[_ST_B + a, i]
+                        f_elem[e, a, 1] = s * st[_ST_B + 4 + a, i]
 
 
 @njit(parallel=True, cache=True)
@@ -347,14 +476,15 @@ def node_conditions(live, kind, bc, w0, w1, w2, dim):
 
 @njit(cache=True, inline="always")
 def update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse,
-                 npe, dim):
+                 x, v_old, v_mid, v_lag, x_lag, npe, dim):
     """The body of ``nodal_update`` (quad4) and ``nodal_update_3d`` (hex8): npe corners per element and dim
     components, literal constants of the caller, so that each compiles as if written for its element
     (scalars, the third component's lines dropped in 2D).
 
     Per node: f = f_ext + its corner forces, gathered over node_elem_ptr / node_elem_idx (e * npe + corner)
     in that order; w = v + dt f / m (0 without mass); u = w under the velocity conditions
-    (``node_conditions``); impulse = m (u - w); v = u.
+    (``node_conditions``); impulse = m (u - w); v_old = v (before), v = v_lag = u,
+    v_mid = (v_old + u) * 0.5, x_lag = x + u * dt (the step's node arrays, numpy expressions before).
     """
     for n in prange(v.shape[0]):
         f0 = f_ext[n, 0]
@@ -369,18 +499,33 @@ def update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, 
             if dim == 3:
                 f2 += f_elem[e, a, 2]
         m = mass[n]
-        w0 = v[n, 0] + dt * f0 / m if m > 0.0 else 0.0
-        w1 = v[n, 1] + dt * f1 / m if m > 0.0 else 0.0
-        w2 = v[n, 2] + dt * f2 / m if dim == 3 and m > 0.0 else 0.0
+        v0 = v[n, 0]
+        v1 = v[n, 1]
+        v2 = v[n, 2] if dim == 3 else 0.0
+        w0 = v0 + dt * f0 / m if m > 0.0 else 0.0
+        w1 = v1 + dt * f1 / m if m > 0.0 else 0.0
+        w2 = v2 + dt * f2 / m if dim == 3 and m > 0.0 else 0.0
         u0, u1, u2 = node_conditions(m > m_floor[n] or bc_type[n] == BC_VELOCITY, bc_type[n], bc_normal[n], w0, w1, w2,
                                      dim)
         impulse[n, 0] = m * (u0 - w0)
         impulse[n, 1] = m * (u1 - w1)
         v[n, 0] = u0
         v[n, 1] = u1
+        v_old[n, 0] = v0
+        v_old[n, 1] = v1
+        v_lag[n, 0] = u0
+        v_lag[n, 1] = u1
+        v_mid[n, 0] = (v0 + u0) * 0.5
+        v_mid[n, 1] = (v1 + u1) * 0.5
+        x_lag[n, 0] = x[n, 0] + u0 * dt
+        x_lag[n, 1] = x[n, 1] + u1 * dt
         if dim == 3:
             impulse[n, 2] = m * (u2 - w2)
             v[n, 2] = u2
+            v_old[n, 2] = v2
+            v_lag[n, 2] = u2
+            v_mid[n, 2] = (v2 + u2) * 0.5
+            x_lag[n, 2] = x[n, 2] + u2 * dt
 
 
 # quad4 and hex8: one body (``update_nodes``, inline, the corner count and dimension literal constants), one
@@ -392,7 +537,8 @@ def update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, 
 # plane 0.62 / 0.68 -> 0.55 / 0.64, two materials 0.59 / 0.66 -> 0.56 / 0.61, ring 0.56 / 0.66 -> 0.55 / 0.63,
 # hex8 1.37 / 1.75 -> 1.25 / 1.66.
 @njit(parallel=True, cache=True)
-def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
+def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse,
+                 x, v_old, v_mid, v_lag, x_lag):
     """v^{n+1/2} = v^{n-1/2} + dt (f_int + f_ext) / m (eq. 2.7), then the velocity conditions (``update_nodes``).
 
     bc_type per node: BC_FREE, BC_SLIP (normal component along bc_normal removed), BC_FIXED,
@@ -401,14 +547,19 @@ def nodal_update(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, 
     Nodes with a mass at or below m_floor (N,) (numerical fog, or none) are held at zero velocity,
     their momentum booked in impulse like a fixed node's; a prescribed velocity (BC_VELOCITY)
     holds whatever the mass.
+    Also written, for the rest of the step (one pass over the nodes instead of five numpy ones): v_old (N, 2)
+    the velocity before, v_lag = v^{n+1/2}, v_mid = (v_old + v^{n+1/2}) * 0.5, x_lag = x + v^{n+1/2} * dt.
     """
-    update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse, 4, 2)
+    update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse,
+                 x, v_old, v_mid, v_lag, x_lag, 4, 2)
 
 
 @njit(parallel=True, cache=True)
-def nodal_update_3d(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse):
+def nodal_update_3d(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse,
+                    x, v_old, v_mid, v_lag, x_lag):
     """``nodal_update`` on hex8 nodes (N, 3): the same body (``update_nodes``), 8 corners, 3 components."""
-    update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse, 8, 3)
+    update_nodes(f_elem, node_elem_ptr, node_elem_idx, f_ext, mass, m_floor, v, bc_type, bc_normal, dt, impulse,
+                 x, v_old, v_mid, v_lag, x_lag, 8, 3)
 
 
 @njit(cache=True, inline="always")

@@ -445,6 +445,27 @@ def add_column_sums(a, out):
     n_rows, dim = a.shape
     if n_rows == 0:
         return
+    if dim == 2:  # both columns in one loop: two independent chains of additions, each in row order
+        s0 = a[0, 0]
+        s1 = a[0, 1]
+        for n in range(1, n_rows):
+            s0 += a[n, 0]
+            s1 += a[n, 1]
+        out[0] += s0
+        out[1] += s1
+        return
+    if dim == 3:
+        s0 = a[0, 0]
+        s1 = a[0, 1]
+        s2 = a[0, 2]
+        for n in range(1, n_rows):
+            s0 += a[n, 0]
+            s1 += a[n, 1]
+            s2 += a[n, 2]
+        out[0] += s0
+        out[1] += s1
+        out[2] += s2
+        return
     for k in range(dim):
         s = a[0, k]
         for n in range(1, n_rows):

@@ -465,7 +465,6 @@ class AleSystem:
             self._forces()
         topo = self.topo
         v_old = self._v_old
-        v_old[:] = self.velocity
         f_ext = self._external_forces(dt)
         has_gravity = bool(np.any(self.gravity))
         if has_gravity:
@@ -474,12 +473,15 @@ class AleSystem:
         has_couple = bool(np.any(self.f_couple))
         if has_couple:
             f_ext += self.f_couple * (w_couple / dt)
-        self._k_nodal(self.f_elem, topo["node_elem_ptr"], topo["node_elem_idx"], f_ext,
-                      self.node_mass, self.m_floor, self.velocity, self.bc_type, self.bc_normal, dt, self._impulse)
-        self.v_lag[:] = self.velocity
+        lagrangian = self.options.motion.mesh_motion == "lagrangian"
+        remap = not lagrangian and self._since_remap + 1 >= self.options.advect_every
+        # x_lag = x + v^{n+1/2} dt, written by the nodal update (with v_old, v_lag and v_mid): into the work
+        # array when the remap consumes it this step, else fresh (it becomes self.x, which callers may hold)
+        x_lag = self._x_lag if remap else np.empty_like(self.x)
         v_mid = self.v_mid
-        np.add(v_old, self.velocity, out=v_mid)
-        v_mid *= 0.5
+        self._k_nodal(self.f_elem, topo["node_elem_ptr"], topo["node_elem_idx"], f_ext,
+                      self.node_mass, self.m_floor, self.velocity, self.bc_type, self.bc_normal, dt, self._impulse,
+                      self.x, v_old, v_mid, self.v_lag, x_lag)
         if has_gravity:
             self.gravity_work += dt * float(np.sum(self.node_mass * (v_mid @ self.gravity)))
         if has_couple:
@@ -489,13 +491,6 @@ class AleSystem:
                        self.ener_m, self.e_lag, self.pres_m, self.bulk_m, self.q_elem, self.closure, self.options.relax_alpha,
                        self.options.relax_beta, self.options.phi_eps, self.work_elem)
         self._since_remap += 1
-        lagrangian = self.options.motion.mesh_motion == "lagrangian"
-        remap = not lagrangian and self._since_remap >= self.options.advect_every
-        # x_lag = x + dt v: into the work array when the remap consumes it this step, else fresh
-        # (it becomes self.x, which callers may hold); dt v + x is x + dt v to the bit
-        x_lag = self._x_lag if remap else np.empty_like(self.x)
-        np.multiply(self.velocity, dt, out=x_lag)
-        np.add(self.x, x_lag, out=x_lag)
         if lagrangian:
             self.x = x_lag
         elif remap:

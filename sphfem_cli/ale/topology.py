@@ -55,7 +55,7 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
     face_elem = np.empty((n_faces, 2), dtype=np.int64)
     face_local = np.empty((n_faces, 2), dtype=np.int64)
     elem_face = np.empty((n_elem, 4), dtype=np.int64)
-    elem_sign = np.empty((n_elem, 4))
+    elem_sign = np.empty((n_elem, 4), dtype=np.int8)  # +1 / -1: 4 bytes an element for the sweeps to read, not 32
     elem_nbr = np.empty((n_elem, 4), dtype=np.int64)
     if _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
         raise ValueError("a face is shared by more than two elements")
@@ -107,9 +107,9 @@ def _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, ele
         e, k = i // 4, i % 4
         elem_face[e, k] = f
         if first[f] == i:
-            elem_sign[e, k] = 1.0
+            elem_sign[e, k] = 1
         else:
-            elem_sign[e, k] = -1.0
+            elem_sign[e, k] = -1
             if face_elem[f, 1] >= 0:
                 too_many = True
             face_elem[f, 1] = e
@@ -180,7 +180,7 @@ def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:
     face_elem[inv[second], 1] = second // 6
     face_local[inv[second], 1] = second % 6
     elem_face = inv.reshape(n_elem, 6).astype(np.int64)
-    elem_sign = np.where(flat == first[inv], 1.0, -1.0).reshape(n_elem, 6)
+    elem_sign = np.where(flat == first[inv], 1, -1).astype(np.int8).reshape(n_elem, 6)
     elem_nbr = np.where(elem_sign > 0, face_elem[elem_face, 1], face_elem[elem_face, 0]).astype(np.int64)
     face_dir = face_local[:, 0] // 2
 
