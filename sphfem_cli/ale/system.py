@@ -194,6 +194,9 @@ class AleSystem:
         # (contact.coupling): set f_couple before each step; its impulse is couple_dt * f_couple
         self.gravity = np.zeros(dim)
         self.f_couple = np.zeros((n_nodes, dim))
+        # elements a structure presses on this step (a coupling point with positive penetration hosted there; set
+        # with f_couple): the mixed-element closure takes their void for the structure's volume (lagrange_energy)
+        self.pressed = np.zeros(n_elem, dtype=np.bool_)
         self.gravity_work = 0.0
         self.coupling_work = 0.0
         self.v_lag = self.velocity.copy()  # v^{n+1/2} of the Lagrangian phase, before the remap
@@ -489,7 +492,7 @@ class AleSystem:
         K.add_column_sums(self._impulse, self.wall_impulse)  # wall_impulse += impulse.sum(axis=0), same bits
         self._k_energy(self.x, v_old, self.velocity, dt, self.conn, self.f_elem, self.vol_m, self.mass_m,
                        self.ener_m, self.e_lag, self.pres_m, self.bulk_m, self.q_elem, self.closure, self.options.relax_alpha,
-                       self.options.relax_beta, self.options.phi_eps, self.work_elem)
+                       self.options.relax_beta, self.options.phi_eps, self.pressed, self.work_elem)
         self._since_remap += 1
         if lagrangian:
             self.x = x_lag

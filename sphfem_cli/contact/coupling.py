@@ -154,6 +154,7 @@ class LagrangeInSolidCoupling:
             )
             st.f_contact += self.f_solid
             ale.f_couple += f_ale
+            ale.pressed[self.host[(self.host >= 0) & (self.depth > 0.0)]] = True
             return
         self.n_coupled = ck.coupling_forces(
             self.segments, st.x, st.v, self.sim.model.mass, self.nquad, ale.x, ale.velocity, ale.node_mass,
@@ -164,6 +165,8 @@ class LagrangeInSolidCoupling:
         )
         st.f_contact += self.f_solid
         ale.f_couple += f_ale
+        # the hosts of the points pressing on the fluid: their void is this structure's volume (the ALE closure)
+        ale.pressed[self.host[(self.host >= 0) & (self.depth > 0.0)]] = True
 
     def layer_in_h(self) -> tuple[np.ndarray, np.ndarray, bool]:
         """(L_c / h, segment length, wetted) per segment: the penalty's extra fluid layer.

@@ -72,6 +72,7 @@ class AleDomain(Domain):
 
     def clear_coupling(self) -> None:
         self.system.f_couple[:] = 0.0
+        self.system.pressed[:] = False
 
     def advance(self, t: float, dt: float, dt_avg: float) -> None:
         """One step of the loop's dt; coupling forces (f_couple) get the impulse weight dt_avg."""

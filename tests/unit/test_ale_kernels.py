@@ -149,7 +149,7 @@ def test_a_trace_beside_a_collapsing_void_keeps_its_density(closure, trace):
     ener_m = np.zeros((1, 2))
     pres_m, bulk_m = np.zeros((1, 2)), np.array([[2.2e9, 0.0]])
     K.lagrange_energy(x, v_old, v_new, 1.0, conn, np.zeros((1, 4, 2)), vol_m, mass_m, ener_m, np.zeros((1, 2)), pres_m, bulk_m,
-                      np.zeros(1), closure, 0.5, 0.5, 1e-9, np.zeros(1), False)
+                      np.zeros(1), closure, 0.5, 0.5, 1e-9, np.zeros(1, dtype=np.bool_), np.zeros(1), False)
     assert vol_m.sum() == pytest.approx(0.8, rel=1e-14)
     if trace < 1e-9:
         assert vol_m[0, 0] == trace

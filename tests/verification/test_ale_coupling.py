@@ -5,6 +5,13 @@ fluid and structure (with the impulse the slip walls gave the fluid) conserved t
 coupling energy (glstat contact = -work of the coupling forces) under 5 % of the impact kinetic
 energy and not below -1e-3 of it, little water left inside the block. Issue 18 item 2: no force
 before contact (the block starts 5 mm above the surface: no point couples before t = 0.5 ms).
+
+The block test runs at pfac 4.0 = 2 n (10 mm segments, nquad 2 on 10 mm water: n = 2; the penalty layer
+L_c = h / 2, the shipped decks' rule, docs/theory/coupling.md "Stiffness"). It ran at the default pfac 0.1 (L_c = 20 h) until the
+ALE closure learnt that the void in an element the block presses on is the block's volume (docs/theory/ale.md,
+"Void behind a structure's face"): the water there now compresses and loads the soft spring, whose energy
+peaks at 5.3 % of the impact energy at pfac 0.1 (1.7 % before the fix, when that water never compressed),
+1.9 % at pfac 1 (1.0 %), 0.9 % at pfac 4 (0.7 %).
 """
 from __future__ import annotations
 
@@ -46,14 +53,14 @@ output: {interval: 1.0e-3}
 """
 
 
-def _sim(tmp_path):
+def _sim(tmp_path, deck=DECK):
     path = tmp_path / "block.yaml"
-    path.write_text(DECK)
+    path.write_text(deck)
     return Simulation(load_model(str(path)).model)
 
 
 def test_rigid_block_into_ale_water(tmp_path):
-    sim = _sim(tmp_path)
+    sim = _sim(tmp_path, DECK.replace("fluid: tank}]", "fluid: tank, pfac: 4.0}]"))
     ale, model = sim.ale.system, sim.model
 
     def momentum():
@@ -74,18 +81,19 @@ def test_rigid_block_into_ale_water(tmp_path):
     assert np.count_nonzero(coupling.host >= 0) > 10
     assert err < 1e-8  # measured 2e-15
     # The spring's energy error is first order in the step: min contact / ke0 measured -9.4e-4 /
-    # -4.8e-4 / -2.5e-4 at the ALE section's timestep_scale 0.9 / 0.45 / 0.225 (-5.7e-4 here, at
-    # the default). Before the coupling waited for contact it was >= 0: the points coupled h/2
-    # above the surface and loaded from the fluid's rest, a softer (and 0.5 ms early) impact.
+    # -4.8e-4 / -2.5e-4 at the ALE section's timestep_scale 0.9 / 0.45 / 0.225 (pfac 0.1, before the
+    # closure fix); here -6.3e-4 (pfac 4, the default scale). Before the coupling waited for contact it
+    # was >= 0: the points coupled h/2 above the surface and loaded from the fluid's rest, a softer (and
+    # 0.5 ms early) impact.
     assert contact.min() > -1e-3 * ke0
-    assert contact.max() < 0.05 * ke0  # measured 1.7 %
-    assert abs(sim.energy_row().ratio - 1.0) < 1e-6
+    assert contact.max() < 0.05 * ke0  # measured 0.9 %
+    assert abs(sim.energy_row().ratio - 1.0) < 1e-6  # measured 4e-7
     # water inside the block: volume in ALE elements whose centre is inside it, per block area
     xb = sim.state.x[model.parts[1].nodes]
     lo, hi = xb.min(axis=0), xb.max(axis=0)
     inside = np.all((ale.centroids() > lo) & (ale.centroids() < hi), axis=1)
     water = (ale.fractions()[inside, 1] * ale.vol_m.sum(axis=1)[inside]).sum()
-    assert water < 0.02 * np.prod(hi - lo)  # measured 0.9 %
+    assert water < 0.02 * np.prod(hi - lo)  # measured 1.2 %
 
 
 def test_coupling_state_survives_a_checkpoint(tmp_path):
@@ -157,13 +165,18 @@ def test_rigid_cylinder_into_axisymmetric_ale_water(tmp_path):
                      - ale.wall_impulse[1])
 
     p0 = momentum()
-    err = 0.0
+    err, hosted = 0.0, 0
     while sim.state.time < sim.control.end_time * (1 - 1e-12):
         sim.step()
         err = max(err, abs(momentum() - p0) / abs(p0))
+        hosted = max(hosted, int(np.count_nonzero(sim.interactions[0].host >= 0)))
     print(f"\nr-z rigid cylinder into ALE water: axial momentum error {err:.1e}, body at {sim.rigid.velocity[0][1]:.3f} m/s, "
           f"energy ratio {sim.energy_row().ratio:.7f}")
-    assert np.count_nonzero(sim.interactions[0].host >= 0) > 10
+    # most points coupled: at most 21 of 60 hosted (22 before the closure fix). The face lets go by 2.5 ms
+    # (0 hosts at the end, 16 before the fix, body at -8.672 m/s, -8.818 before): with the void in the face's
+    # elements taken for the body's volume (docs/theory/ale.md) the water there compresses and the soft
+    # default penalty layer (pfac 0.1) gives the load back, as the end-on cylinder's face lets go
+    assert hosted > 10
     assert err < 1e-8
     assert sim.rigid.velocity[0][1] > -9.5 and sim.rigid.velocity[0][0] == 0.0
     assert np.array_equal(sim.state.x[body, 0], r0)

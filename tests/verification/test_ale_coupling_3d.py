@@ -68,10 +68,14 @@ def test_rigid_block_into_3d_ale_water(tmp_path):
     coupling = sim.interactions[0]
     assert err < 1e-12  # measured 1.8e-15
     v = sim.rigid.velocity[0]
-    assert -9.5 < v[2] < 0.0  # the block pushed water aside (measured -6.43 m/s, entered by 24 mm)
+    assert -9.5 < v[2] < 0.0  # the block pushed water aside (measured -6.30 m/s; -6.43 before the closure fix)
     assert np.abs(v[:2]).max() < 1e-12 * abs(v[2])  # the scene is symmetric in x and y (measured 0)
     assert np.count_nonzero(coupling.host >= 0) > 10  # measured 72 of 384 points
-    assert contact.min() > -1e-3 * ke0 and contact.max() < 0.1 * ke0  # measured 0 and 7.5 %
+    # measured 0 and 12.1 % at this pfac (0.1, the default: a penalty layer L_c = n^2 h / pfac = 40 h). Before
+    # the ALE closure knew that the void in an element the block presses on is the block's volume (docs/theory/
+    # ale.md, "Void behind a structure's face") the water there never compressed and the soft spring held
+    # 7.5 %; at pfac 8 = 2 n^2 (L_c = h / 2) it holds 2.8 % with the fix as without it (min -1.6e-3, -1.7e-3)
+    assert contact.min() > -1e-3 * ke0 and contact.max() < 0.15 * ke0
     assert abs(sim.energy_row().ratio - 1.0) < 1e-6  # measured 3.8e-8
     xb = sim.state.x[model.parts[1].nodes]
     lo, hi = xb.min(axis=0), xb.max(axis=0)

@@ -23,7 +23,7 @@ BOX = """
 title: elastic disc into a closed r-z box of ALE water (test)
 units: {length: m, mass: kg, time: s}
 dimension: axisymmetric
-control: {end_time: 1.0e-3}
+control: {end_time: 5.0e-4}
 equations_of_state:
   water: {type: linear_polynomial, c1: 2.2e9}
 materials:
@@ -112,12 +112,18 @@ def test_disc_into_closed_rz_box_conserves_axial_momentum(tmp_path):
         row = sim.energy_row()
         ratio = max(ratio, abs(row.ratio - 1.0))
         contact.append(row.contact)
-    assert err < 1e-13  # measured 1.5e-15
-    # the disc has pushed water: it slowed and many points hold a host
-    assert (model.mass[disc] * sim.state.v[disc, 1]).sum() / model.mass[disc].sum() > -5.0  # measured -2.0
-    assert np.count_nonzero(coupling.host >= 0) > 10  # measured 20 of 24
-    # the penalty's first-order energy error: measured 4.3e-4 here, 5.8e-4 for this deck in plane strain;
-    # contact energy min -1.1e-3 of the impact energy (plane -1.2e-3), max 0.30 (plane 0.32)
+    assert err < 1e-13  # measured 2.5e-15
+    # the disc has pushed water: it slowed (measured +3.15 m/s: it bounced) and many points hold a host
+    # (measured 20 of 44). Run to 0.5 ms (it ran to 1 ms): since the closure takes the void in the elements
+    # the disc presses on for the disc's volume (docs/theory/ale.md, "Void behind a structure's face") the
+    # water there compresses and the soft default penalty layer (pfac 0.1) holds 54 % of the impact energy
+    # at its peak and throws the light disc back; by 1 ms no point held a host, which left the stiffness
+    # check below nothing to check. Before the fix, at 1 ms: -2.0 m/s, 20 of 24 hosted, peak 30 %.
+    assert (model.mass[disc] * sim.state.v[disc, 1]).sum() / model.mass[disc].sum() > -5.0
+    assert np.count_nonzero(coupling.host >= 0) > 10
+    # the penalty's first-order energy error: measured 5.7e-4 here (4.3e-4 before the fix, 5.8e-4 for this
+    # deck in plane strain then); contact energy min -1.03e-3 of the impact energy (-1.1e-3 before; plane
+    # -1.2e-3)
     assert ratio < 1e-3
     assert min(contact) > -2e-3 * ke0
     # the axis: disc and ALE axis nodes stay on it, nothing crosses it

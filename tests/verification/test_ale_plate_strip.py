@@ -11,10 +11,13 @@ Refining the fluid alone (n = 0.5) let the water pass between the points: face 2
 Measured (times after the analytic arrival 0.05 m / (c0 + s1 u) = 31.25 us):
 - mid-column probe (25 mm above the inflow), mean after the front: without the plate (22-28 us)
   0.992 / 0.998 / 1.000 of 100 MPa at 2.5 / 1.25 / 0.625 mm; with it (22-40 us) 0.996 / 0.999;
-- plate velocity ALE / column at 55 us: 0.934 (2.5 mm), 0.938 (1.25), 0.967 (0.625), 0.987 (0.3125);
-- face pressure 5 us after arrival: 184 / 180 MPa against the column's 157 (one-row probe).
-The ALE under-transfers the step, less so as h falls. Bounds: velocity ratio 0.90-1.00 at 55 us,
-the face pressure at least 0.9 of the column's, the free field within 3 %.
+- plate velocity ALE / column at 55 us: 1.0004 (2.5 mm), 1.0035 (1.25 mm); before the ALE closure knew
+  that the void in the elements the plate presses on is the plate's volume (docs/theory/ale.md, "Void behind
+  a structure's face") the water at the face relaxed into it and the ALE under-transferred the step:
+  0.934 (2.5 mm), 0.938 (1.25), 0.967 (0.625), 0.987 (0.3125);
+- face pressure 5 us after arrival: 184 / 180 MPa against the column's 157 (one-row probe; before the fix).
+Bounds: velocity ratio within 2 % of 1 at 55 us (measured 0.04 and 0.35 %; the bound fails the closure
+before the fix by 3 x its margin), the face pressure at least 0.9 of the column's, the free field within 3 %.
 """
 from pathlib import Path
 
@@ -45,6 +48,6 @@ def test_step_shock_on_free_plate(tmp_path, reference, size, plate_divisions):
     t_v = T_ARRIVAL + 55e-6
     v = np.interp(t_v, h["plate"]["time"], h["plate"]["velocity_y"])
     v_ref = np.interp(55e-6, reference["t"], reference["v"])
-    assert 0.90 < v / v_ref < 1.0
+    assert abs(v / v_ref - 1.0) < 0.02, v / v_ref
     p_face = np.interp(T_ARRIVAL + 5e-6, h["face"]["time"], h["face"]["pressure"])
     assert p_face > 0.9 * np.interp(5e-6, reference["t"], reference["p_face"])

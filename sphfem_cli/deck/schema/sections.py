@@ -131,7 +131,7 @@ class AleSection(DeckModel):
         "slic", description="Material-volume fluxes: slic (sharp interfaces, directional SLIC) or donor. Default slic."
     )
     closure: Literal["relax", "equal_strain"] = Field(
-        "relax", description="Mixed elements: relax (pressure relaxation between materials) or equal_strain. Default relax."
+        "relax", description="Mixed elements: relax (pressure relaxation between materials; where a structure's coupling presses on an element, its void, the structure's own volume, keeps its equal-strain share and only the other materials relax) or equal_strain. Default relax."
     )
     hourglass: Annotated[float, Field(ge=0, le=0.12)] = Field(0.1, description="Viscous hourglass coefficient. Default 0.1.")
     timestep_scale: Annotated[float, Field(gt=0, le=1.0)] = Field(
