@@ -266,6 +266,7 @@ class SphSystem:
         if opt.continuity not in sl.CONTINUITY_FORMS:
             raise ValueError(f"continuity must be one of {sorted(sl.CONTINUITY_FORMS)}, got {opt.continuity!r}")
         self.settings_i[sl.SI_CONTINUITY] = sl.CONTINUITY_FORMS[opt.continuity]
+        self.settings_i[sl.SI_NMAT] = len(self.material_types)
         self.grid_f = np.zeros(sl.N_GF)
         self.grid_i = np.zeros(sl.N_GI, dtype=np.int64)
 
