@@ -18,7 +18,7 @@ from .search import cell_range
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
                     GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, N_LANES, SF_ALPHA, SF_BETA,
                     SF_DELTA, SF_DILATATIONAL_VISCOSITY, SF_EPS, SF_GX, SF_GY, SF_GZ, SF_XSPH, SI_DELTA_HYDROSTATIC,
-                    SI_CONTINUITY, SI_DIM, SI_KERNEL, SI_NWALL, SI_VISCOUS, CONTINUITY_MASS)
+                    SI_CONTINUITY, SI_DIM, SI_KERNEL, SI_NMAT, SI_NWALL, SI_VISCOUS, CONTINUITY_MASS)
 
 # Fast-math flags without nnan/ninf (NaN checks keep working), without "contract" and, but for the
 # additions of the neighbour sums (_FMV, _row_sums; before it _pair_sums), without "reassoc". numba
@@ -198,7 +198,10 @@ def _pair_terms(j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui
     matj = np.floor(0.25 * mk)
     notwall = 1.0 if mk - 4.0 * matj != KIND_WALL else 0.0
     wall_work = (1.0 - notwall) * work if full else 0.0
-    same = notwall if matj == fmati else 0.0
+    # tshape.ndim == 3: no dummy wall points and one material, so every candidate that is a neighbour is a
+    # fluid or ghost point of the material of k (the sentinel past the row's end is selected away by ok):
+    # same = 1 exactly, and 1 * hij below is hij (bit-identical), without decoding mk for every pair
+    same = 1.0 if tshape.ndim == 3 else (notwall if matj == fmati else 0.0)
     psi = rhoj - rhoi
     if dhydro:
         gr = gx * dx
@@ -229,7 +232,8 @@ def _row_sums(s, e, k, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, 
     compile-time constants, the numbers of dimensions of the empty arrays ``kshape``, ``dshape``
     and ``tshape`` (see ``fluid_rates``): one compiled version per combination, in which the other
     kernel's shape, the coordinates and velocities above ``dim`` (in 2D exactly 0) and, with
-    ``tshape.ndim == 2``, the wall work and XSPH sums (then exactly 0) are not computed.
+    ``tshape.ndim`` 2 or 3, the wall work and XSPH sums (then exactly 0) are not computed; with 3 (one
+    material) neither is the material test of the delta-SPH term.
 
     Returns (ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw): the pressure + artificial-viscosity
     acceleration -sum m_j S grad W (S = p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij), sum V_j v_ij.grad W
@@ -305,14 +309,17 @@ def fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, 
     The work is done by ``_fluid_rates``, compiled once per kernel, dimension and term set: these
     are compile-time constants there, the numbers of dimensions of three empty arrays
     (``kshape``: 1 cubic spline, 2 Wendland C2; ``dshape``: dim; ``tshape``: 1 every term, 2 no
-    dummy wall points and no XSPH, whose sums are then not computed: they would be exactly 0).
+    dummy wall points and no XSPH, whose sums are then not computed: they would be exactly 0; 3 the
+    same with one material in the table, ``settings_i[SI_NMAT]``, when the delta-SPH term of every
+    neighbour counts: no per-pair material test).
     This function, plain Python (the one exception to the kernel modules' rule), only picks the
     specialisation, so that numba compiles just the ones a run uses.
     """
     kernel, dim = int(settings_i[SI_KERNEL]), int(settings_i[SI_DIM])
     lean = settings_i[SI_NWALL] == 0 and settings_f[SF_XSPH] == 0.0
+    terms = (3 if settings_i[SI_NMAT] == 1 else 2) if lean else 1
     _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
-                 wall_power, _SHAPES[2 if kernel == WENDLAND_C2 else 1], _SHAPES[dim], _SHAPES[2 if lean else 1])
+                 wall_power, _SHAPES[2 if kernel == WENDLAND_C2 else 1], _SHAPES[dim], _SHAPES[terms])
 
 
 _SHAPES = {1: np.empty(0), 2: np.empty((0, 0)), 3: np.empty((0, 0, 0))}

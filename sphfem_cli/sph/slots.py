@@ -38,9 +38,10 @@ N_SF = 10
 
 # settings_i: dimension; smoothing kernel (kernel_functions.CUBIC_SPLINE / WENDLAND_C2); 1 when a
 # material is viscous; 1 with the hydrostatic delta-SPH correction; number of dummy wall particles;
-# the continuity form (CONTINUITY_VOLUME: rho_i sum V_j v_ij.grad W, CONTINUITY_MASS: sum m_j v_ij.grad W)
-SI_DIM, SI_KERNEL, SI_VISCOUS, SI_DELTA_HYDROSTATIC, SI_NWALL, SI_CONTINUITY = 0, 1, 2, 3, 4, 5
-N_SI = 6
+# the continuity form (CONTINUITY_VOLUME: rho_i sum V_j v_ij.grad W, CONTINUITY_MASS: sum m_j v_ij.grad W);
+# the number of materials in the table
+SI_DIM, SI_KERNEL, SI_VISCOUS, SI_DELTA_HYDROSTATIC, SI_NWALL, SI_CONTINUITY, SI_NMAT = 0, 1, 2, 3, 4, 5, 6
+N_SI = 7
 CONTINUITY_VOLUME, CONTINUITY_MASS = 0, 1
 CONTINUITY_FORMS = {"volume": CONTINUITY_VOLUME, "mass": CONTINUITY_MASS}
 

@@ -9,7 +9,8 @@ was written and 3274 (1.0052, 0.70) on an AVX-512 EPYC; every other quick case a
 outcome must match exactly; steps within 2 %, energy ratios within 2e-3, the state figures within 20 %.
 The SPH rates' regrouped sums (structure-of-arrays rows, December 2026; round-off) moved the same case to
 3316 steps (1.0048, 0.72) and its last minimum pressure from +2.94e4 to -3.32e3 Pa: that row was rewritten
-from the fresh run.
+from the fresh run. The reordering of the particles at the second evaluation (issue 17, sphspeed2; round-off)
+moved it again, to 3320 steps (1.0047, 0.65) and +3.04e4 Pa, rewritten likewise.
 """
 from __future__ import annotations
 
