@@ -16,7 +16,7 @@ CPU time around the call only.
 the tree and one numba thread (this file drives both); prints per kernel min over rounds of the
 per-round min / median over rounds of the per-round median (ms), the ratio of the minima (last
 tree / first), and the load average range. Used for the kernel-twin folding of issue 14 (figures in
-the comments above the kernels in ale/lagrange.py and ale/remap.py).
+the comments above the kernels in ale/lagrange.py, ale/energy.py and ale/remap.py).
 """
 from __future__ import annotations
 

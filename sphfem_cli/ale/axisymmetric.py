@@ -2,7 +2,7 @@
 
 The meridian plane holds x = r >= 0 and y = z (the axis). An element is the ring its quad sweeps
 about the axis; every volume, mass, force and energy is for the full 2 pi. The plane quad4 kernels
-``lagrange.lagrange_energy`` and ``remap.face_fluxes`` take the ring geometry (``ring_geometry``)
+``energy.lagrange_energy`` and ``remap.face_fluxes`` take the ring geometry (``ring_geometry``)
 when called with ``ring`` True (one compiled form serves plane and r-z; the branch is per element or
 face); the forces have their own kernel here, ``lagrange_forces_rz`` (the flagged plane kernel
 measured slower; both take their shared parts from ``lagrange``), compiled, with ``ring_volumes``, only

@@ -1,7 +1,7 @@
 """The ring (r-z) geometry of a quad4: exact ring volume and its gradient (formulas: ``ale.axisymmetric``).
 
 Inline helpers only (nothing here compiles on its own): the plane quad4 kernels call them under their
-``ring`` flag (``lagrange.lagrange_energy``, ``remap.face_fluxes``) and ``axisymmetric`` in its ring
+``ring`` flag (``energy.lagrange_energy``, ``remap.face_fluxes``) and ``axisymmetric`` in its ring
 kernels; apart from ``axisymmetric`` so that ``lagrange`` and ``remap`` import them without a circle.
 """
 from __future__ import annotations

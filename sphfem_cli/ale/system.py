@@ -123,7 +123,7 @@ class AleSystem:
                              else "volume (hex8 corners in VTK order: bottom face counter-clockwise seen from above)"))
         self.vol_m, self.mass_m, self.ener_m = material_state(rows, self.vol0, fractions, density, energy, pressure)
         # specific energy added to the stored one where the EOS is evaluated: the second half of the last
-        # Lagrangian step's own p dV work (lagrange.lagrange_energy; zero at the start)
+        # Lagrangian step's own p dV work (energy.lagrange_energy; zero at the start)
         self.e_lag = np.zeros_like(self.ener_m)
 
         self.x = self.x0.copy()
