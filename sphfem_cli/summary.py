@@ -71,16 +71,14 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
         layer, length, wetted = c.layer_in_h()
         if layer.size == 0:
             continue
-        # the median over the wetted length: a thin plate's short edge faces (small l, large L_c / h)
-        # carry little of the load and would dominate a maximum
-        order = np.argsort(layer)
-        cum = np.cumsum(length[order])
-        typical = float(layer[order][np.searchsorted(cum, 0.5 * cum[-1])])
+        from .contact.coupling import typical_layer  # loaded with the coupling already
+
+        typical = typical_layer(layer, length)  # the median over the wetted length
         # 3D: L_c = n^2 h / pfac (n = h / sqrt(A) per direction of a face, A a point's share of its area)
         solid = getattr(c, "dim", 2) == 3
         form, measure = ("n^2 h / pfac", "area") if solid else ("n h / pfac", "length")
         lines.append(f"  coupling {c.name}: penalty layer L_c = {form} = {typical:.3g} h (median over "
-                     f"the {'wetted ' if wetted else ''}faces' {measure}; max {layer.max():.3g} h; pfac {c.spec.pfac:g}, nquad {c.nquad})")
+                     f"the {'wetted ' if wetted else ''}faces' {measure}; max {layer.max():.3g} h; pfac {c.pfac:.3g}{' (auto)' if c.spec.pfac == 'auto' else ''}, nquad {c.nquad})")
         # n = h / l coupling points per fluid-element face (L_c / h = n / pfac), over the same median:
         # below one point per element, fluid elements along the face hold no coupling point and the
         # water passes between the points (LS-DYNA's guidance for *CONSTRAINED_LAGRANGE_IN_SOLID: two
@@ -88,7 +86,7 @@ def model_summary(deck, model, deck_path: Path) -> tuple[list[str], list[str]]:
         # segment, nquad 2): at 2.5 mm water (n = 1) the face takes 184 MPa 5 us after the 100 MPa
         # step arrives; the fluid alone refined to 1.25 mm (n = 0.5) 22 MPa, to 0.625 mm (n = 0.25)
         # 13 MPa, and the plate 50 us after arrival 19.8 and 7.5 m/s against 100.6 at n = 1.
-        points = typical * float(c.spec.pfac)
+        points = typical * c.pfac
         if solid:
             points = np.sqrt(points)
         if float(f"{points:.3g}") < 1.0:

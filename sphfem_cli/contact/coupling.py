@@ -99,6 +99,18 @@ class LagrangeInSolidCoupling:
         self.v_solid_mid = np.zeros((model.n_nodes, self.dim))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last step
         self.work = 0.0
         self.penetration_limit = None
+        self.pfac = self._auto_pfac(model.coordinates) if spec.pfac == "auto" else float(spec.pfac)
+
+    def _auto_pfac(self, x: np.ndarray) -> float:
+        """pfac = 2 n (3D: 2 n^2), n the coupling points per fluid-element face (median over the wetted
+        faces of the geometry x): the penalty layer L_c = n h / pfac is then h / 2 there (``layer_in_h``).
+        With no face near the fluid, n from the mean element size and the segments' mean point spacing."""
+        layer, measure, _ = self._layers(x, 1.0)  # at pfac 1, L_c / h = n (3D: n^2)
+        if layer.size:
+            return 2.0 * typical_layer(layer, measure)
+        seg = x[self.segments]
+        span = np.linalg.norm(seg[:, -1] - seg[:, 0], axis=1).mean() / self.nquad
+        return 2.0 * (self.cell / span) ** (self.dim - 1) if span > 0 else 1.0
 
     # ------------------------------------------------------------------ forces
     def _fluid_fields(self, ale):
@@ -148,7 +160,7 @@ class LagrangeInSolidCoupling:
             self.n_coupled = ck3.coupling_forces_3d(
                 self.segments, st.x, st.v, self.sim.model.mass, self.nquad, ale.x, ale.velocity, ale.node_mass,
                 ale.conn, start, items, origin, self.cell, nb, frac, bulk, area,
-                float(self.spec.min_fraction), float(self.spec.pfac), float(self.spec.damping), self.probe,
+                float(self.spec.min_fraction), self.pfac, float(self.spec.damping), self.probe,
                 bool(self.spec.leakage_control), float(st.dt_prev), self.depth, self.host, self.stiff,
                 self.f_solid, f_ale,
             )
@@ -159,7 +171,7 @@ class LagrangeInSolidCoupling:
         self.n_coupled = ck.coupling_forces(
             self.segments, st.x, st.v, self.sim.model.mass, self.nquad, ale.x, ale.velocity, ale.node_mass,
             ale.conn, start, items, origin, self.cell, int(nb[0]), int(nb[1]), frac, bulk, area,
-            float(self.spec.min_fraction), float(self.spec.pfac), float(self.spec.damping), self.probe,
+            float(self.spec.min_fraction), self.pfac, float(self.spec.damping), self.probe,
             bool(self.spec.leakage_control), float(st.dt_prev), self.ring, self.depth, self.host, self.stiff,
             self.f_solid, f_ale,
         )
@@ -169,7 +181,11 @@ class LagrangeInSolidCoupling:
         ale.pressed[self.host[(self.host >= 0) & (self.depth > 0.0)]] = True
 
     def layer_in_h(self) -> tuple[np.ndarray, np.ndarray, bool]:
-        """(L_c / h, segment length, wetted) per segment: the penalty's extra fluid layer.
+        """``_layers`` of the current geometry at the coupling's pfac."""
+        return self._layers(self.sim.state.x, self.pfac)
+
+    def _layers(self, x: np.ndarray, pfac: float) -> tuple[np.ndarray, np.ndarray, bool]:
+        """(L_c / h, segment length, wetted) per segment of the geometry x: the penalty's extra fluid layer.
 
         A point's spring k = pfac K l^2 / V (l = segment length / nquad, V the host's area) is, per
         unit length of the face, k / l = pfac K l / V; a fluid layer of thickness L under bulk
@@ -191,7 +207,6 @@ class LagrangeInSolidCoupling:
         from scipy.spatial import cKDTree
 
         ale = self.sim.ale.system
-        x = self.sim.state.x
         if len(self.segments) == 0:
             return np.zeros(0), np.zeros(0), False
         frac, _, _ = self._fluid_fields(ale)
@@ -211,7 +226,7 @@ class LagrangeInSolidCoupling:
             near = (dist <= h) & (share > 0)
             wet = near & (frac[e] >= float(self.spec.min_fraction))
             keep = wet if wet.any() else near
-            return vol[keep] / (float(self.spec.pfac) * share[keep] * h[keep]), face_area[keep], bool(wet.any())
+            return vol[keep] / (pfac * share[keep] * h[keep]), face_area[keep], bool(wet.any())
         t = x[self.segments[:, 1]] - x[self.segments[:, 0]]
         length = np.linalg.norm(t, axis=1)
         normal = np.stack([t[:, 1], -t[:, 0]], axis=1) / np.maximum(length, 1e-300)[:, None]
@@ -226,7 +241,7 @@ class LagrangeInSolidCoupling:
         near = (dist <= h) & (ell > 0)
         wet = near & (frac[e] >= float(self.spec.min_fraction))
         keep = wet if wet.any() else near
-        return area[keep] / (float(self.spec.pfac) * ell[keep] * h[keep]), length[keep], bool(wet.any())
+        return area[keep] / (pfac * ell[keep] * h[keep]), length[keep], bool(wet.any())
 
     def _point_shares(self, x: np.ndarray) -> np.ndarray:
         """Each coupling point's share of its face: length / nquad in 2D, its cell's area in 3D,
@@ -262,7 +277,7 @@ class LagrangeInSolidCoupling:
         x = self.sim.state.x
         ell = self._point_shares(x)
         h = np.maximum(self.host, 0)
-        stiff = np.where(self.host >= 0, float(self.spec.pfac) * bulk[h] * ell * ell / area[h], 0.0)
+        stiff = np.where(self.host >= 0, self.pfac * bulk[h] * ell * ell / area[h], 0.0)
         sum_s = np.zeros(model.n_nodes)
         sum_a = np.zeros(ale.x.shape[0])
         sums = ck3.stiffness_sums_3d if self.dim == 3 else ck.stiffness_sums
@@ -317,3 +332,11 @@ def _meridian_areas(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
     px = x[conn, 0]
     py = x[conn, 1]
     return 0.5 * np.abs((px * np.roll(py, -1, axis=1) - np.roll(px, -1, axis=1) * py).sum(axis=1))
+
+
+def typical_layer(layer: np.ndarray, measure: np.ndarray) -> float:
+    """The median of ``layer`` weighted by ``measure`` (the faces' lengths or areas): a thin plate's
+    short edge faces (small l, large L_c / h) carry little of the load and would dominate a maximum."""
+    order = np.argsort(layer)
+    cum = np.cumsum(measure[order])
+    return float(layer[order][np.searchsorted(cum, 0.5 * cum[-1])])

@@ -402,7 +402,7 @@ def _couplings(out: dict, deck, info: AleInfo, sph_parts: dict[str, str], derive
                 "type": "nodes_to_surface", "nodes": part, "surface": c["structure"],
                 "stiffness": "soft_constraint", "soft_scale": SOFT_SCALE, "damping": model.damping,
             })
-        derived.notes.append(f"coupling {c['structure']} <- {info.name} (pfac {model.pfac:g}, damping "
+        derived.notes.append(f"coupling {c['structure']} <- {info.name} (pfac {model.pfac}, damping "
                              f"{model.damping:g}) became soft-constraint nodes_to_surface contacts "
                              f"(soft_scale {SOFT_SCALE:g}) for "
                              f"{', '.join(p for p, m in sph_parts.items() if m in coupled) or 'no part'}")

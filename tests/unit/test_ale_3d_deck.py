@@ -109,8 +109,9 @@ def test_3d_ale_coupling_check_prints_its_penalty_layer(tmp_path):
     """A 3D lagrange_in_solid loads; `sphfem check` states its layer L_c = n^2 h / pfac (issue 15 item 2).
 
     Plate faces of 10 x 10 mm, nquad 2 (A = 25 mm^2), air elements of 10 mm (V = 1e-6 m^3,
-    h = 10 mm): n = h / sqrt(A) = 2, L_c = V / (pfac A) = 0.4 m = 40 h at the default pfac 0.1 (the
-    5 mm edge faces, A = 12.5 mm^2: 80 h), and the check warns with the 3D rule pfac >= 2 n^2."""
+    h = 10 mm): n = h / sqrt(A) = 2, L_c = V / (pfac A) = 0.4 m = 40 h at pfac 0.1 (LS-DYNA's default; the
+    5 mm edge faces, A = 12.5 mm^2: 80 h), and the check warns with the 3D rule pfac >= 2 n^2. At the
+    default pfac (auto: 2 n^2 = 8 from the median face) L_c = h / 2 and the check does not warn."""
     text = DECK.replace("sections:\n", "sections:\n  plate: {type: solid}\n").replace(
         "  hot: {type: fluid, density: 1.2, eos: air}\n",
         "  hot: {type: fluid, density: 1.2, eos: air}\n"
@@ -121,6 +122,12 @@ def test_3d_ale_coupling_check_prints_its_penalty_layer(tmp_path):
         "couplings:\n  - {type: lagrange_in_solid, structure: plate, fluid: box}\nboundaries:\n")
     deck = tmp_path / "deck.yaml"
     deck.write_text(text)
+    result = CliRunner().invoke(main, ["check", str(deck)])
+    assert result.exit_code == 0, result.output
+    assert ("coupling box->plate: penalty layer L_c = n^2 h / pfac = 0.5 h (median over the wetted faces' area; "
+            "max 1 h; pfac 8 (auto), nquad 2)") in result.output
+    assert "above h/2" not in result.output
+    deck.write_text(text.replace("fluid: box}", "fluid: box, pfac: 0.1}"))
     result = CliRunner().invoke(main, ["check", str(deck)])
     assert result.exit_code == 0, result.output
     assert ("coupling box->plate: penalty layer L_c = n^2 h / pfac = 40 h (median over the wetted faces' area; "

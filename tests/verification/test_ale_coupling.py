@@ -133,7 +133,7 @@ def test_coupling_step_bounded_when_hosts_empty(tmp_path):
     hosts = np.unique(coupling.host[coupling.host >= 0])
     fill = np.maximum(1.0, ale.mass_m[hosts, 1] / (ale.vol_m[hosts, 1] * coupling.mat_rho0[1]))  # rho / rho0
     squeeze = float(fill.max())
-    assert squeeze < 1.01  # measured 1.00025
+    assert squeeze < 1.05  # measured 1.0101 at the default pfac (auto: 4.0 here), 1.00025 at pfac 0.1
     ale.mass_m[hosts, 1] *= 1e-5  # no force pass since: the stored stiffness is the full hosts'
     K.nodal_mass(ale.mass_m, ale.topo["node_elem_ptr"], ale.topo["node_elem_idx"], ale.npe, ale.node_mass)
     assert coupling.stable_dt() >= dt_full / np.sqrt(squeeze) * (1.0 - 1e-9)

@@ -5,8 +5,8 @@ A rigid steel block (80 x 80 x 60 mm, faces of 20 x 20 mm, nquad 2) starts 2 mm 
 top) and falls into it at 10 m/s without gravity, as the 2D block-entry test
 (test_ale_coupling.py) does. Total momentum of block and water, less the impulse the slip walls
 gave the water, is conserved to 1e-12 relative; the water elements inside the block at the end
-hold under 1 % of the block's volume; the coupling's energy stays between -1e-3 and 10 % of the
-impact energy. 165 steps, 16-22 s CPU once the kernels are compiled (load 5.5).
+hold under 1 % of the block's volume; the coupling's energy stays between -5e-3 and 5 % of the
+impact energy at the default pfac (auto: 2 n^2 = 8, L_c = h / 2). 165 steps, 16-22 s CPU once the kernels are compiled (load 5.5).
 """
 from __future__ import annotations
 
@@ -68,14 +68,16 @@ def test_rigid_block_into_3d_ale_water(tmp_path):
     coupling = sim.interactions[0]
     assert err < 1e-12  # measured 1.8e-15
     v = sim.rigid.velocity[0]
-    assert -9.5 < v[2] < 0.0  # the block pushed water aside (measured -6.30 m/s; -6.43 before the closure fix)
+    assert -9.5 < v[2] < 0.0  # the block pushed water aside (measured -7.93 m/s)
     assert np.abs(v[:2]).max() < 1e-12 * abs(v[2])  # the scene is symmetric in x and y (measured 0)
     assert np.count_nonzero(coupling.host >= 0) > 10  # measured 72 of 384 points
-    # measured 0 and 12.1 % at this pfac (0.1, the default: a penalty layer L_c = n^2 h / pfac = 40 h). Before
-    # the ALE closure knew that the void in an element the block presses on is the block's volume (docs/theory/
-    # ale.md, "Void behind a structure's face") the water there never compressed and the soft spring held
-    # 7.5 %; at pfac 8 = 2 n^2 (L_c = h / 2) it holds 2.8 % with the fix as without it (min -1.6e-3, -1.7e-3)
-    assert contact.min() > -1e-3 * ke0 and contact.max() < 0.15 * ke0
+    # measured -1.6e-3 and 2.8 % at the default pfac (auto: 8 = 2 n^2, L_c = h / 2); -2.7e-3 at timestep_scale 0.45,
+    # so not the leapfrog's first-order error: the stiffness of a point changes with its host's fluid (k = pfac K A^2
+    # / V, K from the host's fill) while its depth is held, which books 1/2 dk d^2 without work. At pfac 0.1
+    # (LS-DYNA's default, L_c = 40 h) the soft spring held 12.1 % at its peak (7.5 % before the ALE closure knew that
+    # the void in an element the block presses on is the block's volume, docs/theory/ale.md) and the block ended at
+    # -6.30 m/s (here -7.93: less of its energy parked in the spring)
+    assert contact.min() > -5e-3 * ke0 and contact.max() < 0.05 * ke0
     assert abs(sim.energy_row().ratio - 1.0) < 1e-6  # measured 3.8e-8
     xb = sim.state.x[model.parts[1].nodes]
     lo, hi = xb.min(axis=0), xb.max(axis=0)

@@ -60,14 +60,17 @@ class LagrangeInSolid(DeckModel):
     min_fraction: float = Field(
         0.5, gt=0.0, le=1.0, description="Fluid volume fraction from which an ALE element couples [-]. Default 0.5."
     )
-    pfac: PositiveFloat = Field(0.1, description=(
+    pfac: PositiveFloat | Literal["auto"] = Field("auto", description=(
         "Scale of the penalty stiffness from the fluid's bulk modulus [-]: k = pfac K l^2 / V per coupling point "
         "(LS-DYNA's PFAC; l the point's share of the segment, V the host element's area; 3D: k = pfac K A^2 / V, "
         "A the point's share of the face's area, V the host's volume; axisymmetric: A = 2 pi r l the point's ring, "
         "V the host's ring volume, forces for the full 2 pi). The penalty acts as an extra fluid layer "
         "L_c = n h / pfac (h the fluid element size, n = h / l the coupling points per fluid-element face; 3D: "
-        "L_c = n^2 h / pfac, n = h / sqrt(A)); use pfac >= 2 n (3D: 2 n^2) to keep L_c below h/2 (`sphfem check` "
-        "prints L_c). Default 0.1."))
+        "L_c = n^2 h / pfac, n = h / sqrt(A)); pfac >= 2 n (3D: 2 n^2) keeps L_c below h/2 (`sphfem check` "
+        "prints L_c and warns above h/2). auto: pfac = 2 n (3D: 2 n^2) with n the median over the wetted faces of "
+        "the initial geometry, so that L_c = h/2 there (docs/theory/coupling.md, 'Stiffness'; LS-DYNA's default "
+        "0.1 is a layer of 10 n h here, which lets a structure sink into the fluid and the fluid's load lag). "
+        "Default auto."))
     damping: NonNegativeFloat = Field(
         0.0, le=1.0, description="Viscous coupling damping, fraction of critical [-]. Default 0."
     )
