@@ -6,11 +6,11 @@ study measured to give the full deck's figures to every printed digit at a quart
 multiplies every count by 2^(k-1): 3D 16 around, 3 through, 32 along; r-z 5 x 32 (the O-grid's ray through the
 rim node crosses 2 core elements and 3 layers).
 
-- level 1 (the shipped sizes, a few seconds): final lengths within 0.5 % (measured -0.13 %); the 3D impact face
+- level 1 (the decks' sizes until December 2026, a few seconds): final lengths within 0.5 % (measured -0.13 %); the 3D impact face
   stays similar to its start, so its area-equivalent diameter is the rim nodes' diameter times the 16-gon's
   area factor sqrt(16 sin(pi/8) / (2 pi)) = 0.9872 (measured within 0.05 %);
 - level 2 (validation, about 26 s of CPU): issue 15's acceptance at equal size: length and mushroom diameter (the rim
-  nodes') within 2 % (measured -0.03 % and +0.61 %; at level 1 the diameter is +2.09 %).
+  nodes') within 2 % (measured -0.03 % and +0.61 %; at level 1 the diameter is +2.09 %). The decks ship level 2.
 """
 from __future__ import annotations
 
