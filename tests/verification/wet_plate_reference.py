@@ -210,6 +210,30 @@ def _block_solve(fl: Fluid, omega: complex, rhs: dict) -> dict:
     return dict(enumerate(X))
 
 
+def fluid_global(fl: Fluid):
+    """K_f, M_f, C_f of ``fl`` as scipy.sparse CSR matrices on the fluid nodes numbered column by
+    column (node j of column i is ``off[i] + searchsorted(cols[i], j)``), and ``off``."""
+    import scipy.sparse as sp
+    sizes = [len(cc) for cc in fl.cols]
+    off = np.concatenate([[0], np.cumsum(sizes)]).astype(int)
+    n = int(off[-1])
+    out = []
+    for diag, low in ((fl.Kd, fl.Ko), (fl.Md, fl.Mo), (fl.Cd, None)):
+        rows, cols, vals = [], [], []
+        for i in range(len(sizes)):
+            r, c = np.nonzero(diag[i])
+            rows.append(off[i] + r), cols.append(off[i] + c), vals.append(diag[i][r, c])
+            if low is not None and i > 0:
+                r, c = np.nonzero(low[i])
+                v = low[i][r, c]
+                rows += [off[i] + r, off[i - 1] + c]
+                cols += [off[i - 1] + c, off[i] + r]
+                vals += [v, v]
+        out.append(sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                                 shape=(n, n)))
+    return out[0], out[1], out[2], off
+
+
 def coupling(bm: Beam, fl: Fluid) -> dict:
     """Q^T per face column: rows the face's fluid nodes, columns the beam's w dofs (n_f . e_x folded in)."""
     out = {}
@@ -363,21 +387,11 @@ def driven_response(n_el: int = 60, hf: float = 0.005, far: str = "rigid", c: fl
         nb = bm.K.shape[0]
         f = bm.free
         b = 0  # the bottom's w dof, driven
-        sizes = [len(cc) for cc in fl.cols]
-        off = np.concatenate([[0], np.cumsum(sizes)])
+        Kf, Mf, Cf, off = (m.toarray() if k < 3 else m for k, m in enumerate(fluid_global(fl)))
         nfl = int(off[-1]) if wet else 0
-        Kf = np.zeros((nfl, nfl))
-        Mf = np.zeros((nfl, nfl))
-        Cf = np.zeros((nfl, nfl))
+        Kf, Mf, Cf = Kf[:nfl, :nfl], Mf[:nfl, :nfl], Cf[:nfl, :nfl]
         Qt = np.zeros((nfl, nb))
         if wet:
-            for i in range(len(sizes)):
-                s = slice(off[i], off[i + 1])
-                Kf[s, s], Mf[s, s], Cf[s, s] = fl.Kd[i], fl.Md[i], fl.Cd[i]
-                if i > 0:
-                    r = slice(off[i - 1], off[i])
-                    Kf[s, r], Kf[r, s] = fl.Ko[i], fl.Ko[i].T
-                    Mf[s, r], Mf[r, s] = fl.Mo[i], fl.Mo[i].T
             for i, blk in qt.items():
                 Qt[off[i]:off[i + 1]] = blk
         ns = len(f)
