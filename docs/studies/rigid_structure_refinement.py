@@ -5,6 +5,8 @@
     python docs/studies/rigid_structure_refinement.py cylinder ale fixed   # nquad 4 / 2 / 1, pfac 4: n = 1.85 kept
     python docs/studies/rigid_structure_refinement.py bird sph         # target divisions x1 / x2 / x4
     python docs/studies/rigid_structure_refinement.py bird ale
+    python docs/studies/rigid_structure_refinement.py freefall sph [rho1000]   # elements_around 32 / 64 / 128
+    python docs/studies/rigid_structure_refinement.py freefall ale [rho1000]   # nquad 4 / 2 / 1, pfac 4 kept
 
 Cylinder entry at constant speed (decks/cylinder_entry_constant_speed_{sph,ale}.yaml, shipped tank, 5 mm
 water): the polygon of the rigid disc with 32 / 64 / 128 segments, elements_through 2 kept. The analysis is
@@ -23,6 +25,12 @@ Bird strike (decks/bird_strike_axisymmetric_{sph,ale}.yaml, the bird at the ship
 fixed steel disc's divisions x1 / x2 / x4 in both directions; the quantities and analysis are
 docs/studies/bird_strike.py's `level` (imported). ALE coupling: bird_strike.py's rule with the target's
 segment 0.25 m / divisions: nquad max(2, ceil(segment / h)), pfac = 2 n (L_c = h / 2, as shipped).
+
+Free fall (decks/cylinder_free_fall{,_rho1000}_{sph,ale}.yaml, shipped tank and water): the polygon 32 / 64 / 128
+segments as for the constant-speed entry (ALE with the coupling points per water element and the layer held:
+nquad 4 / 2 / 1, pfac 4), the decks' own end time (0.08 s, T = 0.74). Compared: the headers' penetration
+(y0 - y) / D = (-0.005 - displacement_y) / D at T = (t - t_c) sqrt(g / D) = 0.1 / 0.3 / 0.5 / 0.7, t_c = 1.69 ms
+(linear interpolation of the history), and the speed at the end.
 
 Order / GCI: sphfem_cli.study.metrics.three_grid with h = 1 / (segments), Fs 1.25.
 """
@@ -85,6 +93,27 @@ def cylinder_level(method: str, around: int) -> dict:
     return out
 
 
+T_C, G = (2.955 - 2.9384) / 9.81, 9.81  # the free-fall decks' contact time and gravity
+
+
+def freefall_level(method: str, around: int, heavy: bool) -> dict:
+    ov = {"parts.cylinder.geometry.ring.elements_around": around}
+    if method == "ale":
+        ov.update({"couplings.0.nquad": max(1, 2 * CYL_SEGMENTS // around), "couplings.0.pfac": CYL_PFAC})
+    deck = f"decks/cylinder_free_fall{'_rho1000' if heavy else ''}_{method}.yaml"
+    cpu = time.process_time()
+    result = api.run(ROOT / deck, WORK / f"fall_{method}{'_rho1000' if heavy else ''}_{around}", ov, threads=1,
+                     overwrite=True)
+    cpu = time.process_time() - cpu
+    assert result.completed, result.message
+    h = result.histories()["cylinder"]
+    big_t = (h["time"] - T_C) * math.sqrt(G / D)
+    depth = (-0.005 - h["displacement_y"]) / D
+    out = {f"pen T={t:.1f}": float(np.interp(t, big_t, depth)) for t in (0.1, 0.3, 0.5, 0.7)}
+    out.update({"speed end": float(-h["velocity_y"][-1]), "cpu_s": cpu, "steps": result.steps})
+    return out
+
+
 def bird_level(method: str, factor: int) -> dict:
     base = {"sph": (50, 2), "ale": (100, 4)}[method]
     div = [base[0] * factor, base[1] * factor]
@@ -110,6 +139,7 @@ def main() -> None:
     global WORK, FIXED_POINTS
     scene, method = sys.argv[1], sys.argv[2]
     FIXED_POINTS = sys.argv[3:] == ["fixed"]
+    heavy = sys.argv[3:] == ["rho1000"]
     if FIXED_POINTS:
         WORK = WORK / "ale_fixed_points"
     WORK.mkdir(parents=True, exist_ok=True)
@@ -117,6 +147,11 @@ def main() -> None:
         levels = [32, 64, 128]
         runs = [cylinder_level(method, a) for a in levels]
         hs = [1.0 / a for a in levels]
+    elif scene == "freefall":
+        levels = [32, 64, 128]
+        runs = [freefall_level(method, a, heavy) for a in levels]
+        hs = [1.0 / a for a in levels]
+        scene += "_rho1000" if heavy else ""
     else:
         levels = [1, 2, 4]
         runs = [bird_level(method, f) for f in levels]
