@@ -2,12 +2,13 @@
 refined, against Cole's similitude and the r-z ALE, and the candidates for the excess one at a time.
 
     python docs/studies/underwater_explosion_blast1d.py --series 5e-4 2.5e-4 1.25e-4 6.25e-5
-    python docs/studies/underwater_explosion_blast1d.py --candidates 2.5e-4
+    python docs/studies/underwater_explosion_blast1d.py --viscosity 5e-4 2.5e-4 1.25e-4
+    python docs/studies/underwater_explosion_blast1d.py --candidates 5e-4
     python docs/studies/underwater_explosion_blast1d.py --rz 0.005 0.0025      # the r-z deck, ~1 min CPU
 
 --series: the 1D peak pressure and decay constant theta (peak to peak/e) at RADII per zone size dr (m), the
 observed order and GCI of the three finest (Celik et al. 2008, sphfem_cli.study.metrics.three_grid), and
-the finest against Cole's similitude (W = the sphere's 0.05462 kg). --candidates: at one dr, each candidate's
+the finest against Cole's similitude (W = the sphere's 0.05462 kg). --viscosity: the extrapolated peaks for C_L = 0.06 / 0.3 / 0.6. --candidates: at one dr, each candidate's
 peak over the deck's (the burn, the viscosity's linear coefficient, the water's Gruneisen constants).
 --rz: the r-z deck at element size h, with the solver's linear viscosity Q2 = 0.06 (its default) and 0.3 (the
 1D reference's), on the dense ray of docs/studies/underwater_explosion_axi_vs_3d.py
@@ -80,6 +81,20 @@ def series(levels: list[float]) -> dict:
     return {"series": runs}
 
 
+def viscosity(levels: list[float], radii=(0.06, 0.10, 0.20, 0.30)) -> dict:
+    """The peaks' limit for three linear viscosity coefficients C_L (three levels each, to 0.25 ms)."""
+    out = {}
+    for cl in (0.06, 0.3, 0.6):
+        runs = [run_1d(dr, radii, {"cl": cl, "t_end": 2.5e-4}) for dr in levels]
+        out[f"{cl:g}"] = runs
+        cells = []
+        for k in range(len(radii)):
+            conv = three_grid([r["dr"] for r in runs[-3:]], [r["peak"][k] for r in runs[-3:]])
+            cells.append(f"{conv.extrapolated / 1e6:.1f} ({describe(conv)})")
+        print(f"| {cl:g} | " + " | ".join(cells) + " |", flush=True)
+    return {"viscosity": out}
+
+
 def candidates(dr: float) -> dict:
     out = {}
     for name, change in CANDIDATES.items():
@@ -115,6 +130,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--series", type=float, nargs="*", default=[])
     parser.add_argument("--candidates", type=float, default=None)
+    parser.add_argument("--viscosity", type=float, nargs="*", default=[])
     parser.add_argument("--rz", type=float, nargs="*", default=[])
     parser.add_argument("--q2", type=float, nargs="*", default=[0.06, 0.3], help="r-z linear viscosities")
     parser.add_argument("--json", type=Path, default=Path("study_undex_blast1d.json"))
@@ -122,6 +138,8 @@ def main() -> None:
     data = json.loads(args.json.read_text()) if args.json.exists() else {}
     if args.series:
         data.update(series(args.series))
+    if args.viscosity:
+        data.update(viscosity(args.viscosity))
     if args.candidates:
         data.update(candidates(args.candidates))
     if args.rz:
