@@ -8,8 +8,8 @@ refined, against Cole's similitude and the r-z ALE, and the candidates for the e
 
 --series: the 1D peak pressure and decay constant theta (peak to peak/e) at RADII per zone size dr (m), the
 observed order and GCI of the three finest (Celik et al. 2008, sphfem_cli.study.metrics.three_grid), and
-the finest against Cole's similitude (W = the sphere's 0.05462 kg). --viscosity: the extrapolated peaks for C_L = 0.06 / 0.3 / 0.6. --candidates: at one dr, each candidate's
-peak over the deck's (the burn, the viscosity's linear coefficient, the water's Gruneisen constants).
+the finest against Cole's similitude (W = the sphere's 0.05462 kg). --viscosity: the extrapolated peaks
+for C_L = 0.06 / 0.3 / 0.6. --candidates: at one dr, each candidate's peak over the deck's (the burn, the viscosity's linear coefficient, the water's Gruneisen constants).
 --rz: the r-z deck at element size h, with the solver's linear viscosity Q2 = 0.06 (its default) and 0.3 (the
 1D reference's), on the dense ray of docs/studies/underwater_explosion_axi_vs_3d.py
 (peaks interpolated log-log to RADII_NEAR), beside the 1D at dr = h. Results go to --json (one file per
