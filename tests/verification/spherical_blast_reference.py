@@ -61,6 +61,12 @@ explosion at rho0, E0: p = p_JWL(1, E0)), the limit D -> infinity.
 Swisdak, NSWC TR 76-116 (1978)): P_max = K (W^(1/3)/R)^alpha with K = 52.4 MPa, alpha = 1.13, and
 the decay constant theta = K_t W^(1/3) (W^(1/3)/R)^(alpha_t) with K_t = 84 us, alpha_t = -0.23 (W in
 kg TNT, R in m); theta is measured here as the time from the peak to peak/e.
+
+**Interface.** `setup_from_deck(path)` reads the charge and water; `blast(setup, dr, radii)` returns the
+pressure histories p(t) at fixed radii; `peaks` their peak, its time and theta; `cole_peak`,
+`cole_theta` the similitude; `piston`, `water_hugoniot` and `cj_state` serve the checks
+(tests/verification/test_spherical_blast_reference.py). The study: docs/studies/underwater_explosion_blast1d.py
+and docs/studies/underwater_explosion.md, "The Cole excess: a 1D spherical reference".
 """
 from __future__ import annotations
 
