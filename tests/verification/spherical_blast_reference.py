@@ -29,7 +29,7 @@ Artificial viscosity: von Neumann & Richtmyer (J. Appl. Phys. 21 (1950) 232) qua
 Landshoff's linear term, q = rho (C_Q^2 du^2 - C_L c du) where du = u_j+1 - u_j < 0, else 0
 (C_Q = 1.5 as LS-DYNA's Q1; C_L = 0.3, not its Q2 = 0.06: with 0.06 a planar water shock of 75-370 MPa
 overshoots its Hugoniot pressure by 6-9 % behind the front (`piston`), and a peak read from p keeps that
-overshoot at every resolution; from C_L = 0.25 on it is gone). Step: dt = cfl min_j dr_j / (Q_j + sqrt(Q_j^2 +
+overshoot at every resolution; at C_L = 0.25 it is under 0.2 %, at 0.3 none). Step: dt = cfl min_j dr_j / (Q_j + sqrt(Q_j^2 +
 c_j^2)), Q = C_L c + C_Q^2 |du| (the form of Benson 1992, sec. 3, and of the solver). Inner node: r = 0 held (sphere,
 cylinder) or a driven piston (slab); outer node: a rigid wall placed beyond the reach of the reflected
 wave. Probe pressure at a fixed radius R: the zone pressures p (not p + q) at the zone centres,
