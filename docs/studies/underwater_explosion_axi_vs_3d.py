@@ -53,12 +53,14 @@ def ray_probes(dimension: int, h: float) -> list[dict]:
             for r in radii]
 
 
-def peaks(dimension: int, h: float) -> dict:
-    """Run one deck at element size h; the peak pressure, its time and the e-folding time per sampled R_c."""
+def peaks(dimension: int, h: float, extra: dict | None = None) -> dict:
+    """Run one deck at element size h; the peak pressure, its time and the e-folding time per sampled R_c.
+
+    extra: further deck overrides (docs/studies/underwater_explosion_blast1d.py sets the bulk viscosity)."""
     deck = DECK_3D if dimension == 3 else DECK_RZ
     probes = ray_probes(dimension, h)
     overrides = {"parts.pool.geometry.box.element_size": h, "output.history_interval": 2.0e-7,
-                 "output.interval": 1.0, "output.probes": probes}
+                 "output.interval": 1.0, "output.probes": probes, **(extra or {})}
     cpu = time.process_time()
     result = api.run(deck, WORK / f"{dimension}d_h{h * 1e3:g}mm", overrides, threads=1, overwrite=True)
     cpu = time.process_time() - cpu
