@@ -2,16 +2,21 @@
 
 The peak pressure at the probes falls with distance and is compared with Cole's similitude
 P = 52.4 (W^(1/3)/R)^1.13 MPa (Cole 1948, "Underwater Explosions"; W the charge in kg TNT as
-filled, R in m). Measured on the deck's 10 mm mesh: 1.00, 0.97, 0.80, 0.81 of Cole at
-R = 0.06, 0.10, 0.14, 0.18 m (the coarse mesh smears the shock: the farther probes under-predict).
+filled, R in m). Measured on the deck's 10 mm mesh (two elements per charge radius), Q2 = 0.3: 0.87, 0.81,
+0.65, 0.64 of Cole at R = 0.06, 0.10, 0.14, 0.18 m: the coarse mesh smears the shock and the farther
+probes under-predict (with the default Q2 0.06: 1.00, 0.97, 0.80, 0.81, lifted by the linear viscosity's
+post-shock overshoot, which does not refine away). The converged comparison with Cole is the 1D spherical
+reference's (tests/verification/spherical_blast_reference.py, docs/studies/underwater_explosion.md "The
+Cole excess"): this is a plausibility band for a 10 mm mesh, not a validation.
 
 The r-z twin (decks/underwater_explosion_free_field_axisymmetric_ale.yaml, issue 15) is compared with the
 octant at equal element size. A probe reads the element whose centre is nearest, and no r-z centre lies at
 a 3D diagonal centre's distance, so the twin is sampled along a dense ray (every 5 mm, same direction) and
 its peaks interpolated log-log to the 3D probes' centre distances R_c. Measured (histories every 0.2 us,
-docs/studies/underwater_explosion_axi_vs_3d.py): r-z / 3D = 1.050-1.061 at 10 mm, 1.010-1.024 at 5 mm over
-R_c = 0.043-0.20 m; the gap is discretisation error and closes at about second order (5.5 % -> 1.6 %
-mean). Arrival times agree within 1.4 us at 10 mm, 0.8 us at 5 mm.
+docs/studies/underwater_explosion_axi_vs_3d.py): with Q2 0.06, r-z / 3D = 1.050-1.061 at 10 mm, 1.010-1.024
+at 5 mm over R_c = 0.043-0.20 m; the gap is discretisation error and closes at about second order (5.5 % ->
+1.6 % mean). Arrival times agree within 1.4 us at 10 mm, 0.8 us at 5 mm. Both decks use Q2 = 0.3 since
+December 2026 (the decks' headers): 1.023-1.036 at 10 mm.
 """
 from __future__ import annotations
 
@@ -78,22 +83,27 @@ def test_peak_pressure_falls_with_distance_and_follows_cole(run):
     assert np.all(np.diff(peaks) < 0.0), peaks
     cole = 52.4e6 * (charge ** (1.0 / 3.0) / np.array(RADII)) ** 1.13
     ratio = peaks / cole
-    assert np.all((ratio > 0.7) & (ratio < 1.1)), ratio
+    assert np.all((ratio > 0.55) & (ratio < 1.1)), ratio
 
 
 def test_stable_and_conservative_before_the_shock_leaves(run):
+    """Energy is conserved to round-off until the wave's foot reaches the transmitting sides (0.24 m) at about
+    0.09 ms (measured 1 - 3e-10 at 0.09 ms, 9e-8 at 0.1 ms); after it, energy and water leave through them:
+    at 0.12 ms 2.5e-4 of the energy and 7.3e-5 of the water (Q2 = 0.3 smears the foot over more elements
+    than the default 0.06 did: 3.4e-6 of the water then)."""
     glstat = np.genfromtxt(run / "glstat.csv", delimiter=",", names=True)
-    assert abs(glstat["energy_ratio"][-1] - 1.0) < 1e-4
+    early = glstat["time"] <= 0.09e-3
+    assert np.all(np.abs(glstat["energy_ratio"][early] - 1.0) < 1e-8)
+    assert 0.999 < glstat["energy_ratio"][-1] <= 1.0 + 1e-12
     mat = np.genfromtxt(run / "ale_materials.csv", delimiter=",", names=True)
-    # water crosses the open sides only as the first (acoustic) part of the wave reaches them: 3.4e-6
-    assert abs(mat["mass_water"][-1] / mat["mass_water"][0] - 1.0) < 1e-5
+    assert -1e-3 < mat["mass_water"][-1] / mat["mass_water"][0] - 1.0 <= 1e-12
     assert abs(mat["mass_tnt"][-1] / mat["mass_tnt"][0] - 1.0) < 1e-12
 
 
 def test_axisymmetric_twin_matches_the_octant_at_10mm(run, tmp_path):
-    """Equal element size (10 mm, the shipped decks), histories every 1 us in both. Measured: r-z / 3D
-    1.048, 1.061, 1.049, 1.053 at R_c = 0.061, 0.095, 0.147, 0.182 m (sampled every 0.2 us: 1.053, 1.052,
-    1.058, 1.061). Tolerance 7 %: the 10 mm gap is just over issue 15's 5 %; the 5 mm test below meets it."""
+    """Equal element size (10 mm, the shipped decks), histories every 1 us in both. Measured (Q2 0.3): r-z / 3D
+    1.028, 1.036, 1.029, 1.023 at R_c = 0.061, 0.095, 0.147, 0.182 m (Q2 0.06: 1.048, 1.061, 1.049, 1.053).
+    Tolerance 7 % (set when the 10 mm gap was just over issue 15's 5 %)."""
     ratio = twin_over_solid(run, twin_peaks(tmp_path / "rz", 0.01), 0.01,
                             [f"p_r{round(r * 1000):03d}" for r in RADII], [[r / np.sqrt(3.0)] * 3 for r in RADII])
     print("r-z / 3D at 10 mm:", np.round(ratio, 4))
