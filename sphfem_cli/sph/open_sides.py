@@ -42,7 +42,7 @@ from numba import njit, prange
 
 from .kernel_functions import kernel_f
 from .search import cell_range
-from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_OX, GF_OY, GF_OZ, GI_NX, GI_NY,
+from .slots import (PLANE_NO_SLIP, PLANE_SLIP, D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_OX, GF_OY, GF_OZ, GI_NX, GI_NY,
                     GI_NZ, KIND_FLUID, PLANE_OPEN, SF_ALPHA, SF_BETA, SF_EPS, SI_DIM, SI_KERNEL)
 
 
@@ -165,3 +165,40 @@ def open_slots(perm: np.ndarray, n: int, is_open: np.ndarray, gsrc: np.ndarray) 
     src = np.unique(gsrc[is_open])
     slots = slot_of[src]
     return point_open, np.sort(slots[slots >= 0])
+
+
+CONDITION_CODES = {"slip": PLANE_SLIP, "wall_function": PLANE_SLIP, "no_slip": PLANE_NO_SLIP,
+                   "non_reflecting": PLANE_OPEN}
+
+
+def ghost_planes(walls, dim: int) -> np.ndarray:
+    """The ghost planes of ``walls`` (``system.Wall``s), (nw, 7): axis, position, side, condition code
+    (``CONDITION_CODES``), source point (padded to 3; NaN: none)."""
+    rows = []
+    for w in walls:
+        if w.axis >= dim:
+            raise ValueError("wall axis beyond the dimension")
+        src = (np.nan,) * 3
+        if w.source is not None:
+            if len(w.source) != dim:
+                raise ValueError("a non_reflecting side's source needs one coordinate per dimension")
+            src = tuple(w.source) + (0.0,) * (3 - dim)
+        rows.append([w.axis, w.position, w.side, CONDITION_CODES[w.condition], *src])
+    return np.array(rows, dtype=np.float64).reshape(-1, 7)
+
+
+def domain_bounds(domain, open_planes: np.ndarray, dim: int) -> tuple[np.ndarray, np.ndarray, bool]:
+    """(lo, hi, used) of the box outside which particles are deactivated: ``domain`` ((lo, hi) or None)
+    cut by the open sides (a particle crossing one leaves), unbounded where neither bounds it."""
+    if domain is None and not len(open_planes):
+        return np.zeros(dim), np.zeros(dim), False
+    if domain is not None:
+        lo, hi = (np.array(b, dtype=np.float64).reshape(dim) for b in domain)
+    else:
+        lo, hi = np.full(dim, -np.inf), np.full(dim, np.inf)
+    for ax, pos, side in open_planes[:, :3]:
+        if side > 0:
+            lo[int(ax)] = max(lo[int(ax)], pos)
+        else:
+            hi[int(ax)] = min(hi[int(ax)], pos)
+    return lo, hi, True

@@ -220,18 +220,9 @@ class SphSystem:
         if opt.gravity is not None:
             g = np.asarray(opt.gravity, dtype=np.float64).reshape(-1)
             self.gravity[: len(g)] = g
-        # ghost planes (walls.make_ghosts): axis, position, side, condition code, source point (NaN: none);
-        # self.walls: the walls among them, which mirror back the particles that cross them
-        code = {"slip": sl.PLANE_SLIP, "wall_function": sl.PLANE_SLIP, "no_slip": sl.PLANE_NO_SLIP,
-                "non_reflecting": sl.PLANE_OPEN}
-        self._planes = np.array([[w.axis, w.position, w.side, code[w.condition],
-                                  *(np.pad(np.asarray(w.source, dtype=np.float64), (0, 3 - len(w.source)))
-                                    if w.source is not None else (np.nan,) * 3)]
-                                 for w in opt.walls], dtype=np.float64).reshape(-1, 7)
-        if np.any(self._planes[:, 0] >= dim):
-            raise ValueError("wall axis beyond the dimension")
-        if any(w.source is not None and len(w.source) != dim for w in opt.walls):
-            raise ValueError("a non_reflecting side's source needs one coordinate per dimension")
+        # ghost planes (walls.make_ghosts; open_sides.ghost_planes); self.walls: the walls among them, which
+        # mirror back the particles that cross them; the open sides bound the domain
+        self._planes = open_sides.ghost_planes(opt.walls, dim)
         is_open = self._planes[:, 3] == sl.PLANE_OPEN
         self.walls = np.ascontiguousarray(self._planes[~is_open, :4])
         self._open_planes = self._planes[is_open]
@@ -242,17 +233,7 @@ class SphSystem:
         for s in range(1, nsub):
             axes = [int(self._planes[w, 0]) for w in range(len(self._planes)) if s >> w & 1]
             self._valid[s] = len(axes) == len(set(axes))
-        if opt.domain is not None or len(self._open_planes):
-            lo, hi = ((np.asarray(b, dtype=np.float64).reshape(dim) for b in opt.domain) if opt.domain is not None
-                      else (np.full(dim, -np.inf), np.full(dim, np.inf)))
-            for ax, pos, side in self._open_planes[:, :3]:  # a particle crossing an open side leaves
-                if side > 0:
-                    lo[int(ax)] = max(lo[int(ax)], pos)
-                else:
-                    hi[int(ax)] = min(hi[int(ax)], pos)
-            self._dom_lo, self._dom_hi, self._use_domain = lo, hi, True
-        else:
-            self._dom_lo, self._dom_hi, self._use_domain = np.zeros(dim), np.zeros(dim), False
+        self._dom_lo, self._dom_hi, self._use_domain = open_sides.domain_bounds(opt.domain, self._open_planes, dim)
         # open sides: each particle's far pressure (its pressure at the first evaluation) and the impulse
         # int (p - p_far) dt of the Bayliss-Turkel term (sph.open_sides); the power of their ghosts
         self.p_far = np.zeros(n)
