@@ -116,12 +116,14 @@ class SolidOptions(Options):
 
 @dataclass(frozen=True)
 class SphWall(Options):
-    """A ghost-particle `wall` boundary: sides of the box min..max, tangential `condition`."""
+    """A ghost-particle `wall` boundary: sides of the box min..max, `condition` (tangential, or a
+    non_reflecting open side with the waves' `source` point)."""
 
     min: tuple[float, ...]
     max: tuple[float, ...]
     sides: tuple[str, ...]
     condition: str
+    source: tuple[float, ...] | None = None
 
 
 @dataclass(frozen=True)
@@ -360,7 +362,8 @@ def _sph_options(deck, model, detonations) -> SphDomainOptions:
         continuity=section.continuity, diffusion_hydrostatic=section.diffusion_hydrostatic, ghost_hydrostatic=section.ghost_hydrostatic,
         pressure_cutoff=section.pressure_cutoff,
         domain=None if section.domain is None else (_vec(section.domain.min), _vec(section.domain.max)),
-        walls=tuple(SphWall(_vec(bc.min), _vec(bc.max), tuple(bc.sides), bc.condition)
+        walls=tuple(SphWall(_vec(bc.min), _vec(bc.max), tuple(bc.sides), bc.condition,
+                            None if bc.source is None else _vec(bc.source))
                     for bc in deck.boundaries if isinstance(bc, WallBoundary)),
         gravity=gravity,
         initial_velocity=tuple((ic.part, _vec(ic.velocity)) for ic in deck.initial

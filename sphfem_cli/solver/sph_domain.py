@@ -30,7 +30,7 @@ class SphDomain(Domain):
         ps_model = model.particles
         walls = []
         for w in options.walls:
-            walls += box_walls(w.min, w.max, w.sides, w.condition)
+            walls += box_walls(w.min, w.max, w.sides, w.condition, w.source)
         sph_options = SphOptions(
             kernel=options.kernel, smoothing_ratio=options.smoothing_ratio,
             alpha=options.alpha, beta=options.beta, eps=options.epsilon, delta=options.density_diffusion,
@@ -99,10 +99,10 @@ class SphDomain(Domain):
                 "SPH internal energy": ps.e, "SPH pressure": ps.p}
 
     def energies(self) -> Energies:
-        """Kinetic, internal, the work done on the particles by gravity, f_ext and dummy walls, and
-        the energy carried off by lost particles."""
+        """Kinetic, internal, the work done on the particles by gravity, f_ext, dummy walls and the
+        non-reflecting sides (minus what they radiated), and the energy carried off by lost particles."""
         e = self.system.energies()
-        work = self.potential0 - e["potential"] + e["external_work"] - e["wall"]
+        work = self.potential0 - e["potential"] + e["external_work"] - e["wall"] - e["open"]
         return Energies(e["kinetic"], e["internal"], 0.0, work, e["lost"])
 
     def part_energies(self, part: int) -> tuple[float, float]:

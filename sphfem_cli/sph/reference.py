@@ -93,6 +93,8 @@ def rates_reference(x, v, rho, e, m, mat, params, opt, wall=None):
     Returns dict with acc (N, dim), drho, de, xsph (N, dim), p, c, h.
     """
     n, dim = x.shape
+    if any(w.condition == "non_reflecting" for w in opt.walls):
+        raise ValueError("the reference rates have no non-reflecting open sides (sph.open_sides)")
     kern = {"cubic_spline": CUBIC_SPLINE, "wendland_c2": WENDLAND_C2}[opt.kernel]
     g = np.zeros(3)
     if opt.gravity is not None:

@@ -21,6 +21,10 @@ KIND_FLUID = 0
 KIND_GHOST = 1
 KIND_WALL = 2
 
+# the condition code of a ghost plane (column 3 of the planes array of walls.make_ghosts): a slip or
+# no-slip wall, or a non-reflecting open side (sph/open_sides.py)
+PLANE_SLIP, PLANE_NO_SLIP, PLANE_OPEN = 0.0, 1.0, 2.0
+
 # columns of the sorted data array sd: vx, vy, vz, rho, V = m/rho, p/rho^2, c, mat*4+kind
 D_VX, D_VY, D_VZ, D_RHO, D_VOL, D_PR, D_C, D_MK = 0, 1, 2, 3, 4, 5, 6, 7
 ND = 8

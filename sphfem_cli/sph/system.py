@@ -26,7 +26,7 @@ import numpy as np
 
 from ..materials import kernels as mk
 from ..materials import slots as ms
-from . import eos, expansion, integration, rates, search, walls
+from . import eos, expansion, integration, open_sides, rates, search, walls
 from . import slots as sl
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2
 
@@ -40,30 +40,40 @@ class Wall:
     ``side`` = +1 when the fluid lies on x[axis] > position (e.g. a floor or a left wall),
     -1 when it lies below (a right wall, a ceiling). ``condition``: "slip" mirrors the normal
     velocity only; "no_slip" reverses the whole velocity (wall at rest); "wall_function" has slip
-    ghosts and the smooth-wall law's shear on the first particle layer (``walls.wall_shear``).
+    ghosts and the smooth-wall law's shear on the first particle layer (``walls.wall_shear``);
+    "non_reflecting" is no wall but an open side: particles crossing it leave the fluid, its ghosts
+    carry the impedance condition's pressure (``sph.open_sides``), for waves from ``source`` (a point,
+    the centre of a spherical / cylindrical wave) or, without one, plane waves at normal incidence.
     """
 
     axis: int
     position: float
     side: int = 1
     condition: str = "slip"
+    source: tuple | None = None
 
     def __post_init__(self):
         if self.side not in (1, -1):
             raise ValueError(f"wall side must be +1 or -1, got {self.side}")
-        if self.condition not in ("slip", "no_slip", "wall_function"):
-            raise ValueError(f"wall condition must be 'slip', 'no_slip' or 'wall_function', got {self.condition!r}")
+        if self.condition not in ("slip", "no_slip", "wall_function", "non_reflecting"):
+            raise ValueError("wall condition must be 'slip', 'no_slip', 'wall_function' or 'non_reflecting', "
+                             f"got {self.condition!r}")
+        if self.source is not None and self.condition != "non_reflecting":
+            raise ValueError("only a non_reflecting side takes a source")
 
 
-def box_walls(lo: Sequence[float], hi: Sequence[float], sides: Sequence[str], condition: str = "slip") -> list[Wall]:
+def box_walls(lo: Sequence[float], hi: Sequence[float], sides: Sequence[str], condition: str = "slip",
+              source: Sequence[float] | None = None) -> list[Wall]:
     """Walls on the named faces of the box [lo, hi]: 'left'/'right' (x), 'bottom'/'top' (y),
-    'back'/'front' (z); in 2D 'bottom'/'top' are y, in 1D 'left'/'right' are x."""
+    'back'/'front' (z); in 2D 'bottom'/'top' are y, in 1D 'left'/'right' are x. ``source``:
+    non_reflecting sides only (``Wall``)."""
     faces = {"left": (0, 0, 1), "right": (0, 1, -1), "bottom": (1, 0, 1), "top": (1, 1, -1),
              "back": (2, 0, 1), "front": (2, 1, -1)}
     out = []
     for s in sides:
         axis, which, side = faces[s]
-        out.append(Wall(axis, float((lo, hi)[which][axis]), side, condition))
+        out.append(Wall(axis, float((lo, hi)[which][axis]), side, condition,
+                        None if source is None else tuple(float(v) for v in source)))
     return out
 
 
@@ -76,7 +86,7 @@ class SphOptions:
     coefficient, 0 = off [0.0]; delta_hydrostatic: subtract the hydrostatic density difference
     in the diffusion (Fourtakas-type, linearised) [False]; xsph: XSPH coefficient, 0 = off [0.0];
     pressure_cutoff: lowest pressure a particle carries (cavitation) [-inf]; dilatational_viscosity mu' [0.0];
-    walls: ghost-particle walls [()]; ghost_hydrostatic: add the hydrostatic increments
+    walls: ghost-particle walls and non-reflecting open sides [()]; ghost_hydrostatic: add the hydrostatic increments
     dp = rho g.(x_ghost - x) and drho = dp/c^2 to the ghost's pressure and density [False, the
     paper's plain mirror]; domain: (lo, hi) box outside which particles are
     deactivated [None]; gravity: body acceleration [zero]; cfl, force_factor, viscous_factor:
@@ -210,22 +220,27 @@ class SphSystem:
         if opt.gravity is not None:
             g = np.asarray(opt.gravity, dtype=np.float64).reshape(-1)
             self.gravity[: len(g)] = g
-        self.walls = np.array([[w.axis, w.position, w.side, 1.0 if w.condition == "no_slip" else 0.0]
-                               for w in opt.walls], dtype=np.float64).reshape(-1, 4)
-        if np.any(self.walls[:, 0] >= dim):
-            raise ValueError("wall axis beyond the dimension")
+        # ghost planes (walls.make_ghosts; open_sides.ghost_planes); self.walls: the walls among them, which
+        # mirror back the particles that cross them; the open sides bound the domain
+        self._planes = open_sides.ghost_planes(opt.walls, dim)
+        is_open = self._planes[:, 3] == sl.PLANE_OPEN
+        self.walls = np.ascontiguousarray(self._planes[~is_open, :4])
+        self._open_planes = self._planes[is_open]
         self.wall_function_walls = np.array([[w.axis, w.position, w.side] for w in opt.walls
                                              if w.condition == "wall_function"], dtype=np.float64).reshape(-1, 3)
-        nsub = 1 << len(self.walls)
+        nsub = 1 << len(self._planes)
         self._valid = np.zeros(nsub, dtype=np.bool_)
         for s in range(1, nsub):
-            axes = [int(self.walls[w, 0]) for w in range(len(self.walls)) if s >> w & 1]
+            axes = [int(self._planes[w, 0]) for w in range(len(self._planes)) if s >> w & 1]
             self._valid[s] = len(axes) == len(set(axes))
-        if opt.domain is not None:
-            lo, hi = (np.asarray(b, dtype=np.float64).reshape(dim) for b in opt.domain)
-            self._dom_lo, self._dom_hi, self._use_domain = lo, hi, True
-        else:
-            self._dom_lo, self._dom_hi, self._use_domain = np.zeros(dim), np.zeros(dim), False
+        self._dom_lo, self._dom_hi, self._use_domain = open_sides.domain_bounds(opt.domain, self._open_planes, dim)
+        # open sides: each particle's far pressure (its pressure at the first evaluation) and the impulse
+        # int (p - p_far) dt of the Bayliss-Turkel term (sph.open_sides); the power of their ghosts
+        self.p_far = np.zeros(n)
+        self.impulse = np.zeros(n)
+        self.open_power = np.zeros(n)
+        self.open_energy = 0.0
+        self._k_wave = {1: 0.0, 2: 0.5, 3: 1.0}[dim]
 
         wp = wall_particles
         if wp is not None:
@@ -352,7 +367,7 @@ class SphSystem:
         if np.array_equal(order, np.arange(self.n)):
             return
         for name in ("x", "v", "v_half", "m", "rho", "rho_half", "e", "e_half", "mat", "active", "ids",
-                     "h", "p", "c", "acc", "drho", "de", "xsph", "f_ext"):
+                     "h", "p", "c", "acc", "drho", "de", "xsph", "f_ext", "p_far", "impulse", "open_power"):
             arr = getattr(self, name)
             arr[...] = arr[order]  # in place: references held by callers stay valid
 
@@ -367,12 +382,17 @@ class SphSystem:
         opt = self.options
         if len(self.wall_h):
             hmax = max(hmax, self._wall_hmax)
-        if len(self.walls):
+        if len(self._planes):
             gpos, gvel, gflip, gsrc, gdp, gdr = walls.make_ghosts(
-                self.x, self.v, self.rho, self.c, self.active, self.walls, self._valid, 2.0 * hmax, self.gravity,
+                self.x, self.v, self.rho, self.c, self.active, self._planes, self._valid, 2.0 * hmax, self.gravity,
                 bool(opt.ghost_hydrostatic))
         else:
             gpos, gvel, gflip, gsrc, gdp, gdr = self._no_ghosts
+        ghost_open = np.zeros(len(gsrc), dtype=np.bool_)
+        if len(self._open_planes):
+            open_sides.open_ghost_state(self.x, self.p, self.rho, self.c, self.p_far, self.impulse, gpos, gvel, gsrc,
+                                        gdp, gdr, self._planes, self._k_wave, self.gravity,
+                                        float(opt.pressure_cutoff), ghost_open)
         if self.axisymmetric:  # the ghosts' source radius, read by sph.axisymmetric (third column unused in 2D)
             gvel[:, 2] = self.x[gsrc, 0]
         # the last sx and sd, reused (search.sort_points); a checkpoint holds them, so a restart reuses them too
@@ -392,7 +412,7 @@ class SphSystem:
             friction_slots = np.sort(slot_of[np.unique(gsrc[stuck])])
         return {"perm": perm, "cell_start": cell_start, "sx": sx, "sd": sd, "sreach": sreach, "n_ghost": len(gsrc),
                 "ghost_source": gsrc, "grid_f": self.grid_f.copy(), "grid_i": self.grid_i.copy(),
-                "svf": svf, "friction_slots": friction_slots}
+                "svf": svf, "friction_slots": friction_slots, "ghost_open": ghost_open}
 
     def compute_rates(self) -> None:
         """Neighbour search and every rate at the current state (x, v, rho, e).
@@ -410,7 +430,10 @@ class SphSystem:
         if opt.reorder_every and self._sorted is not None and (
                 self._evaluations % opt.reorder_every == 0 or self._evaluations == 1):
             self._reorder()
-        pts = self._build_points(self._update_state())
+        hmax = self._update_state()
+        if self._evaluations == 0:
+            self.p_far[:] = self.p  # the open sides' far field: the state the run starts from
+        pts = self._build_points(hmax)
         sx, sd, perm, cs, sr = pts["sx"], pts["sd"], pts["perm"], pts["cell_start"], pts["sreach"]
         sf, si, gf, gi = self.settings_f, self.settings_i, self.grid_f, self.grid_i
         if len(self.wall_x):
@@ -435,6 +458,11 @@ class SphSystem:
         if pts["friction_slots"].size and (self.options.alpha or self.options.beta):
             walls.ghost_friction(sx, sd, pts["svf"], pts["friction_slots"], perm, cs, sr, sf, si, gf, gi, self.acc,
                                  self.de)
+        if len(self._open_planes):
+            self.open_power[:] = 0.0
+            sopen, slots = open_sides.open_slots(perm, self.n, pts["ghost_open"], pts["ghost_source"])
+            if slots.size:
+                open_sides.open_side_power(sx, sd, sopen, slots, perm, cs, sr, sf, si, gf, gi, self.open_power)
         if len(self.wall_function_walls):
             walls.wall_shear(self.x, self.v, self.rho, self.m, self.mat, self.active, self.params,
                              self.wall_function_walls, self.acc, self.de)
@@ -475,6 +503,11 @@ class SphSystem:
         self.external_work += work
         if len(self.wall_x):  # the dummy walls' share of the pair work, weighted as the kicks weigh de
             self.wall_energy += 0.5 * (self._dt_prev + dt) * float(np.sum(self.wall_power))
+        if len(self._open_planes):  # radiated through the open sides, weighted as the kicks weigh the rates
+            self.open_energy -= 0.5 * (self._dt_prev + dt) * float(np.sum(self.open_power))
+            if not np.all(np.isnan(self._open_planes[:, 4])):  # the Bayliss-Turkel impulse, p at step n
+                a = self.active
+                self.impulse[a] += dt * (self.p[a] - self.p_far[a])
         self.wall_crossings += nref
         if nlost:
             self.lost += nlost
@@ -511,14 +544,17 @@ class SphSystem:
     def energies(self) -> dict:
         """Kinetic, internal and gravitational potential energy of the active particles, the external
         work of ``f_ext``, the energy carried away by deactivated particles and the energy the dummy
-        walls absorbed (``wall``: their half of the fluid-wall pair work, see ``rates.fluid_rates``)."""
+        walls absorbed (``wall``: their half of the fluid-wall pair work, see ``rates.fluid_rates``) and the
+        energy radiated through non-reflecting open sides (``open``: minus the work of their ghosts,
+        ``open_sides.open_side_power``)."""
         a = self.active
         m = self.m[a]
         ke = 0.5 * float(np.sum(m * np.sum(self.v[a] ** 2, axis=1)))
         ie = float(np.sum(m * self.e[a]))
         pe = -float(np.sum(m * (self.x[a] @ self.gravity[: self.dim])))
         return {"kinetic": ke, "internal": ie, "potential": pe, "external_work": self.external_work,
-                "lost": self.lost_energy, "wall": self.wall_energy, "total": ke + ie + pe}
+                "lost": self.lost_energy, "wall": self.wall_energy, "open": self.open_energy,
+                "total": ke + ie + pe}
 
     def momentum(self) -> np.ndarray:
         """Total linear momentum of the active particles."""

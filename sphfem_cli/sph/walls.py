@@ -20,6 +20,7 @@ from ..materials.slots import P_VISCOSITY, Q_E0
 from .eos import density_from_pressure, sound_speed
 from .kernel_functions import inv_pow, kernel_shape, kernel_f, kernel_sigma
 from .rates import _FM
+from .slots import PLANE_NO_SLIP, PLANE_OPEN
 from .search import cell_range
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
                     GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, SF_ALPHA, SF_BETA, SF_EPS, SF_GX,
@@ -41,7 +42,8 @@ def count_ghosts(x, active, walls, valid, reach, counts):
     """Number of mirror images of each particle: one per valid subset of the walls it is near.
 
     ``walls`` (nw, 4): axis, position, side (+1 fluid where x[axis] > position, -1 below),
-    no-slip flag. ``valid[s]`` is true for wall subsets ``s`` (bit masks) with at most one wall
+    condition code (``PLANE_SLIP``, ``PLANE_NO_SLIP``, ``PLANE_OPEN``: a non-reflecting open side,
+    ``sph/open_sides.py``). ``valid[s]`` is true for wall subsets ``s`` (bit masks) with at most one wall
     per axis (a corner image is the mirror through both walls of the corner).
     """
     for i in range(x.shape[0]):
@@ -63,6 +65,8 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
     Position mirrored through each wall of the subset. Velocity: the free-slip mirror (normal
     component reversed) on every wall, slip or no-slip: that is the velocity the continuity,
     pressure and delta-SPH terms see, so a wall is impermeable without being a source of volume.
+    Through an open side (code ``PLANE_OPEN``) the velocity is copied, not mirrored (zero-gradient
+    extrapolation; ``open_sides.open_ghost_state`` then sets the pressure of such ghosts).
     ``gflip`` holds the factors (+-1 per component) that turn it into the no-slip velocity
     (whole vector reversed per no-slip wall, wall at rest) which the viscous terms see
     (``ghost_friction``, ``viscous_stress``): the tangential components are negated once per
@@ -91,16 +95,17 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
                 if s & (1 << w):
                     ax = int(walls[w, 0])
                     pos2 = 2.0 * walls[w, 1]
-                    noslip = walls[w, 3] != 0.0
+                    noslip = walls[w, 3] == PLANE_NO_SLIP
+                    flip = -1.0 if walls[w, 3] != PLANE_OPEN else 1.0
                     if ax == 0:
                         p0 = pos2 - p0
-                        u0 = -u0
+                        u0 = flip * u0
                     elif ax == 1:
                         p1 = pos2 - p1
-                        u1 = -u1
+                        u1 = flip * u1
                     else:
                         p2 = pos2 - p2
-                        u2 = -u2
+                        u2 = flip * u2
                     if noslip:
                         f0 = f0 if ax == 0 else -f0
                         f1 = f1 if ax == 1 else -f1

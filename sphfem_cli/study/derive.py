@@ -356,15 +356,21 @@ _FACES = {"left": (0, 0), "right": (0, 1), "bottom": (1, 0), "top": (1, 1)}
 
 
 def _boundaries(out: dict, info: AleInfo, section: str, dx: float) -> None:
-    """ale_boundary -> SPH walls (slip / no_slip) and, for transmit and non_reflecting sides, the section's domain."""
+    """ale_boundary -> SPH walls (slip / no_slip), non_reflecting sides -> SPH non_reflecting sides (their
+    `source` kept: the same impedance condition, sph/open_sides.py) and transmit sides -> the section's
+    domain (particles leaving it are deactivated: a free surface, as before; the ALE transmit side's zero
+    gradient has no SPH counterpart)."""
     kept, transmit, walls = [], set(), {"slip": [], "no_slip": []}
+    open_sides: list[tuple[list[str], list | None]] = []
     for bc in out.get("boundaries", []):
         if bc.get("type") != "ale_boundary" or bc.get("part") != info.name:
             kept.append(bc)
             continue
         condition = bc.get("condition", "slip")
-        if condition in ("transmit", "non_reflecting"):
+        if condition == "transmit":
             transmit.update(bc["sides"])
+        elif condition == "non_reflecting":
+            open_sides.append((list(bc["sides"]), bc.get("source")))
         else:
             walls["slip" if condition == "slip" else "no_slip"] += [s for s in bc["sides"] if s not in walls["slip"]
                                                                      and s not in walls["no_slip"]]
@@ -372,9 +378,15 @@ def _boundaries(out: dict, info: AleInfo, section: str, dx: float) -> None:
     for condition, sides in walls.items():
         if sides:
             kept.append({"type": "wall", "min": lo, "max": hi, "sides": sides, "condition": condition})
+    for sides, source in open_sides:
+        side = {"type": "wall", "min": lo, "max": hi, "sides": sides, "condition": "non_reflecting"}
+        if source is not None:
+            side["source"] = [float(v) for v in source]
+        kept.append(side)
     out["boundaries"] = kept
     if transmit:
-        # Deactivate particles leaving through transmitting sides; elsewhere leave room for the walls.
+        # Deactivate particles leaving through transmitting sides; elsewhere leave room for the walls
+        # (a non_reflecting side bounds the particles itself).
         dlo, dhi = list(lo), list(hi)
         for side, (axis, which) in _FACES.items():
             if side in transmit:

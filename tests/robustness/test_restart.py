@@ -106,6 +106,30 @@ boundaries:
   - {type: ale_boundary, part: pool, sides: [right, top], condition: non_reflecting, source: [0.0, 0.0]}
 output: {interval: 2.0e-5, history_interval: 2.0e-6, probes: [{name: p, type: pressure, point: [0.0475, 0.0025]}]}
 """,
+    "sph_open": """
+title: TNT in SPH water with non-reflecting sides (restart test)
+units: {length: m, mass: kg, time: s}
+dimension: 2
+control: {end_time: 8.0e-5, energy_band: null}
+equations_of_state:
+  tnt: {type: jwl, A: 3.712e11, B: 3.231e9, R1: 4.15, R2: 0.95, omega: 0.30, e0: 7.0e9}
+  water: {type: gruneisen, c: 1480.0, s1: 1.92, gamma0: 0.28}
+materials:
+  tnt: {type: high_explosive, density: 1630.0, detonation_velocity: 6930.0, eos: tnt}
+  water: {type: fluid, density: 1000.0, eos: water}
+detonations: [{point: [0.0, 0.0], time: 0.0}]
+sections:
+  fluid: {type: sph, pressure_cutoff: -1.0e5}
+parts:
+  water: {material: water, section: fluid, spacing: 0.004,
+          geometry: {polygon: {vertices: [[0.012, 0.0], [0.06, 0.0], [0.06, 0.06], [0.0, 0.06], [0.0, 0.012],
+                                          [0.012, 0.012]]}}}
+  charge: {material: tnt, section: fluid, spacing: 0.004, geometry: {box: {min: [0.0, 0.0], max: [0.012, 0.012]}}}
+boundaries:
+  - {type: wall, min: [0.0, 0.0], max: [0.06, 0.06], sides: [left, bottom], condition: slip}
+  - {type: wall, min: [0.0, 0.0], max: [0.06, 0.06], sides: [right, top], condition: non_reflecting, source: [0.0, 0.0]}
+output: {interval: 2.0e-5, history_interval: 2.0e-6, probes: [{name: p, type: pressure, point: [0.05, 0.002]}]}
+""",
     "axi_sph": """
 title: r-z SPH water column falling on an elastic disc (restart test)
 units: {length: m, mass: kg, time: s}
@@ -163,13 +187,14 @@ output: {interval: 5.0e-5, history_interval: 1.0e-5}
 @pytest.mark.parametrize("kind, stop_step", [("solid", 333), ("sph", 97), ("ale", 71),
                                              ("fsi_sph", 31), ("fsi_ale", 7),
                                              ("axi_ale", 9), ("axi_sph", 11), ("ale_3d_smoothed", 13),
-                                             ("ale_open", 60)])
+                                             ("ale_open", 60), ("sph_open", 200)])
 def test_restart_is_bit_identical(tmp_path, monkeypatch, kind, stop_step):
     """fsi_sph has a nodes_to_surface contact, fsi_ale a lagrange_in_solid coupling (their state and work
     travel in the checkpoint too); axi_ale and axi_sph are the same in r-z (rings, the axis);
     ale_3d_smoothed a moving hex8 mesh (the mesh mover's stencil and sliding sets are rebuilt, the
     mesh restored); ale_open non-reflecting sides with a source (their radiation impulses, by then
-    non-zero, travel in the checkpoint)."""
+    non-zero, travel in the checkpoint); sph_open its SPH twin (the particles' far pressures and impulses,
+    the radiated energy)."""
     text = (FUZZ / f"{kind}.yaml").read_text() if kind.startswith("fsi") else INLINE.get(kind)
     deck = decks.write(tmp_path, kind, text)
     code, text = _run(deck, "-o", tmp_path / "whole")

@@ -128,6 +128,22 @@ def test_boundaries_and_couplings_are_translated():
     Deck.model_validate(out)  # a valid deck
 
 
+def test_non_reflecting_sides_stay_non_reflecting():
+    """An ALE non_reflecting side (with its source) becomes the SPH non-reflecting side, not a domain end."""
+    bcs = [{"type": "ale_boundary", "part": "tank", "sides": ["left", "right", "bottom"],
+            "condition": "non_reflecting", "source": [0.5, 0.3]},
+           {"type": "ale_boundary", "part": "tank", "sides": ["top"], "condition": "slip"}]
+    data = _scene([{"material": "gas", "box": {"min": [0.0, 0.0], "max": [0.3, 0.3]}}], bcs)
+    out = derive.sph_variant(data, 1).data
+    walls = {w["condition"]: w for w in out["boundaries"] if w["type"] == "wall"}
+    assert walls["non_reflecting"]["sides"] == ["left", "right", "bottom"]
+    assert walls["non_reflecting"]["source"] == [0.5, 0.3]
+    assert walls["non_reflecting"]["min"] == [0.0, 0.0] and walls["non_reflecting"]["max"] == [1.0, 0.6]
+    assert walls["slip"]["sides"] == ["top"]
+    assert "domain" not in out["sections"]["sph"]  # the open sides bound the particles themselves
+    Deck.model_validate(out)
+
+
 def test_ale_variant_and_bad_decks():
     data = _scene([])
     d = derive.ale_variant(data, 0.05)

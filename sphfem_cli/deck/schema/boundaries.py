@@ -77,10 +77,13 @@ class PrescribedVelocity(Target):
 
 
 class WallBoundary(DeckModel):
-    """Planar walls on sides of a box for SPH particles, modelled by ghost (mirror) particles.
+    """Planar walls on sides of a box for SPH particles, modelled by ghost (mirror) particles, or
+    non-reflecting open sides.
 
     Ghosts carry the mirrored particle's density and pressure (the paper's method); "slip" mirrors
-    the normal velocity, "no_slip" the whole velocity.
+    the normal velocity, "no_slip" the whole velocity. A "non_reflecting" side is open: particles
+    crossing it leave, and its ghosts carry the copied velocity and the impedance condition's pressure
+    (the ALE solver's `non_reflecting`, docs/theory/sph.md "Non-reflecting open sides").
     """
 
     type: Literal["wall"] = Field(description="Boundary selector: SPH ghost-particle walls.")
@@ -89,15 +92,27 @@ class WallBoundary(DeckModel):
     sides: list[Literal["left", "right", "bottom", "top", "back", "front"]] = Field(
         min_length=1, description="Which sides are walls: left/right (x), bottom/top (y), back/front (z)."
     )
-    condition: Literal["slip", "no_slip", "wall_function"] = Field(
+    condition: Literal["slip", "no_slip", "wall_function", "non_reflecting"] = Field(
         "slip", description="Tangential condition: slip (mirror of the normal velocity), no_slip (the whole "
         "velocity mirrored: the artificial viscosity acts on the wall over the kernel support), wall_function "
         "(slip ghosts plus the smooth-wall law's shear rho u_tau^2 on the first particle layer, from the "
-        "material's viscosity; none for an inviscid one). Default slip.")
+        "material's viscosity; none for an inviscid one), non_reflecting (no wall: an open side; particles "
+        "crossing it leave the fluid, and its ghosts, the mirror images of the particles near it, carry their "
+        "velocity and the pressure p_far + rho c u_n, p_far the pressure the source particle started with plus "
+        "the hydrostatic increment: a plane acoustic wave leaves at normal incidence without reflection, "
+        "Lysmer & Kuhlemeyer 1969, as the ALE solver's non_reflecting sides; no particle enters). Default slip.")
+    source: Vector | None = Field(
+        None, description="non_reflecting: the centre of the waves the side lets out (a charge's centre) [length]. "
+        "With it the ghosts' pressure is p_far + rho c u_r - k (c / r) int (p - p_far) dt, r and u_r the distance "
+        "from the source and the radial velocity at the ghost, the integral the source particle's pressure excess "
+        "since t = 0, k = 1/2 in plane 2D (a cylindrical wave), 1 in 3D (Bayliss & Turkel 1980): the side absorbs "
+        "such a wave at any incidence. Default none: a plane wave at normal incidence.")
 
     @model_validator(mode="after")
     def _volume(self) -> "WallBoundary":
         check_extent(self.min, self.max, "the walls' box")
+        if self.source is not None and self.condition != "non_reflecting":
+            raise ValueError("@source: only non_reflecting sides take 'source'")
         return self
 
 
