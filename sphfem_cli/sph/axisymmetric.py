@@ -72,8 +72,9 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_sigma
-from .search import neighbour_list
+from .expansion import renormalised_divergence
+from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_f, kernel_sigma
+from .search import cell_range, neighbour_list
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GI_NX,
                     GI_NY, KIND_FLUID, KIND_GHOST, KIND_WALL, SF_ALPHA, SF_BETA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
                     SI_DELTA_HYDROSTATIC, SI_KERNEL, SI_CONTINUITY, CONTINUITY_MASS)
@@ -257,3 +258,85 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i
             de[i] = work - hoop * (kap * ui + kapz * vi)
             xsph[i, 0] = exsph * sxu
             xsph[i, 1] = exsph * sxv
+
+
+@njit(cache=True)
+def renormalise_ring_continuity(sx, sd, perm, cell_start, sreach, settings_i, grid_f, grid_i, flag, drho):
+    """The renormalised continuity of explosive products (``expansion.py``) in the areal r-z form.
+
+    The r-z divergence is the meridian-plane one plus the hoop term, div v = dv_r/dr + dv_z/dz + v_r/r.
+    ``axisymmetric_rates`` put in drho_i the plain estimate rho_i sum_j A_j v_ij . grad_i W_ij of
+    -rho_i (dv_r/dr + dv_z/dz) and the exact hoop term -rho_i v_r,i / r_i. For every fluid slot whose
+    particle ``perm[k]`` has ``flag`` set, the first is replaced by -rho_i tr(G_i M_i^-1) with
+
+        G_i = sum_j A_j (v_j - v_i) (x) grad_i W_ij,   M_i = sum_j A_j (x_j - x_i) (x) grad_i W_ij
+
+    over the particles and ghosts within 2 h_ij (A_j = V_j / (2 pi r_j), r_j the source's radius, as in
+    ``axisymmetric_rates``; the plane 2D kernel), so that
+
+        drho_i/dt = -rho_i (tr(G_i M_i^-1) + v_r,i / r_i)  (+ delta-SPH, unchanged).
+
+    The hoop term is the particle's own v_r/r, not renormalised (it is exact). The images across the
+    axis carry (-v_r, v_z) at (-r, z): the odd continuation of v_r, even of v_z, which is the Cartesian
+    field's own, so a linear field (v_r = a r + b z, v_z = c r + d z continued this way is linear
+    only for b = c = 0, the axisymmetric linear fields) is differentiated exactly up to the axis: div
+    = 2 a + d. M_i^-1: ``expansion.renormalised_divergence`` (its fallbacks where M is ill conditioned).
+    Randles & Libersky 1996; Bonet & Lok 1999; the areal form: Garcia-Senz et al. 2009. Returns the
+    number of particles corrected. Derivation: docs/theory/sph.md ("Explosive products in r-z").
+    """
+    kernel = settings_i[SI_KERNEL]
+    nx, ny = grid_i[GI_NX], grid_i[GI_NY]
+    cell = grid_f[GF_CELL]
+    ox, oy = grid_f[GF_OX], grid_f[GF_OY]
+    inv_cell = 1.0 / cell
+    n = flag.shape[0]
+    g = np.zeros((3, 3))
+    mm = np.zeros((3, 3))
+    done = 0
+    for k in range(cell_start[-1]):
+        if (int(sd[D_MK, k]) & 3) != KIND_FLUID:
+            continue
+        i = perm[k]
+        if i >= n or not flag[i]:
+            continue
+        xi, yi, hi = sx[0, k], sx[1, k], sx[3, k]
+        ui, vi = sd[D_VX, k], sd[D_VY, k]
+        reach = sreach[k]  # bounds every 2 h_kj (search.search_reach)
+        x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
+        y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
+        g[:, :] = 0.0
+        mm[:, :] = 0.0
+        plain = 0.0
+        for cy in range(y0, y1 + 1):
+            base = cy * nx
+            for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
+                if j == k:
+                    continue
+                kind = int(sd[D_MK, j]) & 3
+                if kind == KIND_WALL:
+                    continue
+                dx = xi - sx[0, j]
+                dy = yi - sx[1, j]
+                dist2 = dx * dx + dy * dy
+                hs = hi + sx[3, j]
+                if dist2 >= hs * hs:
+                    continue
+                f = kernel_f(kernel, 2, math.sqrt(dist2), 0.5 * hs)  # grad_i W_ij = f (x_i - x_j)
+                rj = sx[0, j] if kind == KIND_FLUID else sd[D_VZ, j]  # the source's radius
+                area = sd[D_VOL, j] * INV_TWO_PI / rj
+                du = ui - sd[D_VX, j]
+                dv = vi - sd[D_VY, j]
+                plain += area * f * (du * dx + dv * dy)
+                # (v_j - v_i)_p (grad W)_q and (x_j - x_i)_p (grad W)_q
+                g[0, 0] -= area * du * f * dx
+                g[0, 1] -= area * du * f * dy
+                g[1, 0] -= area * dv * f * dx
+                g[1, 1] -= area * dv * f * dy
+                mm[0, 0] -= area * dx * f * dx
+                mm[0, 1] -= area * dx * f * dy
+                mm[1, 0] -= area * dy * f * dx
+                mm[1, 1] -= area * dy * f * dy
+        div = renormalised_divergence(g, mm, 2)
+        drho[i] -= sd[D_RHO, k] * (plain + div)
+        done += 1
+    return done

@@ -311,16 +311,21 @@ class SphSystem:
             raise ValueError("axisymmetric SPH has no physical viscosity yet (inviscid fluids only)")
         if any(w.condition != "slip" for w in opt.walls):
             raise ValueError("axisymmetric SPH supports slip ghost walls only")
-        if np.any(self.params[:, ms.P_DETONATION_VELOCITY] > 0.0):
-            raise ValueError("axisymmetric SPH has no programmed burn yet")
 
     # ------------------------------------------------------------------ evaluation
 
     def set_burn(self, detonations) -> None:
         """Programmed burn (``materials.burn``) of every particle whose material has a detonation
         velocity (a ``high_explosive``): lighting time at its current position from ``detonations``
-        [(point, time), ...], size delta its spacing (m / rho)^(1/dim) now. Kept per particle id."""
+        [(point, time), ...], size delta its spacing (m / rho)^(1/dim) now (axisymmetric: sqrt(A), A =
+        m / (2 pi r rho) its area in the meridian plane, and every detonation point on the axis r = 0,
+        where it is a point: off it, it would be a ring). Kept per particle id."""
         from ..materials.burn import lighting_time
+
+        if self.axisymmetric:
+            off = [tuple(p) for p, _ in detonations if float(np.asarray(p, dtype=float).reshape(-1)[0]) != 0.0]
+            if off:
+                raise ValueError(f"axisymmetric SPH: a detonation point must lie on the axis (x = r = 0), got {off}")
 
         d = self.params[self.mat, ms.P_DETONATION_VELOCITY]
         self.burn_light = np.full(self.n, np.inf)
@@ -335,7 +340,10 @@ class SphSystem:
             sel = he & (d == dv)
             self.burn_light[self.ids[sel]] = lighting_time(self.x[sel], detonations, float(dv))
         self.burn_velocity[ids] = d[he]
-        self.burn_delta[ids] = (self.m[he] / self.rho[he]) ** (1.0 / self.dim)
+        if self.axisymmetric:  # the spacing of the ring's section, not of its volume
+            self.burn_delta[ids] = np.sqrt(self.m[he] / (2.0 * np.pi * self.x[he, 0] * self.rho[he]))
+        else:
+            self.burn_delta[ids] = (self.m[he] / self.rho[he]) ** (1.0 / self.dim)
         self._update_state()
 
     def _update_state(self) -> float:
@@ -449,6 +457,11 @@ class SphSystem:
             from .axisymmetric import axisymmetric_rates  # compiled only for axisymmetric systems
 
             axisymmetric_rates(sx, sd, perm, cs, sr, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph)
+            if getattr(self, "burn_light", None) is not None:  # explosive products: renormalised r-z continuity
+                from .axisymmetric import renormalise_ring_continuity
+
+                he = np.isfinite(self.burn_light[self.ids]) & self.active
+                renormalise_ring_continuity(sx, sd, perm, cs, sr, si, gf, gi, he, self.drho)
         else:
             rates.fluid_rates(sx, sd, stau, perm, cs, sr, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph,
                               self.wall_power)

@@ -128,16 +128,22 @@ def test_an_axisymmetric_deck_shares_the_plane_ale_kernels(axisymmetric, tmp_pat
     assert not {k for k in compiled if k.endswith("_3d")}, sorted(compiled)
 
 
-_AXISYMMETRIC_SPH = {"axisymmetric_rates", "_axisymmetric_rates", "ring_smoothing_lengths"}  # sph/axisymmetric.py
+_AXISYMMETRIC_SPH = {"axisymmetric_rates", "_axisymmetric_rates", "ring_smoothing_lengths",
+                     "renormalise_ring_continuity"}  # sph/axisymmetric.py
 
 
-@pytest.mark.parametrize("deck, axisymmetric", [("dam_break_2d.yaml", False), ("water_column_axisymmetric_sph.yaml", True)])
+@pytest.mark.parametrize("deck, axisymmetric", [
+    ("dam_break_2d.yaml", False), ("underwater_explosion_sph.yaml", False),
+    ("water_column_axisymmetric_sph.yaml", True), ("underwater_explosion_free_field_axisymmetric_sph.yaml", True)])
 def test_only_an_axisymmetric_deck_compiles_the_axisymmetric_sph(deck, axisymmetric):
     compiled = set(_compiled(DECKS / deck)["sph"]["compiled"])
+    explosive = "underwater" in deck  # the products' renormalised continuity: the plane or the r-z one
     if axisymmetric:
         assert {"_axisymmetric_rates", "ring_smoothing_lengths"} <= compiled and "_fluid_rates" not in compiled, sorted(compiled)
+        assert ("renormalise_ring_continuity" in compiled) == explosive and "renormalise_continuity" not in compiled
     else:
         assert not (compiled & _AXISYMMETRIC_SPH), f"{deck} compiled axisymmetric kernels {sorted(compiled & _AXISYMMETRIC_SPH)}"
+        assert ("renormalise_continuity" in compiled) == explosive, sorted(compiled)
 
 
 _CHECK_PROBE = r"""

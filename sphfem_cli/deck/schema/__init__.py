@@ -118,14 +118,17 @@ RESERVED_HISTORIES = ("glstat", "matsum", "ale_materials")
 
 
 AXISYMMETRIC_RIGID = "an axisymmetric rigid part moves along the axis (y) only"
-AXISYMMETRIC_SPH = "axisymmetric SPH supports inviscid fluids with slip ghost walls only for now (issue 15)"
+AXISYMMETRIC_SPH = ("axisymmetric SPH supports inviscid fluids and high explosives with slip ghost walls only "
+                    "for now (issue 15)")
+AXISYMMETRIC_DETONATION = ("an axisymmetric SPH explosive is lit from points on the axis (x = r = 0): a point off "
+                           "it is a ring in r-z")
 
 
 def _check_axisymmetric(deck: Deck) -> None:
-    """What an axisymmetric deck cannot hold: SPH parts only of inviscid non-explosive fluids, with
-    slip ghost walls (sph/axisymmetric.py); a radial velocity on a rigid part, which moves along the
-    axis only (solver.boundary.RigidBodies)."""
-    sph = False
+    """What an axisymmetric deck cannot hold: SPH parts only of inviscid fluids and high explosives, with
+    slip ghost walls (sph/axisymmetric.py), and the detonation points of an SPH explosive on the axis;
+    a radial velocity on a rigid part, which moves along the axis only (solver.boundary.RigidBodies)."""
+    sph = explosive = False
     rigid: set[str] = set()
     for pname, part in deck.parts.items():
         section = deck.sections.get(part.section)
@@ -137,9 +140,9 @@ def _check_axisymmetric(deck: Deck) -> None:
             if getattr(section, "continuity", "volume") != "volume":
                 raise ValueError(f"@sections.{part.section}.continuity: {AXISYMMETRIC_SPH}; the '{section.continuity}' "
                                  "form of the continuity equation is 2D/3D only (docs/theory/sph.md 'Axisymmetric SPH')")
-            if getattr(material, "viscosity", 0.0) or getattr(material, "type", "") == "high_explosive":
-                why = "a viscous fluid" if getattr(material, "viscosity", 0.0) else "a high explosive"
-                raise ValueError(f"@parts.{pname}.material: {AXISYMMETRIC_SPH}; '{part.material}' is {why}")
+            if getattr(material, "viscosity", 0.0):
+                raise ValueError(f"@parts.{pname}.material: {AXISYMMETRIC_SPH}; '{part.material}' is a viscous fluid")
+            explosive |= getattr(material, "type", "") == "high_explosive"
         if part.rigid or getattr(material, "type", "") == "rigid":
             rigid.add(pname)
     for i, entry in enumerate(deck.initial):
@@ -150,6 +153,10 @@ def _check_axisymmetric(deck: Deck) -> None:
         if getattr(bc, "type", "") == "prescribed_velocity" and bc.part in rigid and (bc.velocity[0] or 0.0) != 0.0:
             raise ValueError(f"@boundaries.{i}.velocity: {AXISYMMETRIC_RIGID}; '{bc.part}' is rigid, its radial "
                              f"velocity must be 0 (got {bc.velocity[0]:g})")
+    if explosive:
+        for i, det in enumerate(deck.detonations):
+            if det.point[0] != 0.0:
+                raise ValueError(f"@detonations.{i}.point: {AXISYMMETRIC_DETONATION}; got x = {det.point[0]:g}")
     if sph:
         for i, bc in enumerate(deck.boundaries):
             kind = getattr(bc, "type", "")

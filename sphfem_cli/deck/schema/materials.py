@@ -148,7 +148,8 @@ class HighExplosive(DeckModel):
 class Detonation(DeckModel):
     """A detonation point (LS-DYNA *INITIAL_DETONATION): explosive at x lights at time + |x - point| / D."""
 
-    point: Vector = Field(description="Detonation point [length].")
+    point: Vector = Field(description="Detonation point [length]. In an axisymmetric deck with SPH explosives it lies "
+                                      "on the axis (x = 0): a point off it would be a ring.")
     time: float = Field(0.0, ge=0, description="Time at which the point detonates [time]. Default 0.")
 
 
