@@ -126,12 +126,19 @@ def _free_field_peaks(folder: Path, method: str, h: float) -> np.ndarray:
 
 
 @pytest.mark.validation
+@pytest.mark.xfail(strict=True, reason=(
+    "the r-z SPH free field overshoots: about 1.16-1.28 x the 1D spherical reference at 2.5 mm and 1.19-1.21 x at "
+    "1.25 mm, while the r-z ALE with Q2 0.3 is 1.02-1.06 x it; the gap to the ALE grows with refinement (open, issue 15)"))
 def test_free_field_sph_approaches_the_ale_with_refinement(tmp_path):
     """The r-z SPH free field against the r-z ALE at equal spacing, 5 and 2.5 mm (about 20 s CPU in all).
-    Measured SPH / ALE - 1 at R = 0.06, 0.10, 0.14, 0.18 m (this test, 38 s wall): 5 mm -7.0 / -7.9 / -14.0 /
-    -17.2 %, 2.5 mm +2.9 / -6.5 / -10.9 / -13.0 % (1.25 mm, the study: -0.7 / -2.9 / -5.3 / -7.3 %;
-    docs/studies/underwater_explosion.md, "Axisymmetric SPH free field"). Asserted: at 2.5 mm within 15 % at every probe, and the gap smaller than
-    at 5 mm at the three far probes (the nearest, 0.06 m, changes sign)."""
+    Measured against the ALE deck with the default Q2 0.06 (SPH / ALE - 1 at R = 0.06, 0.10, 0.14, 0.18 m): 5 mm
+    -7.0 / -7.9 / -14.0 / -17.2 %, 2.5 mm +2.9 / -6.5 / -10.9 / -13.0 % (1.25 mm, the study: -0.7 / -2.9 / -5.3 /
+    -7.3 %; docs/studies/underwater_explosion.md, "Axisymmetric SPH free field"). That ALE converged to 1.16 x the
+    1D spherical reference of the same model (its linear viscosity's overshoot); with Q2 0.3, as the ALE deck now
+    ships, it converges to the reference, and the SPH is above it: 5 mm +10.3 / +13.7 / +9.0 / +7.7 %, 2.5 mm
+    +21.0 / +14.4 / +12.3 / +11.6 % (this test, 6 December 2026, 69 s wall at load 6): SPH is 1.16-1.28 x the 1D
+    reference at 2.5 mm. Asserted (expected to fail until the SPH overshoot is found): at 2.5 mm within 15 % at
+    every probe, and the gap smaller than at 5 mm at the three far probes."""
     gaps = {}
     for h in (0.005, 0.0025):
         sph = _free_field_peaks(tmp_path / f"sph_{h}", "sph", h)
