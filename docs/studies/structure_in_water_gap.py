@@ -15,6 +15,10 @@ viscosity nu = alpha c h / 8 in 2D, Monaghan 2005, Rep. Prog. Phys. 68, 1703, se
 m^2/s at ratios 2 / 3 / 4, a Reynolds number v d / nu of about 1 for the flow under the plate). "nogap" raises
 the tank floor to the plate's bottom (y = 0.05), so the two sides are closed chambers and no water flows round
 the plate's end (the bottom nodes slide on the slip floor).
+The SPH-gap candidates ("SPH's gap: ..." in the study) are the av0 deck with one change: "d0" / "d05" the
+density diffusion 0 / 0.05 (deck 0.1), "dp" its delta-plus form (Antuono et al. 2010), "ts" timestep_scale
+0.45 (deck 0.9), "wc2" the Wendland C2 kernel at h/dx 2, "c2" / "c3" the water's ambient pressure C0 2 / 3 MPa
+(deck 1 MPa); "alec3" is the ALE deck at 3 MPa, the control (linear water: no dependence expected).
 Every variant records the x force of the contact / coupling on three bands of each face of the plate
 (y 0.05-0.10, 0.10-0.15, 0.15-0.20) and on its bottom face; `--summary` prints the mid-height peaks and the
 net band impulses over the drive (0-0.75 ms) and the rebound (0.75-1.6 ms).
@@ -35,6 +39,15 @@ LEVELS = {"ale": {"10": (0.01, 2, 16.0), "5": (0.005, 4, 16.0), "2.5": (0.0025, 
           "av0": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025,  # the same without artificial viscosity
                   "r5": 0.002, "r6": 0.01 / 6.0}}
 AV_ALPHA = {"av": 0.01, "av0": 0.0}
+# issue 12's SPH-gap candidates, each the av0 deck (alpha 0) with one setting of its sph section changed
+SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0.05},
+                "wc2": {"kernel": "wendland_c2", "smoothing_ratio": 2.0},
+                "dp": {"density_diffusion_form": "delta_plus"}, "c2": {}, "c3": {}, "ts": {}}
+AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6}  # the water's ambient pressure C0 instead of the decks' 1 MPa
+LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: linear water, no kernel)
+for _kind in SPH_VARIANTS:
+    LEVELS[_kind] = {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025, "r5": 0.002, "r6": 0.01 / 6.0}
+    AV_ALPHA[_kind] = 0.0
 CASES = [f"{kind}_{level}_{geo}" for geo in ("gap", "nogap") for kind in LEVELS for level in LEVELS[kind]]
 BANDS = ((0.0499, 0.1001), (0.1002, 0.1501), (0.1502, 0.2001))  # node boxes: each face node in exactly one band
 WINDOWS = {"drive": (0.0, 0.75e-3), "rebound": (0.75e-3, 1.6e-3)}
@@ -44,7 +57,7 @@ E_PLANE = 7.0e10 / (1.0 - 0.33 ** 2)  # the plate's plane-strain modulus E / (1 
 
 def variant(name: str) -> Path:
     kind, level, geo = name.split("_")
-    base = "sph" if kind in ("sb", *AV_ALPHA) else kind
+    base = "sph" if kind in ("sb", *AV_ALPHA) else "ale" if kind == "alec3" else kind
     d = copy.deepcopy(yaml.safe_load(open(ROOT / f"decks/structure_in_water_{base}.yaml")))
     d["control"]["end_time"] = 0.002
     d["parts"]["plate"]["geometry"]["box"]["divisions"] = [4, 60]
@@ -59,8 +72,10 @@ def variant(name: str) -> Path:
             sets[f"g{side}{y}"] = {"type": "node", "part": "plate", "box": {"min": [x - 1e-4, y - 1e-4], "max": [x + 1e-4, y + 1e-4]}}
             hist.append({"name": f"g{side}{y}", "set": f"g{side}{y}", "quantities": ["displacement"]})
     floor = 0.05 if geo == "nogap" else 0.0
-    if kind == "ale":
+    if base == "ale":
         size, nquad, pfac = LEVELS["ale"][level]
+        if kind in AMBIENT:
+            d["equations_of_state"]["water"]["c0"] = AMBIENT[kind]
         box = d["parts"]["tank"]["geometry"]["box"]
         box.update(min=[0.0, floor], element_size=size)
         d["couplings"][0].update(nquad=nquad, pfac=pfac)
@@ -77,6 +92,11 @@ def variant(name: str) -> Path:
             d["contacts"].append(dict(d["contacts"][0], nodes="tank_right"))
         if kind in AV_ALPHA:
             d["sections"]["sph"]["artificial_viscosity"]["alpha"] = AV_ALPHA[kind]
+        d["sections"]["sph"].update(SPH_VARIANTS.get(kind, {}))
+        if kind == "ts":  # half the deck's time step (timestep_scale 0.9 -> 0.45)
+            d["control"]["timestep_scale"] = 0.45
+        if kind in AMBIENT:
+            d["equations_of_state"]["water"]["c0"] = AMBIENT[kind]
         if kind == "sb":  # boundary particles carried by the plate instead of the penalty contact
             d["couplings"] = [{"type": "sph_boundary", "structure": "plate", "fluid": c["nodes"]} for c in d["contacts"]]
             d["contacts"] = []

@@ -140,6 +140,7 @@ class SphDomainOptions(Options):
     beta: float
     epsilon: float
     density_diffusion: float
+    density_diffusion_form: str
     xsph: float
     continuity: str
     diffusion_hydrostatic: bool
@@ -358,7 +359,8 @@ def _sph_options(deck, model, detonations) -> SphDomainOptions:
     visc = section.artificial_viscosity
     return SphDomainOptions(
         kernel=section.kernel, smoothing_ratio=section.smoothing_ratio, alpha=visc.alpha, beta=visc.beta,
-        epsilon=visc.epsilon, density_diffusion=section.density_diffusion, xsph=section.xsph,
+        epsilon=visc.epsilon, density_diffusion=section.density_diffusion,
+        density_diffusion_form=section.density_diffusion_form, xsph=section.xsph,
         continuity=section.continuity, diffusion_hydrostatic=section.diffusion_hydrostatic, ghost_hydrostatic=section.ghost_hydrostatic,
         pressure_cutoff=section.pressure_cutoff,
         domain=None if section.domain is None else (_vec(section.domain.min), _vec(section.domain.max)),

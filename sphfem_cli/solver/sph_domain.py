@@ -34,7 +34,7 @@ class SphDomain(Domain):
         sph_options = SphOptions(
             kernel=options.kernel, smoothing_ratio=options.smoothing_ratio,
             alpha=options.alpha, beta=options.beta, eps=options.epsilon, delta=options.density_diffusion,
-            xsph=options.xsph, delta_hydrostatic=options.diffusion_hydrostatic, continuity=options.continuity,
+            density_diffusion_form=options.density_diffusion_form, xsph=options.xsph, delta_hydrostatic=options.diffusion_hydrostatic, continuity=options.continuity,
             ghost_hydrostatic=options.ghost_hydrostatic,
             pressure_cutoff=-np.inf if options.pressure_cutoff is None else options.pressure_cutoff,
             walls=tuple(walls), gravity=options.gravity.copy(), domain=options.domain,

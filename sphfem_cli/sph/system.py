@@ -26,7 +26,7 @@ import numpy as np
 
 from ..materials import kernels as mk
 from ..materials import slots as ms
-from . import eos, expansion, integration, open_sides, rates, search, walls
+from . import diffusion, eos, expansion, integration, open_sides, rates, search, walls
 from . import slots as sl
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2
 
@@ -83,8 +83,10 @@ class SphOptions:
 
     kernel: "cubic_spline" or "wendland_c2" ["cubic_spline"]; smoothing_ratio: h/dx [1.2];
     alpha, beta, eps: Monaghan viscosity [0.1, 0.0, 0.01]; delta: delta-SPH density diffusion
-    coefficient, 0 = off [0.0]; delta_hydrostatic: subtract the hydrostatic density difference
-    in the diffusion (Fourtakas-type, linearised) [False]; xsph: XSPH coefficient, 0 = off [0.0];
+    coefficient, 0 = off [0.0]; density_diffusion_form: "molteni_colagrossi" or "delta_plus" (Antuono
+    et al. 2010's renormalised-gradient correction, ``sph.diffusion``) ["molteni_colagrossi"];
+    delta_hydrostatic: subtract the hydrostatic density difference in the diffusion (Fourtakas-type,
+    linearised; not with delta_plus, which removes any linear density field) [False]; xsph: XSPH coefficient, 0 = off [0.0];
     pressure_cutoff: lowest pressure a particle carries (cavitation) [-inf]; dilatational_viscosity mu' [0.0];
     walls: ghost-particle walls and non-reflecting open sides [()]; ghost_hydrostatic: add the hydrostatic increments
     dp = rho g.(x_ghost - x) and drho = dp/c^2 to the ghost's pressure and density [False, the
@@ -106,6 +108,7 @@ class SphOptions:
     beta: float = 0.0
     eps: float = 0.01
     delta: float = 0.0
+    density_diffusion_form: str = "molteni_colagrossi"
     delta_hydrostatic: bool = False
     xsph: float = 0.0
     pressure_cutoff: float = -np.inf
@@ -276,7 +279,13 @@ class SphSystem:
         self.settings_i[sl.SI_DIM] = dim
         self.settings_i[sl.SI_KERNEL] = KERNELS[opt.kernel]
         self.settings_i[sl.SI_VISCOUS] = int(self.viscous)
-        self.settings_i[sl.SI_DELTA_HYDROSTATIC] = int(opt.delta_hydrostatic)
+        if opt.density_diffusion_form not in ("molteni_colagrossi", "delta_plus"):
+            raise ValueError(f"density_diffusion_form must be molteni_colagrossi or delta_plus, got {opt.density_diffusion_form!r}")
+        if opt.density_diffusion_form == "delta_plus" and opt.axisymmetric:
+            raise ValueError("density_diffusion_form delta_plus is 2D and 3D only (not axisymmetric)")
+        self.delta_plus = opt.density_diffusion_form == "delta_plus" and opt.delta > 0.0
+        # delta_plus removes every linear density field, the hydrostatic one included: no second correction
+        self.settings_i[sl.SI_DELTA_HYDROSTATIC] = int(opt.delta_hydrostatic and not self.delta_plus)
         self.settings_i[sl.SI_NWALL] = len(self.wall_x)
         if opt.continuity not in sl.CONTINUITY_FORMS:
             raise ValueError(f"continuity must be one of {sorted(sl.CONTINUITY_FORMS)}, got {opt.continuity!r}")
@@ -465,6 +474,10 @@ class SphSystem:
         else:
             rates.fluid_rates(sx, sd, stau, perm, cs, sr, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph,
                               self.wall_power)
+            if self.delta_plus:  # Antuono et al. 2010's correction of the Molteni-Colagrossi term
+                grad = np.zeros((3, sx.shape[1]))
+                diffusion.density_gradient(sx, sd, cs, sr, si, gf, gi, grad)
+                diffusion.delta_plus_correction(sx, sd, perm, cs, sr, sf, si, gf, gi, grad, self.drho)
             if getattr(self, "burn_light", None) is not None:  # explosive products: renormalised continuity
                 he = np.isfinite(self.burn_light[self.ids]) & self.active
                 expansion.renormalise_continuity(sx, sd, perm, cs, sr, si, gf, gi, he, self.drho)

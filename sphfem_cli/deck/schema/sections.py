@@ -79,6 +79,9 @@ class SphSection(DeckModel):
     density_diffusion: float = Field(
         0.1, ge=0, le=1, description="delta-SPH density diffusion coefficient (Molteni & Colagrossi 2009), 0 to 1 (they use 0.1); 0 turns it off. Default 0.1."
     )
+    density_diffusion_form: Literal["molteni_colagrossi", "delta_plus"] = Field(
+        "molteni_colagrossi", description="Form of the density diffusion: molteni_colagrossi, psi_ij = 2 (rho_j - rho_i) (Molteni & Colagrossi 2009), or delta_plus, psi_ij = 2 (rho_j - rho_i) + (G_i + G_j).r_ij with G the renormalised density gradient (Antuono, Colagrossi, Marrone & Molteni 2010), which vanishes for a linear density field also where the kernel is truncated (a free surface, a structure in contact) and replaces diffusion_hydrostatic; 2D and 3D only (an axisymmetric deck's error). Costs two more neighbour passes. docs/theory/sph.md. Default molteni_colagrossi."
+    )
     diffusion_hydrostatic: bool = Field(
         True, description="Subtract the hydrostatic density difference in the density diffusion (Fourtakas-type), so that it does not smear a liquid at rest under gravity. Default true."
     )
