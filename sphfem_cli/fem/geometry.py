@@ -213,7 +213,7 @@ def hex8_gradient(x, b):
     return volume
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True)
 def _node_faces(p, q, r, s, t, u):
     """(p x q) + (r x s) + (t x u) for 3-tuples: node I's three face terms of ``hex8_gradient_faces``."""
     return ((p[1] * q[2] - p[2] * q[1]) + (r[1] * s[2] - r[2] * s[1]) + (t[1] * u[2] - t[2] * u[1]),
@@ -221,7 +221,7 @@ def _node_faces(p, q, r, s, t, u):
             (p[0] * q[1] - p[1] * q[0]) + (r[0] * s[1] - r[1] * s[0]) + (t[0] * u[1] - t[1] * u[0]))
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True)
 def hex8_gradient_faces(x, b):
     """``hex8_gradient`` in a factored form: b (3, 8) = (1/V) dV/dx_I and V of a hex8 with corners x (8, 3).
 
@@ -237,9 +237,7 @@ def hex8_gradient_faces(x, b):
     3 cross products per node instead of 9. 12 V = sum_I x_I (12 dV/dx_I) and
     b_I = (12 dV/dx_I) / (12 V). The same numbers as ``hex8_gradient`` up to round-off (not the
     same bits; about a third of its operations); the FEM hex8 kernel uses it, ALE and the model's
-    initial volumes keep ``hex8_gradient``. Compiled with ``fastmath={"contract"}`` (as the kernel
-    that calls it): LLVM may fuse a product and a sum into one fused multiply-add (one rounding
-    instead of two; no reassociation, no other fast-math assumption), as g++ -O3 does by default.
+    initial volumes keep ``hex8_gradient``.
     """
     x0, y0, z0 = x[0, 0], x[0, 1], x[0, 2]
     x1, y1, z1 = x[1, 0], x[1, 1], x[1, 2]

@@ -298,7 +298,7 @@ def solid_element_forces(
                     hg_energy[e] += work
 
 
-@njit(cache=True, fastmath={"contract"})
+@njit(cache=True)
 def _hex8_elements(
     start, stop, x, v, conn, active, elem_mat, elem_sec, mat_type, mat_param, sec_param,
     vol0, dt, stress, hist, energy, hg_energy, hg_force, f_elem, dt_elem, vol, q_visc,
@@ -318,12 +318,10 @@ def _hex8_elements(
     an equation of state takes ``elastic_stress_update`` / ``elastic_sound_speed`` (the same
     numbers as ``update_stress`` / ``sound_speed``, small enough to inline).
 
-    Compiled with ``fastmath={"contract"}``: LLVM may fuse a product and the sum or difference that
-    takes it into one fused multiply-add (``a * b + c`` rounded once), and does nothing else of
-    fast-math (no reassociation, NaN and inf kept). Results therefore differ from the generic loop
-    (and from main before 6 Dec 2026) at round-off (cube 8^3, 60 steps: 1e-14 relative), and stay
-    bit-identical across thread counts and runs on one machine (the same code per element); a CPU
-    without FMA would give other round-off. 7-8 % of the element kernel (benchmarks/fem_passes.py).
+    Not compiled with ``fastmath={"contract"}`` (fused multiply-adds): 7-8 % faster, but the bits then
+    depended on the compile path (a callee compiled and cached before, e.g. by a unit test, gave
+    results other than a fresh compile of the whole kernel), against the rule that cached and
+    compiled runs are bit-identical (branch hex8speed, 6 Dec 2026).
     """
     scratch = np.empty(5 * 24 + 3 * 6 + 32 + 12 + 12)  # one allocation per chunk, carved into the work arrays
     xe = scratch[0:24].reshape((8, 3))
