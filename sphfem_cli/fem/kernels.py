@@ -307,13 +307,23 @@ def _hex8_elements(
 
     Every value is computed by the same operations in the same order as the generic loop except the
     mean gradients, which take the factored ``hex8_gradient_faces`` (the same numbers up to round-off,
-    a third of the operations; the generic loop keeps ``hex8_gradient``); the loops over nodes (8), components (3) and hourglass modes (4) have constant
-    trip counts that LLVM unrolls, the nodal data sit in three (8, 3) scratch arrays, the
+    a third of the operations; the generic loop keeps ``hex8_gradient``); the loops over nodes (8) and
+    components (3) have constant trip counts that LLVM unrolls; a loop over the 4 hourglass modes
+    stays a loop (its body is too large to unroll), so the sums Gamma_m . x_k are written out with
+    HEX_GAMMA's signs (the same bits: a product by +-1 is exact; 4-6 % of the element kernel,
+    benchmarks/fem_passes.py) and the shape vectors, mode velocities and forces are computed node by
+    node for the 4 modes together, each sum in the order of the mode-by-mode loop (the same bits;
+    2-4 %); the nodal data sit in three (8, 3) scratch arrays, the
     viscous / stiffness hourglass choice is made once per element, and an elastic material without
     an equation of state takes ``elastic_stress_update`` / ``elastic_sound_speed`` (the same
     numbers as ``update_stress`` / ``sound_speed``, small enough to inline).
+
+    Not compiled with ``fastmath={"contract"}`` (fused multiply-adds): 7-8 % faster, but the bits then
+    depended on the compile path (a callee compiled and cached before, e.g. by a unit test, gave
+    results other than a fresh compile of the whole kernel), against the rule that cached and
+    compiled runs are bit-identical (branch hex8speed, 6 Dec 2026).
     """
-    scratch = np.empty(5 * 24 + 3 * 6 + 8)  # one allocation per chunk, carved into the work arrays
+    scratch = np.empty(5 * 24 + 3 * 6 + 32 + 12 + 12)  # one allocation per chunk, carved into the work arrays
     xe = scratch[0:24].reshape((8, 3))
     xm = scratch[24:48].reshape((8, 3))
     ve = scratch[48:72].reshape((8, 3))
@@ -322,7 +332,9 @@ def _hex8_elements(
     d = scratch[120:126]  # rate of deformation
     deps = scratch[126:132]  # strain increment d dt
     sig_old = scratch[132:138]  # stress at the start of the step
-    gam = scratch[138:146]
+    gam = scratch[138:170].reshape((4, 8))  # hourglass shape vectors gamma_ma
+    gxm = scratch[170:182].reshape((4, 3))  # Gamma_m . x_k of the hourglass modes
+    qvm = scratch[182:194].reshape((4, 3))  # their velocities q_mk, then resultants r_mk
     half_dt = 0.5 * dt
     for e in range(start, stop):
         if not active[e]:
@@ -414,22 +426,52 @@ def _hex8_elements(
                     for a in range(8):
                         bb += b[k, a] * b[k, a]
                 coef = 0.5 * qm * p[P_G] * ve_new * bb
-            work = 0.0
+            # Gamma_m . x_k of the 4 modes, HEX_GAMMA's signs written out (the bits of summing g x_ak
+            # from 0.0 in node order: a product by +-1 is exact).
+            for k in range(3):
+                x0, x1, x2, x3 = xe[0, k], xe[1, k], xe[2, k], xe[3, k]
+                x4, x5, x6, x7 = xe[4, k], xe[5, k], xe[6, k], xe[7, k]
+                gxm[0, k] = 0.0 + x0 - x1 + x2 - x3 + x4 - x5 + x6 - x7
+                gxm[1, k] = 0.0 + x0 + x1 - x2 - x3 - x4 - x5 + x6 + x7
+                gxm[2, k] = 0.0 + x0 - x1 - x2 + x3 - x4 + x5 + x6 - x7
+                gxm[3, k] = 0.0 - x0 + x1 - x2 + x3 + x4 - x5 + x6 - x7
+            # gamma_ma = Gamma_ma - (Gamma_m . x_k) b_ka and q_mk = sum_a v_ak gamma_ma, node by node with
+            # the 4 modes together (b_a, v_a read once; each sum still in node order).
+            g00, g01, g02 = gxm[0, 0], gxm[0, 1], gxm[0, 2]
+            g10, g11, g12 = gxm[1, 0], gxm[1, 1], gxm[1, 2]
+            g20, g21, g22 = gxm[2, 0], gxm[2, 1], gxm[2, 2]
+            g30, g31, g32 = gxm[3, 0], gxm[3, 1], gxm[3, 2]
+            q00 = q01 = q02 = q10 = q11 = q12 = q20 = q21 = q22 = q30 = q31 = q32 = 0.0
+            for a in range(8):
+                b0, b1, b2 = b[0, a], b[1, a], b[2, a]
+                v0, v1, v2 = ve[a, 0], ve[a, 1], ve[a, 2]
+                g = HEX_GAMMA[0, a] - g00 * b0 - g01 * b1 - g02 * b2
+                gam[0, a] = g
+                q00 += v0 * g
+                q01 += v1 * g
+                q02 += v2 * g
+                g = HEX_GAMMA[1, a] - g10 * b0 - g11 * b1 - g12 * b2
+                gam[1, a] = g
+                q10 += v0 * g
+                q11 += v1 * g
+                q12 += v2 * g
+                g = HEX_GAMMA[2, a] - g20 * b0 - g21 * b1 - g22 * b2
+                gam[2, a] = g
+                q20 += v0 * g
+                q21 += v1 * g
+                q22 += v2 * g
+                g = HEX_GAMMA[3, a] - g30 * b0 - g31 * b1 - g32 * b2
+                gam[3, a] = g
+                q30 += v0 * g
+                q31 += v1 * g
+                q32 += v2 * g
+            qvm[0, 0], qvm[0, 1], qvm[0, 2] = q00, q01, q02
+            qvm[1, 0], qvm[1, 1], qvm[1, 2] = q10, q11, q12
+            qvm[2, 0], qvm[2, 1], qvm[2, 2] = q20, q21, q22
+            qvm[3, 0], qvm[3, 1], qvm[3, 2] = q30, q31, q32
+            work = hg_energy[e]
             for mode in range(4):
-                # gamma_a = Gamma_a - (Gamma . x_k) b_k
-                gx0 = gx1 = gx2 = 0.0
-                for a in range(8):
-                    g = HEX_GAMMA[mode, a]
-                    gx0 += g * xe[a, 0]
-                    gx1 += g * xe[a, 1]
-                    gx2 += g * xe[a, 2]
-                qv0 = qv1 = qv2 = 0.0
-                for a in range(8):
-                    g = HEX_GAMMA[mode, a] - gx0 * b[0, a] - gx1 * b[1, a] - gx2 * b[2, a]
-                    gam[a] = g
-                    qv0 += ve[a, 0] * g
-                    qv1 += ve[a, 1] * g
-                    qv2 += ve[a, 2] * g
+                qv0, qv1, qv2 = qvm[mode, 0], qvm[mode, 1], qvm[mode, 2]
                 if viscous:
                     r0 = coef * qv0
                     r1 = coef * qv1
@@ -440,21 +482,27 @@ def _hex8_elements(
                     o0 = hg_force[e, mode, 0]
                     o1 = hg_force[e, mode, 1]
                     o2 = hg_force[e, mode, 2]
-                    hg_force[e, mode, 0] += coef * qv0 * dt
-                    hg_force[e, mode, 1] += coef * qv1 * dt
-                    hg_force[e, mode, 2] += coef * qv2 * dt
-                    r0 = hg_force[e, mode, 0]
-                    r1 = hg_force[e, mode, 1]
-                    r2 = hg_force[e, mode, 2]
+                    r0 = o0 + coef * qv0 * dt
+                    r1 = o1 + coef * qv1 * dt
+                    r2 = o2 + coef * qv2 * dt
+                    hg_force[e, mode, 0] = r0
+                    hg_force[e, mode, 1] = r1
+                    hg_force[e, mode, 2] = r2
                     mode_work = (0.0 + 0.5 * (o0 + r0) * qv0 * dt + 0.5 * (o1 + r1) * qv1 * dt
                                  + 0.5 * (o2 + r2) * qv2 * dt)
-                for a in range(8):
-                    f_elem[e, a, 0] -= r0 * gam[a]
-                for a in range(8):
-                    f_elem[e, a, 1] -= r1 * gam[a]
-                for a in range(8):
-                    f_elem[e, a, 2] -= r2 * gam[a]
-                hg_energy[e] += mode_work
+                qvm[mode, 0], qvm[mode, 1], qvm[mode, 2] = r0, r1, r2  # the resultant r_m replaces q_m
+                work += mode_work
+            hg_energy[e] = work
+            # f_aI -= r_m gamma_ma, modes in order 0..3 (the bits of adding them one mode at a time).
+            r00, r01, r02 = qvm[0, 0], qvm[0, 1], qvm[0, 2]
+            r10, r11, r12 = qvm[1, 0], qvm[1, 1], qvm[1, 2]
+            r20, r21, r22 = qvm[2, 0], qvm[2, 1], qvm[2, 2]
+            r30, r31, r32 = qvm[3, 0], qvm[3, 1], qvm[3, 2]
+            for a in range(8):
+                y0, y1, y2, y3 = gam[0, a], gam[1, a], gam[2, a], gam[3, a]
+                f_elem[e, a, 0] = f_elem[e, a, 0] - r00 * y0 - r10 * y1 - r20 * y2 - r30 * y3
+                f_elem[e, a, 1] = f_elem[e, a, 1] - r01 * y0 - r11 * y1 - r21 * y2 - r31 * y3
+                f_elem[e, a, 2] = f_elem[e, a, 2] - r02 * y0 - r12 * y1 - r22 * y2 - r32 * y3
 
 
 @njit(parallel=True, cache=True)
