@@ -140,19 +140,13 @@ def _check_axisymmetric(deck: Deck) -> None:
             if getattr(section, "continuity", "volume") != "volume":
                 raise ValueError(f"@sections.{part.section}.continuity: {AXISYMMETRIC_SPH}; the '{section.continuity}' "
                                  "form of the continuity equation is 2D/3D only (docs/theory/sph.md 'Axisymmetric SPH')")
-<<<<<<< HEAD
-            if getattr(material, "viscosity", 0.0):
-                raise ValueError(f"@parts.{pname}.material: {AXISYMMETRIC_SPH}; '{part.material}' is a viscous fluid")
-            explosive |= getattr(material, "type", "") == "high_explosive"
-=======
             if getattr(section, "density_diffusion_form", "molteni_colagrossi") != "molteni_colagrossi":
                 raise ValueError(f"@sections.{part.section}.density_diffusion_form: {AXISYMMETRIC_SPH}; the "
                                  f"'{section.density_diffusion_form}' form of the density diffusion is 2D/3D only "
                                  "(docs/theory/sph.md 'Rates')")
-            if getattr(material, "viscosity", 0.0) or getattr(material, "type", "") == "high_explosive":
-                why = "a viscous fluid" if getattr(material, "viscosity", 0.0) else "a high explosive"
-                raise ValueError(f"@parts.{pname}.material: {AXISYMMETRIC_SPH}; '{part.material}' is {why}")
->>>>>>> sphgap
+            if getattr(material, "viscosity", 0.0):
+                raise ValueError(f"@parts.{pname}.material: {AXISYMMETRIC_SPH}; '{part.material}' is a viscous fluid")
+            explosive |= getattr(material, "type", "") == "high_explosive"
         if part.rigid or getattr(material, "type", "") == "rigid":
             rigid.add(pname)
     for i, entry in enumerate(deck.initial):
