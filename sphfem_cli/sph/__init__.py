@@ -8,6 +8,7 @@ arrays. ``system`` the ``SphSystem`` that drives them; ``lattice`` particles fro
 ``scenes`` ready-made cases; ``reference`` short NumPy versions of the hot kernels for the tests.
 Theory: docs/theory/sph.md.
 """
-from .system import SphOptions, SphSystem, Wall, WallParticles, box_walls, material_table
+from .system import SphOptions, SphSystem, WallParticles, material_table
+from .walls import Wall, box_walls
 
 __all__ = ["SphOptions", "SphSystem", "Wall", "WallParticles", "box_walls", "material_table"]

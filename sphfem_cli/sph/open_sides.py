@@ -1,6 +1,6 @@
 """Non-reflecting open sides of an SPH fluid: the state of their ghost particles and the work they do.
 
-An open side is a plane x[axis] = position (``system.Wall`` with condition "non_reflecting"). Its
+An open side is a plane x[axis] = position (``walls.Wall`` with condition "non_reflecting"). Its
 ghosts are the mirror images of the particles within the kernel support of it (``walls.make_ghosts``,
 the machinery of the ghost walls, corner images included), with
 
@@ -173,7 +173,7 @@ CONDITION_CODES = {"slip": PLANE_SLIP, "wall_function": PLANE_SLIP, "no_slip": P
 
 
 def ghost_planes(walls, dim: int) -> np.ndarray:
-    """The ghost planes of ``walls`` (``system.Wall``s), (nw, 7): axis, position, side, condition code
+    """The ghost planes of ``walls`` (``walls.Wall``s), (nw, 7): axis, position, side, condition code
     (``CONDITION_CODES``), source point (padded to 3; NaN: none)."""
     rows = []
     for w in walls:

@@ -12,7 +12,8 @@ from pydantic import TypeAdapter
 
 from ..deck.schema.materials import EquationOfState, Material
 from . import lattice
-from .system import SphOptions, SphSystem, box_walls, material_table
+from .system import SphOptions, SphSystem, material_table
+from .walls import box_walls
 
 _MAT = TypeAdapter(Material)
 _EOS = TypeAdapter(EquationOfState)

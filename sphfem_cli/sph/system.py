@@ -27,54 +27,11 @@ import numpy as np
 from ..materials import kernels as mk
 from ..materials import slots as ms
 from . import diffusion, eos, expansion, integration, open_sides, rates, search, walls
+from .walls import Wall
 from . import slots as sl
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2
 
 KERNELS = {"cubic_spline": CUBIC_SPLINE, "wendland_c2": WENDLAND_C2}
-
-
-@dataclass(frozen=True)
-class Wall:
-    """An axis-aligned planar wall x[axis] = position, modelled by ghost (mirror) particles.
-
-    ``side`` = +1 when the fluid lies on x[axis] > position (e.g. a floor or a left wall),
-    -1 when it lies below (a right wall, a ceiling). ``condition``: "slip" mirrors the normal
-    velocity only; "no_slip" reverses the whole velocity (wall at rest); "wall_function" has slip
-    ghosts and the smooth-wall law's shear on the first particle layer (``walls.wall_shear``);
-    "non_reflecting" is no wall but an open side: particles crossing it leave the fluid, its ghosts
-    carry the impedance condition's pressure (``sph.open_sides``), for waves from ``source`` (a point,
-    the centre of a spherical / cylindrical wave) or, without one, plane waves at normal incidence.
-    """
-
-    axis: int
-    position: float
-    side: int = 1
-    condition: str = "slip"
-    source: tuple | None = None
-
-    def __post_init__(self):
-        if self.side not in (1, -1):
-            raise ValueError(f"wall side must be +1 or -1, got {self.side}")
-        if self.condition not in ("slip", "no_slip", "wall_function", "non_reflecting"):
-            raise ValueError("wall condition must be 'slip', 'no_slip', 'wall_function' or 'non_reflecting', "
-                             f"got {self.condition!r}")
-        if self.source is not None and self.condition != "non_reflecting":
-            raise ValueError("only a non_reflecting side takes a source")
-
-
-def box_walls(lo: Sequence[float], hi: Sequence[float], sides: Sequence[str], condition: str = "slip",
-              source: Sequence[float] | None = None) -> list[Wall]:
-    """Walls on the named faces of the box [lo, hi]: 'left'/'right' (x), 'bottom'/'top' (y),
-    'back'/'front' (z); in 2D 'bottom'/'top' are y, in 1D 'left'/'right' are x. ``source``:
-    non_reflecting sides only (``Wall``)."""
-    faces = {"left": (0, 0, 1), "right": (0, 1, -1), "bottom": (1, 0, 1), "top": (1, 1, -1),
-             "back": (2, 0, 1), "front": (2, 1, -1)}
-    out = []
-    for s in sides:
-        axis, which, side = faces[s]
-        out.append(Wall(axis, float((lo, hi)[which][axis]), side, condition,
-                        None if source is None else tuple(float(v) for v in source)))
-    return out
 
 
 @dataclass
