@@ -51,7 +51,20 @@ def _fields(out: Path) -> list[tuple[str, np.ndarray]]:
 
 FUZZ = Path(__file__).parents[1] / "data" / "fuzz"
 
-INLINE = {  # decks of this module: r-z, and a smoothed 3D ALE mesh
+# the charge, water and time of the two open-sides decks (ALE and SPH)
+TNT_IN_WATER = """units: {length: m, mass: kg, time: s}
+dimension: 2
+control: {end_time: 8.0e-5, energy_band: null}
+equations_of_state:
+  tnt: {type: jwl, A: 3.712e11, B: 3.231e9, R1: 4.15, R2: 0.95, omega: 0.30, e0: 7.0e9}
+  water: {type: gruneisen, c: 1480.0, s1: 1.92, gamma0: 0.28}
+materials:
+  tnt: {type: high_explosive, density: 1630.0, detonation_velocity: 6930.0, eos: tnt}
+  water: {type: fluid, density: 1000.0, eos: water}
+detonations: [{point: [0.0, 0.0], time: 0.0}]
+"""
+
+INLINE = {  # decks of this module: r-z, open sides, and a smoothed 3D ALE mesh
     "axi_ale": """
 title: elastic disc into r-z ALE water (restart test)
 units: {length: m, mass: kg, time: s}
@@ -83,17 +96,7 @@ output: {interval: 5.0e-5, history_interval: 5.0e-6}
 """,
     "ale_open": """
 title: TNT in water with non-reflecting sides (restart test)
-units: {length: m, mass: kg, time: s}
-dimension: 2
-control: {end_time: 8.0e-5, energy_band: null}
-equations_of_state:
-  tnt: {type: jwl, A: 3.712e11, B: 3.231e9, R1: 4.15, R2: 0.95, omega: 0.30, e0: 7.0e9}
-  water: {type: gruneisen, c: 1480.0, s1: 1.92, gamma0: 0.28}
-materials:
-  tnt: {type: high_explosive, density: 1630.0, detonation_velocity: 6930.0, eos: tnt}
-  water: {type: fluid, density: 1000.0, eos: water}
-detonations: [{point: [0.0, 0.0], time: 0.0}]
-sections:
+""" + TNT_IN_WATER + """sections:
   fluid: {type: ale_multi_material, pressure_cutoff: -1.0e5}
 parts:
   pool:
@@ -108,17 +111,7 @@ output: {interval: 2.0e-5, history_interval: 2.0e-6, probes: [{name: p, type: pr
 """,
     "sph_open": """
 title: TNT in SPH water with non-reflecting sides (restart test)
-units: {length: m, mass: kg, time: s}
-dimension: 2
-control: {end_time: 8.0e-5, energy_band: null}
-equations_of_state:
-  tnt: {type: jwl, A: 3.712e11, B: 3.231e9, R1: 4.15, R2: 0.95, omega: 0.30, e0: 7.0e9}
-  water: {type: gruneisen, c: 1480.0, s1: 1.92, gamma0: 0.28}
-materials:
-  tnt: {type: high_explosive, density: 1630.0, detonation_velocity: 6930.0, eos: tnt}
-  water: {type: fluid, density: 1000.0, eos: water}
-detonations: [{point: [0.0, 0.0], time: 0.0}]
-sections:
+""" + TNT_IN_WATER + """sections:
   fluid: {type: sph, pressure_cutoff: -1.0e5}
 parts:
   water: {material: water, section: fluid, spacing: 0.004,
