@@ -19,6 +19,11 @@ The SPH-gap candidates ("SPH's gap: ..." in the study) are the av0 deck with one
 density diffusion 0 / 0.05 (deck 0.1), "dp" its delta-plus form (Antuono et al. 2010), "ts" timestep_scale
 0.45 (deck 0.9), "wc2" the Wendland C2 kernel at h/dx 2, "c2" / "c3" the water's ambient pressure C0 2 / 3 MPa
 (deck 1 MPa); "alec3" is the ALE deck at 3 MPa, the control (linear water: no dependence expected).
+The amplitude variants (section "SPH's gap grows with the drive's amplitude"): "a01" / "alea01" the SPH (alpha 0)
+/ ALE decks with the drive's velocity scaled by 0.1, "a01c01" / "a03c03" the SPH deck with the drive and the
+ambient pressure C0 both scaled by 0.1 / 0.3 (the same pressure ratios, particle displacements 0.1 / 0.3 of the
+deck's), "a0" no drive; "xs05" XSPH 0.5 (energy band off: the XSPH drift is not a force the contact's work books);
+"alesm" / "alesma01" the ALE deck with a smoothed mesh and a remap (equipotential, sliding sides) at drive 1 / 0.1.
 Every variant records the x force of the contact / coupling on three bands of each face of the plate
 (y 0.05-0.10, 0.10-0.15, 0.15-0.20) and on its bottom face; `--summary` prints the mid-height peaks and the
 net band impulses over the drive (0-0.75 ms) and the rebound (0.75-1.6 ms).
@@ -42,9 +47,16 @@ AV_ALPHA = {"av": 0.01, "av0": 0.0}
 # issue 12's SPH-gap candidates, each the av0 deck (alpha 0) with one setting of its sph section changed
 SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0.05},
                 "wc2": {"kernel": "wendland_c2", "smoothing_ratio": 2.0},
-                "dp": {"density_diffusion_form": "delta_plus"}, "c2": {}, "c3": {}, "ts": {}}
-AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6}  # the water's ambient pressure C0 instead of the decks' 1 MPa
+                "dp": {"density_diffusion_form": "delta_plus"}, "c2": {}, "c3": {}, "ts": {}, "a01": {}, "a01c01": {}, "a0": {}, "xs05": {"xsph": 0.5}, "a03c03": {}}
+AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
 LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: linear water, no kernel)
+# the drive's velocity scaled (2 -> 0.2 m/s: the linear limit); "a01c01" / "a03c03" scale the ambient pressure with it
+AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1}
+LEVELS["alea01"] = LEVELS["ale"]
+# the ALE deck with a smoothed mesh and a remap (mesh_motion smoothed, equipotential, sliding sides) instead of
+# the Lagrangian mesh: material may cross element faces, so the flow may separate at the plate's corners
+SMOOTHED = {"alesm", "alesma01"}
+LEVELS["alesm"] = LEVELS["alesma01"] = LEVELS["ale"]
 for _kind in SPH_VARIANTS:
     LEVELS[_kind] = {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025, "r5": 0.002, "r6": 0.01 / 6.0}
     AV_ALPHA[_kind] = 0.0
@@ -57,7 +69,7 @@ E_PLANE = 7.0e10 / (1.0 - 0.33 ** 2)  # the plate's plane-strain modulus E / (1 
 
 def variant(name: str) -> Path:
     kind, level, geo = name.split("_")
-    base = "sph" if kind in ("sb", *AV_ALPHA) else "ale" if kind == "alec3" else kind
+    base = "sph" if kind in ("sb", *AV_ALPHA) else "ale" if kind in ("alec3", "alea01", *SMOOTHED) else kind
     d = copy.deepcopy(yaml.safe_load(open(ROOT / f"decks/structure_in_water_{base}.yaml")))
     d["control"]["end_time"] = 0.002
     d["parts"]["plate"]["geometry"]["box"]["divisions"] = [4, 60]
@@ -72,6 +84,9 @@ def variant(name: str) -> Path:
             sets[f"g{side}{y}"] = {"type": "node", "part": "plate", "box": {"min": [x - 1e-4, y - 1e-4], "max": [x + 1e-4, y + 1e-4]}}
             hist.append({"name": f"g{side}{y}", "set": f"g{side}{y}", "quantities": ["displacement"]})
     floor = 0.05 if geo == "nogap" else 0.0
+    for b in d["boundaries"]:
+        if b["type"] == "prescribed_velocity":
+            b["velocity"] = [v * AMPLITUDE.get(kind, 1.0) if v is not None else None for v in b["velocity"]]
     if base == "ale":
         size, nquad, pfac = LEVELS["ale"][level]
         if kind in AMBIENT:
@@ -79,6 +94,8 @@ def variant(name: str) -> Path:
         box = d["parts"]["tank"]["geometry"]["box"]
         box.update(min=[0.0, floor], element_size=size)
         d["couplings"][0].update(nquad=nquad, pfac=pfac)
+        if kind in SMOOTHED:
+            d["sections"]["fluid"].update(mesh_motion="smoothed", smoothing="equipotential", smoothing_boundary="sliding")
     else:
         dx = LEVELS[kind][level]
         tank = d["parts"]["tank"]
@@ -93,6 +110,8 @@ def variant(name: str) -> Path:
         if kind in AV_ALPHA:
             d["sections"]["sph"]["artificial_viscosity"]["alpha"] = AV_ALPHA[kind]
         d["sections"]["sph"].update(SPH_VARIANTS.get(kind, {}))
+        if kind == "xs05":  # XSPH moves particles by a velocity the contact's work is not booked against
+            d["control"]["energy_band"] = None
         if kind == "ts":  # half the deck's time step (timestep_scale 0.9 -> 0.45)
             d["control"]["timestep_scale"] = 0.45
         if kind in AMBIENT:
