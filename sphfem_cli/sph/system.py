@@ -259,6 +259,7 @@ class SphSystem:
         self.wall_crossings = 0
         self.external_work = 0.0
         self._dt_prev = 0.0
+        self._dt_work = np.empty((3, n))  # scratch of integration.stable_time_step and advance_particles
         self._evaluations = 0
         self._rates_valid = False
         self._sorted = None  # last evaluation's point set (layout in the sph/search.py docstring)
@@ -461,7 +462,7 @@ class SphSystem:
         opt = self.options
         dt = integration.stable_time_step(self.h, self.c, self.v, self.acc, self.f_ext, self.m, self.rho, self.mat,
                                 self.active, self.params, self.gravity, float(opt.cfl), float(opt.force_factor),
-                                float(opt.viscous_factor))
+                                float(opt.viscous_factor), self._dt_work)
         return scale * float(dt)
 
     def step(self, dt: float) -> None:
@@ -482,7 +483,7 @@ class SphSystem:
         work, nref, nlost, lost_mass, lost_energy = integration.advance_particles(
             self.x, self.v, self.v_half, self.rho, self.rho_half, self.e, self.e_half, self.acc, self.drho,
             self.de, self.xsph, self.f_ext, self.m, self.active, self.gravity, dt, self._dt_prev, self.walls,
-            self._dom_lo, self._dom_hi, self._use_domain)
+            self._dom_lo, self._dom_hi, self._use_domain, self._dt_work[0])
         self.external_work += work
         if len(self.wall_x):  # the dummy walls' share of the pair work, weighted as the kicks weigh de
             self.wall_energy += 0.5 * (self._dt_prev + dt) * float(np.sum(self.wall_power))
