@@ -1,5 +1,5 @@
 """A steady water shock in axisymmetric SPH against its Rankine-Hugoniot state: the shock viscosity of the
-UNDEX decks (issue 15; docs/theory/sph.md, "Shock viscosity").
+r-z free-field UNDEX deck (issue 15; docs/theory/sph.md, "Shock viscosity").
 
 Scene: a water column in the cylinder r < R = 10 dx, 0 < z < 0.15 m (the axis a ghost line, slip ghost walls at
 r = R and on the floor z = 0), Gruneisen water (c 1480 m/s, S1 1.92, gamma0 0.28: the UNDEX decks' water), moving
@@ -13,8 +13,8 @@ shock of the free-field deck's probes at 0.18 / 0.10 / 0.06 m.
 Measured (sphfem 0.1.0), peak probe reading / p_H - 1 at the three probes:
 
     Monaghan alpha, beta   up 80 m/s              up 150 m/s             up 330 m/s
-    0.1, 0 (the old decks) +33.1 / +37.2 / +41.2 % +41.6 / +51.3 / +56.6 % +63.0 / +66.6 / +65.0 %
-    1, 2   (the decks now) +3.6 / +1.7 / +1.0 %    +3.7 / +2.2 / +1.7 %    +4.7 / +4.0 / +3.7 %
+    0.1, 0 (the default)   +33.1 / +37.2 / +41.2 % +41.6 / +51.3 / +56.6 % +63.0 / +66.6 / +65.0 %
+    1, 2   (free field)    +3.6 / +1.7 / +1.0 %    +3.7 / +2.2 / +1.7 %    +4.7 / +4.0 / +3.7 %
     1.5, 3                 -0.1 / -0.4 / -1.2 %    -0.3 / -0.3 / -0.8 %    -0.3 / -0.2 / -0.2 %
 
 With alpha 0.1 the shock front rings (a train of post-shock oscillations) and its peak overshoots by a third
