@@ -16,7 +16,7 @@ The SPH runs with the artificial viscosity of decks/underwater_explosion_free_fi
 (Monaghan alpha 1, beta 2; the derivation's own default is alpha 0.1, beta 0); ``--viscosity ALPHA BETA``
 overrides it (``--viscosity 0.1 0``: the runs before the change). ``--plane`` runs the same scene as a plane
 2D deck (dimension 2, the axis a slip ghost wall: an infinite TNT cylinder lit along its axis) against the 1D
-cylindrical reference. ``--plain`` runs the SPH without the products' renormalised continuity (the plain
+cylindrical reference. ``--plain`` (r-z only) runs the SPH without the products' renormalised continuity (the plain
 areal sum), for the comparison in the study page. Then the observed order p = ln(e21/e32)/ln 2 and Roache's
 GCI on the finest (Fs 1.25) of every monotone triple, per method and probe, and the 1D Lagrangian reference
 (tests/verification/spherical_blast_reference.py, spherical or cylindrical, dr 0.5 / 0.25 / 0.125 mm,
