@@ -25,8 +25,8 @@ products in r-z").
     timestep_scale 0.9 and 3.9e-4 at 0.45 at 20 us (ratio 6.4 for a halved step);
   - the products did work: their mean density fell below 0.12 of 1630 kg/m^3 and the kinetic energy
     peaked at 0.38 of E(0).
-* Under ``-m validation``: the free field of decks/underwater_explosion_free_field_axisymmetric_sph.yaml
-  against its ALE twin at equal spacing, 5 and 2.5 mm (the SPH peaks approach the ALE's).
+* Under ``-m validation``: the free field of decks/underwater_explosion_free_field_axisymmetric_sph.yaml at 5 /
+  2.5 / 1.25 mm converges to the 1D spherical reference (tests/verification/spherical_blast_reference.py).
 """
 from __future__ import annotations
 
@@ -107,19 +107,24 @@ def test_burning_charge_in_a_closed_cylinder_conserves_mass_momentum_and_energy(
 
 
 ALE_FREE_FIELD = Path(__file__).parents[2] / "decks" / "underwater_explosion_free_field_axisymmetric_ale.yaml"
+SPH_FREE_FIELD = ALE_FREE_FIELD.with_name("underwater_explosion_free_field_axisymmetric_sph.yaml")
 PROBES = ("p_r060", "p_r100", "p_r140", "p_r180")
+RADII = (0.06, 0.10, 0.14, 0.18)  # the probes' distances from the charge centre, m
 
 
-def _free_field_peaks(folder: Path, method: str, h: float) -> np.ndarray:
-    """Probe peaks (Pa) of the r-z free field at spacing h: the ALE deck meshed at h, or its SPH twin derived
-    at particle spacing h (study.derive, as decks/underwater_explosion_free_field_axisymmetric_sph.yaml);
-    histories at every step (1e-8 s, below every step)."""
+def _free_field_peaks(folder: Path, h: float) -> np.ndarray:
+    """Probe peaks (Pa) of the r-z SPH free field at particle spacing h: the SPH twin of the ALE deck derived at
+    ratio 10 mm / h (study.derive.sph_variant, as decks/underwater_explosion_free_field_axisymmetric_sph.yaml) with
+    that shipped deck's artificial viscosity (the derivation's default is the weakly compressible alpha 0.1, beta
+    0); histories at every step (1e-8 s, below every step)."""
+    import yaml
+
     from sphfem_cli.study import derive
     from sphfem_cli.study.study import load_deck_data
 
-    data = load_deck_data(ALE_FREE_FIELD)
-    ratio = round(0.01 / h)
-    deck = derive.sph_variant(data, ratio).data if method == "sph" else derive.ale_variant(data, h).data
+    deck = derive.sph_variant(load_deck_data(ALE_FREE_FIELD), round(0.01 / h)).data
+    shipped = yaml.safe_load(SPH_FREE_FIELD.read_text())["sections"]["sph"]["artificial_viscosity"]
+    deck["sections"]["sph"]["artificial_viscosity"] = dict(shipped)
     result = api.run(deck, folder, {"output.history_interval": 1.0e-8, "output.interval": 1.0}, threads=1)
     assert result.completed, result.message
     hist = result.histories()
@@ -127,24 +132,38 @@ def _free_field_peaks(folder: Path, method: str, h: float) -> np.ndarray:
 
 
 @pytest.mark.validation
-@pytest.mark.xfail(strict=True, reason=(
-    "the r-z SPH free field overshoots: about 1.16-1.28 x the 1D spherical reference at 2.5 mm and 1.19-1.21 x at "
-    "1.25 mm, while the r-z ALE with Q2 0.3 is 1.02-1.06 x it; the gap to the ALE grows with refinement (open, issue 15)"))
-def test_free_field_sph_approaches_the_ale_with_refinement(tmp_path):
-    """The r-z SPH free field against the r-z ALE at equal spacing, 5 and 2.5 mm (about 20 s CPU in all).
-    Measured against the ALE deck with the default Q2 0.06 (SPH / ALE - 1 at R = 0.06, 0.10, 0.14, 0.18 m): 5 mm
-    -7.0 / -7.9 / -14.0 / -17.2 %, 2.5 mm +2.9 / -6.5 / -10.9 / -13.0 % (1.25 mm, the study: -0.7 / -2.9 / -5.3 /
-    -7.3 %; docs/studies/underwater_explosion.md, "Axisymmetric SPH free field"). That ALE converged to 1.16 x the
-    1D spherical reference of the same model (its linear viscosity's overshoot); with Q2 0.3, as the ALE deck now
-    ships, it converges to the reference, and the SPH is above it: 5 mm +10.3 / +13.7 / +9.0 / +7.7 %, 2.5 mm
-    +21.0 / +14.4 / +12.3 / +11.6 % (this test, 6 December 2026, 69 s wall at load 6): SPH is 1.16-1.28 x the 1D
-    reference at 2.5 mm. Asserted (expected to fail until the SPH overshoot is found): at 2.5 mm within 15 % at
-    every probe, and the gap smaller than at 5 mm at the three far probes."""
-    gaps = {}
-    for h in (0.005, 0.0025):
-        sph = _free_field_peaks(tmp_path / f"sph_{h}", "sph", h)
-        ale = _free_field_peaks(tmp_path / f"ale_{h}", "ale", h)
-        gaps[h] = sph / ale - 1.0
-        print(f"h {h}: SPH {np.round(sph / 1e6, 1)} MPa, ALE {np.round(ale / 1e6, 1)} MPa, gap {np.round(gaps[h], 3)}")
-    assert np.all(np.abs(gaps[0.0025]) < 0.15), gaps
-    assert np.all(np.abs(gaps[0.0025][1:]) < np.abs(gaps[0.005][1:])), gaps
+def test_free_field_sph_converges_to_the_1d_spherical_reference(tmp_path):
+    """The r-z SPH free field (decks/underwater_explosion_free_field_axisymmetric_sph.yaml, Monaghan alpha 1, beta 2)
+    at 5 / 2.5 / 1.25 mm against the 1D spherical Lagrangian reference of the same model
+    (spherical_blast_reference.blast at dr 0.5 / 0.25 / 0.125 mm, Richardson-extrapolated: Celik et al. 2008,
+    sphfem_cli.study.metrics.three_grid). About 35 s CPU.
+
+    Measured (one thread, load 4-5): SPH peaks 368.0 / 468.7 / 537.7, 165.8 / 215.3 / 243.4, 99.8 / 130.8 / 149.4,
+    68.9 / 90.4 / 104.2 MPa at 0.06 / 0.10 / 0.14 / 0.18 m, 0.81-0.85 of the 1D's 664 / 285 / 180 / 130 MPa at
+    1.25 mm; they rise monotonically towards it (observed order 0.55 / 0.82 / 0.74 / 0.64) and their extrapolation
+    is 688 / 280 / 178 / 129 MPa, +3.6 / -1.9 / -1.3 / -0.7 % of the reference (GCI 19-35 %). The 0.625 mm level
+    (the study, docs/studies/underwater_explosion.md "Axisymmetric SPH free field": 0.88-0.92 of the reference)
+    gives an order of 0.46-0.57 and +5.6 to +8.3 % on 2.5 / 1.25 / 0.625 mm: not yet asymptotic, the converged
+    peak is bracketed by the reference -2 to +8 %. With the old alpha 0.1, beta 0 the same levels overshot:
+    1.19-1.20 x the 1D at equal size at 1.25 mm and 1.11-1.16 x the converged reference at 0.625 mm, rising (the
+    front's ringing, test_sph_axisymmetric_shock.py). Asserted: every level below the reference + 2 %, the error
+    falling at every refinement at every probe, and the extrapolation within 5 % of the reference (the finer
+    triple's +8 % shows that these levels are not asymptotic: this checks the trend and the bracket, not a
+    converged value)."""
+    from sphfem_cli.study.metrics import three_grid
+    from tests.verification.spherical_blast_reference import blast, peaks, setup_from_deck
+
+    levels = (0.005, 0.0025, 0.00125)
+    sph = np.array([_free_field_peaks(tmp_path / f"sph_{h}", h) for h in levels])
+    drs = (5e-4, 2.5e-4, 1.25e-4)
+    setup = setup_from_deck(ALE_FREE_FIELD)
+    one_d = np.array([peaks(blast(setup, dr, np.array(RADII), t_end=1.2e-4))["peak"] for dr in drs])
+    ref = np.array([three_grid(drs, one_d[:, k]).extrapolated for k in range(len(RADII))])
+    ext = np.array([three_grid(levels, sph[:, k]).extrapolated for k in range(len(RADII))])
+    err = sph / ref - 1.0
+    print(f"SPH peaks (MPa) per level {np.round(sph / 1e6, 1).tolist()}; 1D extrapolated {np.round(ref / 1e6, 1)}; "
+          f"SPH / 1D - 1 per level {np.round(100 * err, 1).tolist()} %; SPH extrapolated {np.round(ext / 1e6, 1)}, "
+          f"{np.round(100 * (ext / ref - 1), 1)} %")
+    assert np.all(err < 0.02), err
+    assert np.all(np.abs(err[1:]) < np.abs(err[:-1])), err
+    assert np.all(np.abs(ext / ref - 1.0) < 0.05), ext / ref
