@@ -18,6 +18,7 @@ from numba import njit, prange
 from ..fem.geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient,
                             quad4_gradient, stable_dt)
 from ..materials.kernels import EOS_GRUNEISEN, eos_state
+from .force_lanes import gas_block, one_gas, viscosity_block
 
 
 # boundary condition codes per node
@@ -197,8 +198,9 @@ def quad_hourglass(e, xe, ve, b, coef, f_elem):
 _ST_P, _ST_C, _ST_M = 0, 1, 2  # mixture pressure, sound speed, mass (``_mixture_pressure``)
 _ST_AREA, _ST_TRACE, _ST_VMAX2, _ST_LEN = 3, 4, 5, 6  # area, tr d, largest corner |v|^2, length
 _ST_GX, _ST_HQ, _ST_B = 7, 9, 11  # Gamma . x (2), hourglass rates gamma . v (2), mean gradient b_x (4) then b_y (4)
-_ST_ROWS = 19
-_ST_BLOCK = 128  # elements per block: st of 19 x 128 doubles, 19 kB
+_ST_S, _ST_RHO, _ST_COEF = 19, 20, 21  # A (p + q), rho_e, hourglass coefficient (``force_lanes.viscosity_block``)
+_ST_ROWS = 22
+_ST_BLOCK = 128  # elements per block: st of 22 x 128 doubles, 22 kB
 
 
 @njit(cache=True, inline="always")
@@ -326,6 +328,10 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, ma
     """
     n_elem = conn.shape[0]
     n_chunks = min(n_elem, N_CHUNKS)
+    gas, gm1, gpinf = one_gas(mat_eos, mat_q, mat_rho0)
+    # one gas: the (E, 1) state as flat (E,) views for gas_block
+    vol1, mass1, ener1, lag1 = vol_m.reshape(-1), mass_m.reshape(-1), ener_m.reshape(-1), e_lag.reshape(-1)
+    pres1, bulk1, pscale1 = pres_m.reshape(-1), bulk_m.reshape(-1), pscale.reshape(-1)
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, n_elem, n_chunks)
         # three passes over each block of the run, through its rows of st (the block's elements along each
@@ -334,24 +340,25 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, ma
         st = np.empty((_ST_ROWS, _ST_BLOCK))
         for block in range(start, stop, _ST_BLOCK):
             nb = min(_ST_BLOCK, stop - block)
-            for i in range(nb):
-                p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
-                                                       mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
-                st[_ST_P, i] = p_mix
-                st[_ST_C, i] = c_max
-                st[_ST_M, i] = mtot
+            if gas:  # one ideal or stiffened gas: the same state, vectorised (ale/force_lanes.py)
+                gas_block(block, nb, vol1, mass1, ener1, lag1, gm1, gpinf, mat_rho0[0], phi_eps, RHO_VOID, pscale1,
+                          pressure_cutoff, pres1, bulk1, st[_ST_P], st[_ST_C], st[_ST_M])
+            else:
+                for i in range(nb):
+                    p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
+                                                           mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
+                    st[_ST_P, i] = p_mix
+                    st[_ST_C, i] = c_max
+                    st[_ST_M, i] = mtot
             for i in range(nb):
                 quad_geometry(conn, block + i, x, v, st, i)
+            viscosity_block(block, nb, st[_ST_P], st[_ST_C], st[_ST_M], st[_ST_AREA], st[_ST_TRACE], st[_ST_VMAX2],
+                            st[_ST_LEN], q1, q2, qhg, q_elem, dt_elem, st[_ST_S], st[_ST_RHO], st[_ST_COEF])
             for i in range(nb):
                 e = block + i
-                area = st[_ST_AREA, i]
-                c_max = st[_ST_C, i]
-                rho_e = st[_ST_M, i] / area
-                q = viscosity_and_step(e, rho_e, st[_ST_LEN, i], c_max, st[_ST_TRACE, i], st[_ST_VMAX2, i], q1, q2,
-                                       q_elem, dt_elem)
-                s = area * (st[_ST_P, i] + q)
-                if qhg > 0.0 and rho_e > 0.0:  # quad_hourglass: f_a -= coef (gamma . v) gamma_a
-                    coef = 0.25 * qhg * rho_e * c_max * math.sqrt(area)
+                s = st[_ST_S, i]
+                if qhg > 0.0 and st[_ST_RHO, i] > 0.0:  # quad_hourglass: f_a -= coef (gamma . v) gamma_a
+                    coef = st[_ST_COEF, i]
                     gx0 = st[_ST_GX, i]
                     gx1 = st[_ST_GX + 1, i]
                     hq0 = st[_ST_HQ, i]
