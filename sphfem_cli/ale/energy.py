@@ -107,10 +107,11 @@ def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, c
 
 
 @njit(cache=True, error_model="numpy")
-def one_material_closure(start, nb, w_blk, v_lag_blk, vol, mass, ener, e_lag, pres, phi_eps):
-    """``_closure_energy`` of elements start .. start + nb - 1 of a mesh holding one material, as a loop LLVM
-    vectorises (straight-line, flat (E,) arrays, numpy's error model: the divisions of an absent or massless
-    element give inf or nan that the selects discard). w_blk, v_lag_blk: the block's work and Lagrangian volume.
+def one_material_closure(nb, w_blk, v_lag_blk, vol, mass, ener, e_lag, pres, phi_eps):
+    """``_closure_energy`` of the nb elements of a block of a mesh holding one material, as a loop LLVM
+    vectorises (straight-line; the block's slices of flat (E,) views indexed by the loop counter, see
+    ``force_lanes.gas_block``; numpy's error model: the divisions of an absent or massless element give inf
+    or nan that the selects discard). w_blk, v_lag_blk: the block's work and Lagrangian volume.
 
     With one material there is nothing to relax (n_relax <= 1), so both closures are: dV = V_lag - (0 + V);
     present when V > phi_eps (0 + V): dV_1 = (dV V) / (0 + V), else 0; own = 0 - p dV_1 where M > 0; rest =
@@ -118,10 +119,9 @@ def one_material_closure(start, nb, w_blk, v_lag_blk, vol, mass, ener, e_lag, pr
     V += dV_1. The general path's operations in its order (its sums start from 0.0): the same bits.
     """
     for i in range(nb):
-        e = start + i
-        v = vol[e]
-        m = mass[e]
-        p = pres[e]
+        v = vol[i]
+        m = mass[i]
+        p = pres[i]
         vtot = 0.0 + v
         dv = v_lag_blk[i] - vtot
         present = v > phi_eps * vtot
@@ -131,11 +131,11 @@ def one_material_closure(start, nb, w_blk, v_lag_blk, vol, mass, ener, e_lag, pr
         own = 0.0 - p * dvm if full else 0.0
         rest = w_blk[i] - own
         mass_e = 0.0 + m
-        gained = ener[e] + (-p * dvm + rest * m / mass_e)
+        gained = ener[i] + (-p * dvm + rest * m / mass_e)
         lagged = -0.5 * p * dvm / m
-        ener[e] = gained if full else ener[e]
-        e_lag[e] = lagged if full else 0.0
-        vol[e] = v + dvm
+        ener[i] = gained if full else ener[i]
+        e_lag[i] = lagged if full else 0.0
+        vol[i] = v + dvm
 
 
 @njit(cache=True, inline="always")
@@ -200,8 +200,9 @@ def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_
                         w, v_lag = quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring)
                     work_elem[e] = w
                     v_blk[i] = v_lag
-                one_material_closure(block, nb, work_elem[block:block + nb], v_blk, vol1, mass1, ener1, lag1, pres1,
-                                     phi_eps)
+                end = block + nb
+                one_material_closure(nb, work_elem[block:end], v_blk, vol1[block:end], mass1[block:end],
+                                     ener1[block:end], lag1[block:end], pres1[block:end], phi_eps)
             continue
         for e in range(start, stop):
             if dim == 3:

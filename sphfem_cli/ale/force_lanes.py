@@ -47,12 +47,14 @@ def one_gas(mat_eos, mat_q, mat_rho0):
 
 
 @njit(cache=True, error_model="numpy")
-def gas_block(start, nb, vol_m, mass_m, ener_m, e_lag, gm1, gpinf, rho0, phi_eps, rho_void, pscale,
+def gas_block(nb, vol_m, mass_m, ener_m, e_lag, gm1, gpinf, rho0, phi_eps, rho_void, pscale,
               pressure_cutoff, pres_m, bulk_m, st_p, st_c, st_m):
-    """``lagrange._mixture_pressure`` of elements start .. start + nb - 1, one gas (``one_gas``): writes
-    pres_m, bulk_m and the block's mixture pressure, sound speed and mass into st_p, st_c, st_m [0, nb).
-    The per-element arrays come flat (E,), the (E, 1) arrays' one column: with the column index of the
-    (E, N) form LLVM did not vectorise the loop.
+    """``lagrange._mixture_pressure`` of the nb elements of a block, one gas (``one_gas``): writes pres_m,
+    bulk_m and the block's mixture pressure, sound speed and mass into st_p, st_c, st_m [0, nb).
+    The per-element arrays come as the block's slices of the flat (E,) views of the (E, 1) state, indexed
+    by the loop counter: with the column index of the (E, N) form LLVM did not vectorise the loop, and
+    with the element number start + i (of unknown sign to numba, so wrapped around where negative) it
+    stored through scatters.
 
     As the general path: present when V > phi_eps V and M > rho_void rho0 V; then rho = M / V, the EOS at
     r = rho / rho0 and E = rho0 (E_stored / M + e_lag), c = sqrt(c^2) (0 where c^2 <= 0; p = c = 0 where
@@ -61,15 +63,14 @@ def gas_block(start, nb, vol_m, mass_m, ener_m, e_lag, gm1, gpinf, rho0, phi_eps
     0.0 + x differs from x when x is -0.0.) No Gruneisen cavitation branch: a gas has none.
     """
     for i in range(nb):
-        e = start + i
-        vol = vol_m[e]
-        mass = mass_m[e]
+        vol = vol_m[i]
+        mass = mass_m[i]
         vtot = 0.0 + vol
         mtot = 0.0 + mass
         present = vol > phi_eps * vtot and mass > rho_void * rho0 * vol
         rho = mass / vol
         r = rho / rho0
-        big_e = rho0 * (ener_m[e] / mass + e_lag[e])
+        big_e = rho0 * (ener_m[i] / mass + e_lag[i])
         p = gm1 * r * big_e - gpinf
         dpdmu = gm1 * big_e
         dpde = gm1 * r
@@ -78,12 +79,12 @@ def gas_block(start, nb, vol_m, mass_m, ener_m, e_lag, gm1, gpinf, rho0, phi_eps
         if rho <= 0.0:
             p = 0.0
             c = 0.0
-        p = max(p * pscale[e], pressure_cutoff)
+        p = max(p * pscale[i], pressure_cutoff)
         p_in = 0.0 + vol / vtot * p
         mc2 = 0.0 + mass * c * c
         m_in = 0.0 + mass
-        pres_m[e] = p if present else 0.0
-        bulk_m[e] = rho * c * c if present else 0.0
+        pres_m[i] = p if present else 0.0
+        bulk_m[i] = rho * c * c if present else 0.0
         st_p[i] = p_in if present else 0.0
         m_in = m_in if present else 0.0
         st_c[i] = math.sqrt((mc2 if present else 0.0) / m_in) if m_in > 0.0 else 0.0
@@ -91,31 +92,31 @@ def gas_block(start, nb, vol_m, mass_m, ener_m, e_lag, gm1, gpinf, rho0, phi_eps
 
 
 @njit(cache=True, error_model="numpy")
-def viscosity_block(start, nb, s_p, s_c, s_m, s_area, s_trace, s_vmax2, s_len, q1, q2, qhg, q_elem, dt_elem,
+def viscosity_block(nb, s_p, s_c, s_m, s_area, s_trace, s_vmax2, s_long2, q1, q2, qhg, q_elem, dt_elem,
                     s_s, s_rho, s_coef):
-    """``lagrange.viscosity_and_step`` and the force factors of elements start .. start + nb - 1 from their
-    work rows (mixture pressure s_p, sound speed s_c, mass s_m, area, tr d, largest corner |v|^2, length).
+    """``lagrange.viscosity_and_step`` and the force factors of the nb elements of a block (q_elem, dt_elem:
+    the block's slices, as in ``gas_block``) from their work rows (mixture pressure s_p, sound speed s_c, mass s_m, area, tr d, largest corner |v|^2, the longest
+    edge's squared length).
 
-    rho_e = M / A; q = ``fem.geometry.bulk_viscosity`` (rho l (Q1^2 l tr d^2 - Q2 c tr d), 0 where tr d >= 0)
+    l = A / sqrt(longest^2) (``lagrange._quad_char_length``); rho_e = M / A; q = ``fem.geometry.bulk_viscosity`` (rho l (Q1^2 l tr d^2 - Q2 c tr d), 0 where tr d >= 0)
     into q_elem; dt_elem = ``fem.geometry.stable_dt`` with c_eff = c + |v|_max (l / (Q + sqrt(Q^2 + c_eff^2)),
     Q = Q2 c_eff + Q1^2 l |tr d| in compression, else 0; inf where c_eff <= 0 or the denominator is not
     positive); s_s = A (p + q), s_rho = rho_e, s_coef = qhg rho_e c sqrt(A) / 4 (the hourglass coefficient,
     used where qhg > 0 and rho_e > 0). Operation order as the scalar helpers'.
     """
     for i in range(nb):
-        e = start + i
         area = s_area[i]
         c = s_c[i]
-        length = s_len[i]
+        length = area / math.sqrt(s_long2[i])
         trace_d = s_trace[i]
         rho_e = s_m[i] / area
         q = rho_e * length * (q1 * q1 * length * trace_d * trace_d - q2 * c * trace_d)
         q = 0.0 if trace_d >= 0.0 else q
-        q_elem[e] = q
+        q_elem[i] = q
         c_eff = c + math.sqrt(s_vmax2[i])
         qq = q2 * c_eff + q1 * q1 * length * (-trace_d) if trace_d < 0.0 else 0.0
         den = qq + math.sqrt(qq * qq + c_eff * c_eff)
-        dt_elem[e] = length / den if c_eff > 0.0 and den > 0.0 else math.inf
+        dt_elem[i] = length / den if c_eff > 0.0 and den > 0.0 else math.inf
         s_s[i] = area * (s_p[i] + q)
         s_rho[i] = rho_e
         s_coef[i] = 0.25 * qhg * rho_e * c * math.sqrt(area)

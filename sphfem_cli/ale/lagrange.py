@@ -196,7 +196,8 @@ def quad_hourglass(e, xe, ve, b, coef, f_elem):
 
 # rows of the plane force kernel's per-run work array st (one column per element of the run)
 _ST_P, _ST_C, _ST_M = 0, 1, 2  # mixture pressure, sound speed, mass (``_mixture_pressure``)
-_ST_AREA, _ST_TRACE, _ST_VMAX2, _ST_LEN = 3, 4, 5, 6  # area, tr d, largest corner |v|^2, length
+# area, tr d, largest corner |v|^2, the longest edge's squared length (the length A / sqrt of it: viscosity_block)
+_ST_AREA, _ST_TRACE, _ST_VMAX2, _ST_LONG2 = 3, 4, 5, 6
 _ST_GX, _ST_HQ, _ST_B = 7, 9, 11  # Gamma . x (2), hourglass rates gamma . v (2), mean gradient b_x (4) then b_y (4)
 _ST_S, _ST_RHO, _ST_COEF = 19, 20, 21  # A (p + q), rho_e, hourglass coefficient (``force_lanes.viscosity_block``)
 _ST_ROWS = 22
@@ -208,8 +209,9 @@ def quad_geometry(conn, e, x, v, st, i):
     """Column i of st: the geometry of plane quad e at x with corner velocities v, on scalars.
 
     The same arithmetic as ``quad_corners`` (``gather_quad``, ``fem.geometry.quad4_gradient``), the
-    velocity divergence tr d = sum_a v_a . b_a, ``_quad_char_length`` and the hourglass rates of
-    ``quad_hourglass`` (Gamma . x and (gamma . v) per component), in the same order: the same bits.
+    velocity divergence tr d = sum_a v_a . b_a, the largest squared edge length of ``_quad_char_length``
+    (its root and the division by it in ``force_lanes.viscosity_block``, vectorised) and the hourglass rates
+    of ``quad_hourglass`` (Gamma . x and (gamma . v) per component), in the same order: the same bits.
     """
     n0 = conn[e, 0]
     n1 = conn[e, 1]
@@ -272,7 +274,7 @@ def quad_geometry(conn, e, x, v, st, i):
     st[_ST_AREA, i] = area
     st[_ST_TRACE, i] = trace_d
     st[_ST_VMAX2, i] = vmax2
-    st[_ST_LEN, i] = area / math.sqrt(longest2)
+    st[_ST_LONG2, i] = longest2
     st[_ST_GX, i] = gx0
     st[_ST_GX + 1, i] = gx1
     st[_ST_HQ, i] = hq0
@@ -341,8 +343,10 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, ma
         for block in range(start, stop, _ST_BLOCK):
             nb = min(_ST_BLOCK, stop - block)
             if gas:  # one ideal or stiffened gas: the same state, vectorised (ale/force_lanes.py)
-                gas_block(block, nb, vol1, mass1, ener1, lag1, gm1, gpinf, mat_rho0[0], phi_eps, RHO_VOID, pscale1,
-                          pressure_cutoff, pres1, bulk1, st[_ST_P], st[_ST_C], st[_ST_M])
+                end = block + nb
+                gas_block(nb, vol1[block:end], mass1[block:end], ener1[block:end], lag1[block:end], gm1, gpinf,
+                          mat_rho0[0], phi_eps, RHO_VOID, pscale1[block:end], pressure_cutoff, pres1[block:end],
+                          bulk1[block:end], st[_ST_P], st[_ST_C], st[_ST_M])
             else:
                 for i in range(nb):
                     p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
@@ -352,8 +356,9 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, ma
                     st[_ST_M, i] = mtot
             for i in range(nb):
                 quad_geometry(conn, block + i, x, v, st, i)
-            viscosity_block(block, nb, st[_ST_P], st[_ST_C], st[_ST_M], st[_ST_AREA], st[_ST_TRACE], st[_ST_VMAX2],
-                            st[_ST_LEN], q1, q2, qhg, q_elem, dt_elem, st[_ST_S], st[_ST_RHO], st[_ST_COEF])
+            viscosity_block(nb, st[_ST_P], st[_ST_C], st[_ST_M], st[_ST_AREA], st[_ST_TRACE], st[_ST_VMAX2],
+                            st[_ST_LONG2], q1, q2, qhg, q_elem[block:block + nb], dt_elem[block:block + nb], st[_ST_S],
+                            st[_ST_RHO], st[_ST_COEF])
             for i in range(nb):
                 e = block + i
                 s = st[_ST_S, i]
