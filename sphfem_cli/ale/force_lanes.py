@@ -9,6 +9,11 @@ model: a division by zero gives inf or nan, which the selects discard, instead o
 the vector units take 8 elements' divisions and roots at once. Each is the same operations in the same
 order as the scalar code it replaces (the same bits).
 
+The geometry pass (``geometry_block``) likewise, on the corner coordinates and velocities that
+``gather_block`` copied out of the node arrays (LLVM does not vectorise the gather itself). The work
+arrays are flat, row r of the block at r * _ST_BLOCK: with a constant row stride LLVM sees that the rows
+do not overlap (through a 2D array's runtime row stride it did not vectorise).
+
 One gas:
 
 ``lagrange._mixture_pressure`` for one material whose EOS is ``EOS_IDEAL_GAS`` (p = (gamma - 1) rho e)
@@ -27,8 +32,20 @@ import math
 
 from numba import njit
 
+from ..fem.geometry import QUAD_GAMMA
 from ..materials.ids import EOS_IDEAL_GAS, EOS_STIFFENED_GAS
 from ..materials.slots import Q_SG_GAMMA, Q_SG_PINF
+
+# rows of the plane force kernel's per-run work array st (_ST_ROWS, _ST_BLOCK): one column per element of a block
+_ST_P, _ST_C, _ST_M = 0, 1, 2  # mixture pressure, sound speed, mass (``_mixture_pressure``)
+# area, tr d, largest corner |v|^2, the longest edge's squared length (the length A / sqrt of it: viscosity_block)
+_ST_AREA, _ST_TRACE, _ST_VMAX2, _ST_LONG2 = 3, 4, 5, 6
+_ST_GX, _ST_HQ, _ST_B = 7, 9, 11  # Gamma . x (2), hourglass rates gamma . v (2), mean gradient b_x (4) then b_y (4)
+_ST_S, _ST_RHO, _ST_COEF = 19, 20, 21  # A (p + q), rho_e, hourglass coefficient (``viscosity_block``)
+_ST_ROWS = 22
+_ST_BLOCK = 128  # elements per block: st of 22 x 128 doubles (22 kB) and the corners' 16 x 128 (16 kB)
+# rows of the corner array (16 rows of _ST_BLOCK, flat): x, y, u, w of corners 0..3
+_CX_X, _CX_Y, _CX_U, _CX_W = 0, 4, 8, 12
 
 
 @njit(cache=True)
@@ -120,3 +137,96 @@ def viscosity_block(nb, s_p, s_c, s_m, s_area, s_trace, s_vmax2, s_long2, q1, q2
         s_s[i] = area * (s_p[i] + q)
         s_rho[i] = rho_e
         s_coef[i] = 0.25 * qhg * rho_e * c * math.sqrt(area)
+
+
+@njit(cache=True, inline="always")
+def gather_block(conn, start, nb, x, v, cx):
+    """Corner coordinates and velocities of the nb quads from element start into the corner rows of cx."""
+    for i in range(nb):
+        e = start + i
+        for a in range(4):
+            n = conn[e, a]
+            cx[(_CX_X + a) * _ST_BLOCK + i] = x[n, 0]
+            cx[(_CX_Y + a) * _ST_BLOCK + i] = x[n, 1]
+            cx[(_CX_U + a) * _ST_BLOCK + i] = v[n, 0]
+            cx[(_CX_W + a) * _ST_BLOCK + i] = v[n, 1]
+
+
+@njit(cache=True, error_model="numpy")
+def geometry_block(nb, cx, st):
+    """The geometry of the nb quads of a block from their corners (cx, ``gather_block``) into st (flat).
+
+    ``fem.geometry.quad4_gradient`` (b_xa = (y_{a+1} - y_{a-1}) / 2A, b_ya = (x_{a-1} - x_{a+1}) / 2A, 0
+    where A <= 0), the velocity divergence tr d = sum_a v_a . b_a, the largest corner |v|^2, the largest
+    squared edge length of ``lagrange._quad_char_length`` and the hourglass rates of ``lagrange.quad_hourglass``
+    (Gamma . x and (gamma . v) per component, gamma_a = Gamma_a - (Gamma . x) b_a), in the scalar code's order.
+    """
+    B = _ST_BLOCK
+    for i in range(nb):
+        x0, x1, x2, x3 = cx[(_CX_X + 0) * B + i], cx[(_CX_X + 1) * B + i], cx[(_CX_X + 2) * B + i], cx[(_CX_X + 3) * B + i]
+        y0, y1, y2, y3 = cx[(_CX_Y + 0) * B + i], cx[(_CX_Y + 1) * B + i], cx[(_CX_Y + 2) * B + i], cx[(_CX_Y + 3) * B + i]
+        u0, u1, u2, u3 = cx[(_CX_U + 0) * B + i], cx[(_CX_U + 1) * B + i], cx[(_CX_U + 2) * B + i], cx[(_CX_U + 3) * B + i]
+        w0, w1, w2, w3 = cx[(_CX_W + 0) * B + i], cx[(_CX_W + 1) * B + i], cx[(_CX_W + 2) * B + i], cx[(_CX_W + 3) * B + i]
+        vmax2 = max(0.0, u0 * u0 + w0 * w0)
+        vmax2 = max(vmax2, u1 * u1 + w1 * w1)
+        vmax2 = max(vmax2, u2 * u2 + w2 * w2)
+        vmax2 = max(vmax2, u3 * u3 + w3 * w3)
+        area = 0.5 * ((x2 - x0) * (y3 - y1) + (x1 - x3) * (y2 - y0))
+        inv = 0.5 / area if area > 0.0 else 0.0
+        bx0, by0 = (y1 - y3) * inv, (x3 - x1) * inv
+        bx1, by1 = (y2 - y0) * inv, (x0 - x2) * inv
+        bx2, by2 = (y3 - y1) * inv, (x1 - x3) * inv
+        bx3, by3 = (y0 - y2) * inv, (x2 - x0) * inv
+        trace_d = 0.0
+        trace_d += u0 * bx0 + w0 * by0
+        trace_d += u1 * bx1 + w1 * by1
+        trace_d += u2 * bx2 + w2 * by2
+        trace_d += u3 * bx3 + w3 * by3
+        dx, dy = x1 - x0, y1 - y0
+        longest2 = max(0.0, dx * dx + dy * dy)
+        dx, dy = x2 - x1, y2 - y1
+        longest2 = max(longest2, dx * dx + dy * dy)
+        dx, dy = x3 - x2, y3 - y2
+        longest2 = max(longest2, dx * dx + dy * dy)
+        dx, dy = x0 - x3, y0 - y3
+        longest2 = max(longest2, dx * dx + dy * dy)
+        gx0 = 0.0
+        gx1 = 0.0
+        gx0 += QUAD_GAMMA[0] * x0
+        gx1 += QUAD_GAMMA[0] * y0
+        gx0 += QUAD_GAMMA[1] * x1
+        gx1 += QUAD_GAMMA[1] * y1
+        gx0 += QUAD_GAMMA[2] * x2
+        gx1 += QUAD_GAMMA[2] * y2
+        gx0 += QUAD_GAMMA[3] * x3
+        gx1 += QUAD_GAMMA[3] * y3
+        g0 = QUAD_GAMMA[0] - gx0 * bx0 - gx1 * by0
+        g1 = QUAD_GAMMA[1] - gx0 * bx1 - gx1 * by1
+        g2 = QUAD_GAMMA[2] - gx0 * bx2 - gx1 * by2
+        g3 = QUAD_GAMMA[3] - gx0 * bx3 - gx1 * by3
+        hq0 = 0.0
+        hq1 = 0.0
+        hq0 += g0 * u0
+        hq1 += g0 * w0
+        hq0 += g1 * u1
+        hq1 += g1 * w1
+        hq0 += g2 * u2
+        hq1 += g2 * w2
+        hq0 += g3 * u3
+        hq1 += g3 * w3
+        st[_ST_AREA * B + i] = area
+        st[_ST_TRACE * B + i] = trace_d
+        st[_ST_VMAX2 * B + i] = vmax2
+        st[_ST_LONG2 * B + i] = longest2
+        st[_ST_GX * B + i] = gx0
+        st[(_ST_GX + 1) * B + i] = gx1
+        st[_ST_HQ * B + i] = hq0
+        st[(_ST_HQ + 1) * B + i] = hq1
+        st[_ST_B * B + i] = bx0
+        st[(_ST_B + 1) * B + i] = bx1
+        st[(_ST_B + 2) * B + i] = bx2
+        st[(_ST_B + 3) * B + i] = bx3
+        st[(_ST_B + 4) * B + i] = by0
+        st[(_ST_B + 5) * B + i] = by1
+        st[(_ST_B + 6) * B + i] = by2
+        st[(_ST_B + 7) * B + i] = by3
