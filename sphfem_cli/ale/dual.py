@@ -56,26 +56,33 @@ def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_ope
         src = node_line[e, direction, h, 1]
         dst = node_line[e, direction, h, 2]
         g[e, h, G_MASS] = gh
-        if gh >= 0.0:
-            donor = src
-            acc = dst
-            up = node_line[e, direction, h, 0]
+        if gh == 0.0:
+            # no mass crosses: momentum and kinetic energy 0 without reading the node line's masses and
+            # velocities (most of a mesh at rest); gh v_f would be a zero of either sign, and the node sums of
+            # apply_dual_fluxes start from +0.0, where either adds nothing: the same bits
+            for k in range(G_KIN, G_MOM + dim):
+                g[e, h, k] = 0.0
         else:
-            donor = dst
-            acc = src
-            up = node_line[e, direction, h, 3]
-        md = mnode[donor]
-        ke = 0.0
-        limited = order == 2 and up >= 0 and md > 0.0 and mnode[acc] > 0.0 and mnode[up] > 0.0
-        courant = min(1.0, n_edges * abs(gh) / md) if limited else 0.0
-        for k in range(dim):
-            vd = u[donor, k]
-            vf = vd
-            if limited:
-                vf = van_leer(vd, u[acc, k], u[up, k], courant)
-            g[e, h, G_MOM + k] = gh * vf
-            ke += vf * vf
-        g[e, h, G_KIN] = 0.5 * gh * ke
+            if gh > 0.0:
+                donor = src
+                acc = dst
+                up = node_line[e, direction, h, 0]
+            else:
+                donor = dst
+                acc = src
+                up = node_line[e, direction, h, 3]
+            md = mnode[donor]
+            ke = 0.0
+            limited = order == 2 and up >= 0 and md > 0.0 and mnode[acc] > 0.0 and mnode[up] > 0.0
+            courant = min(1.0, n_edges * abs(gh) / md) if limited else 0.0
+            for k in range(dim):
+                vd = u[donor, k]
+                vf = vd
+                if limited:
+                    vf = van_leer(vd, u[acc, k], u[up, k], courant)
+                g[e, h, G_MOM + k] = gh * vf
+                ke += vf * vf
+            g[e, h, G_KIN] = 0.5 * gh * ke
         if any_open:
             for side in range(2):
                 for k in range(G_MOM + dim):
