@@ -180,6 +180,7 @@ class AleSystem:
         # dual-edge fluxes (mass, kinetic energy, momentum per row: dual.G_MASS, G_KIN, G_MOM) and the node velocities
         self._g = np.zeros((n_elem, n_edges, K.G_MOM + dim))
         self._b = np.zeros((n_elem, n_edges, 2, K.G_MOM + dim))
+        self._moving = np.zeros(n_elem, dtype=np.bool_)  # mass crosses the element's dual faces (dual.dual_fluxes)
         self._unode = np.zeros((n_nodes, dim))
         self._impulse = np.zeros((n_nodes, dim))
         self._f_ext = np.zeros((n_nodes, dim))
@@ -564,9 +565,10 @@ class AleSystem:
                                 self.vol_m, self.mass_m, self.ener_m)
             K.node_velocities(mnode, pnode, self._unode)
             K.dual_fluxes(ka, kb, d, self.conn, topo["elem_face"], topo["elem_sign"], topo["elem_nbr"], self.face_open,
-                          any_open, self._fmass, topo["node_line"], mnode, self._unode, self.order, self._g, self._b)
+                          any_open, self._fmass, topo["node_line"], mnode, self._unode, self.order, self._g, self._b,
+                          self._moving)
             K.apply_dual_fluxes(topo["corner_edge"][d], topo["corner_dst"][d], topo["node_elem_ptr"],
-                                topo["node_elem_idx"], any_open, self._g, self._b, mnode, pnode, knode)
+                                topo["node_elem_idx"], any_open, self._g, self._b, self._moving, mnode, pnode, knode)
         dissip = self._dissip
         self._k_finish(mnode, pnode, knode, self.m_floor, self.v_lag, self.conn, topo["node_elem_ptr"],
                        topo["node_elem_idx"], self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)
