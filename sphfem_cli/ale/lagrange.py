@@ -216,6 +216,13 @@ def quad_hourglass(e, xe, ve, b, coef, f_elem):
 # elements, where the one-pass body (hundreds of instructions per element) kept it waiting. Same
 # arithmetic in the same order (bit-identical states of the one- and two-material benchmark cases and
 # the ALE decks); 71 -> 51 ns per cell-step, one material, 240^2 cells, 1 thread (min of 20 calls).
+# Since (issue 17, second round) the passes of each block of _ST_BLOCK elements are: the material state
+# (``force_lanes.gas_block`` for one ideal or stiffened gas, else ``_mixture_pressure``), the corner gather
+# (``force_lanes.gather_block``), the geometry (``force_lanes.geometry_block``), the viscosity and step
+# (``force_lanes.viscosity_block``), the forces (here); the ``force_lanes`` passes are loops LLVM vectorises
+# (its module docstring). Bit-identical; per element, 480^2 one gas, 1 thread, min of 15 calls: state 15.5 ->
+# 4.7 ns, viscosity and step 14.8 -> 4.4 (the kernel 52.7 -> 32.8) before the geometry pass, which took the
+# kernel from 2.87 to 1.60 ms per call at 240^2 (benchmarks/ale_kernels.py, load 5.6-6.8).
 @njit(parallel=True, cache=True)
 def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                     phi_eps, pscale, pressure_cutoff, f_elem, pres_m, bulk_m, q_elem, dt_elem):
