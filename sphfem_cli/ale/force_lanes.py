@@ -1,9 +1,10 @@
-"""ALE plane force kernel (``lagrange.lagrange_forces``): two of its passes over a block of elements
+"""ALE plane force kernel (``lagrange.lagrange_forces``): three of its passes over a block of elements
 written so that LLVM vectorises them (issue 17): the material state where the mesh holds one ideal or
-stiffened gas (``gas_block``), and the bulk viscosity and stable step (``viscosity_block``).
+stiffened gas (``gas_block``), the geometry (``geometry_block``), and the bulk viscosity and stable step
+(``viscosity_block``).
 
 The force kernel goes over each block of elements in passes through a work array (see the comment
-above it). These two passes are where its divisions and square roots are; written as straight-line
+above it). The state and viscosity passes are where its divisions and square roots are; written as straight-line
 loops over flat arrays (no branch: every value computed, the cases selected afterwards; numpy's error
 model: a division by zero gives inf or nan, which the selects discard, instead of a Python exception)
 the vector units take 8 elements' divisions and roots at once. Each is the same operations in the same
@@ -34,7 +35,7 @@ from numba import njit
 
 from ..fem.geometry import QUAD_GAMMA
 from ..materials.ids import EOS_IDEAL_GAS, EOS_STIFFENED_GAS
-from ..materials.slots import Q_SG_GAMMA, Q_SG_PINF
+from ..materials.slots import Q_IG_GAMMA, Q_SG_GAMMA, Q_SG_PINF
 
 # rows of the plane force kernel's per-run work array st (_ST_ROWS, _ST_BLOCK): one column per element of a block
 _ST_P, _ST_C, _ST_M = 0, 1, 2  # mixture pressure, sound speed, mass (``_mixture_pressure``)
@@ -57,7 +58,7 @@ def one_gas(mat_eos, mat_q, mat_rho0):
         return False, 0.0, 0.0
     eos = mat_eos[0]
     if eos == EOS_IDEAL_GAS:
-        return True, mat_q[0, Q_SG_GAMMA] - 1.0, 0.0
+        return True, mat_q[0, Q_IG_GAMMA] - 1.0, 0.0
     if eos == EOS_STIFFENED_GAS:
         return True, mat_q[0, Q_SG_GAMMA] - 1.0, mat_q[0, Q_SG_GAMMA] * mat_q[0, Q_SG_PINF]
     return False, 0.0, 0.0
