@@ -35,7 +35,7 @@ def node_velocities(mnode, pnode, u):
 
 @njit(cache=True, inline="always")
 def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass, node_line,
-                  mnode, u, order, g, b, dim, n_edges):
+                  mnode, u, order, g, b, moving, dim, n_edges):
     """``dual_fluxes`` of element e; dim and n_edges are constants at the call (unrolled loops)."""
     n_mat = fmass.shape[1]
     share = 1.0 / n_edges
@@ -49,33 +49,38 @@ def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_ope
     fa_in *= elem_sign[e, ka]
     fb_in *= elem_sign[e, kb]
     gh = 0.5 * share * (fa_in - fb_in)
+    # no mass crosses (gh = 0): the element's g rows are zeros (gh v_f would be a zero of either sign), which the
+    # node sums of apply_dual_fluxes, started from +0.0, would add without a change; they are neither written
+    # nor read (most of a mesh at rest), moving[e] False tells apply_dual_fluxes: the same bits
+    moving[e] = gh != 0.0
     # open boundary faces (read only when there are some: two rows fewer per element otherwise)
     open_a = any_open and elem_nbr[e, ka] < 0 and face_open[fa]
     open_b = any_open and elem_nbr[e, kb] < 0 and face_open[fb]
     for h in range(n_edges):
         src = node_line[e, direction, h, 1]
         dst = node_line[e, direction, h, 2]
-        g[e, h, G_MASS] = gh
-        if gh >= 0.0:
-            donor = src
-            acc = dst
-            up = node_line[e, direction, h, 0]
-        else:
-            donor = dst
-            acc = src
-            up = node_line[e, direction, h, 3]
-        md = mnode[donor]
-        ke = 0.0
-        limited = order == 2 and up >= 0 and md > 0.0 and mnode[acc] > 0.0 and mnode[up] > 0.0
-        courant = min(1.0, n_edges * abs(gh) / md) if limited else 0.0
-        for k in range(dim):
-            vd = u[donor, k]
-            vf = vd
-            if limited:
-                vf = van_leer(vd, u[acc, k], u[up, k], courant)
-            g[e, h, G_MOM + k] = gh * vf
-            ke += vf * vf
-        g[e, h, G_KIN] = 0.5 * gh * ke
+        if gh != 0.0:
+            g[e, h, G_MASS] = gh
+            if gh > 0.0:
+                donor = src
+                acc = dst
+                up = node_line[e, direction, h, 0]
+            else:
+                donor = dst
+                acc = src
+                up = node_line[e, direction, h, 3]
+            md = mnode[donor]
+            ke = 0.0
+            limited = order == 2 and up >= 0 and md > 0.0 and mnode[acc] > 0.0 and mnode[up] > 0.0
+            courant = min(1.0, n_edges * abs(gh) / md) if limited else 0.0
+            for k in range(dim):
+                vd = u[donor, k]
+                vf = vd
+                if limited:
+                    vf = van_leer(vd, u[acc, k], u[up, k], courant)
+                g[e, h, G_MOM + k] = gh * vf
+                ke += vf * vf
+            g[e, h, G_KIN] = 0.5 * gh * ke
         if any_open:
             for side in range(2):
                 for k in range(G_MOM + dim):
@@ -102,7 +107,7 @@ def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_ope
 
 @njit(parallel=True, cache=True)
 def dual_fluxes(ka, kb, direction, conn, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass, node_line,
-                mnode, u, order, g, b):
+                mnode, u, order, g, b, moving):
     """Mass, momentum and kinetic-energy fluxes of the dual (nodal) cells in this sweep (2D and 3D).
 
     The element's H edges along the sweep direction (H = 2 for a quad4, 4 for a hex8) join a
@@ -117,21 +122,22 @@ def dual_fluxes(ka, kb, direction, conn, elem_face, elem_sign, elem_nbr, face_op
     face's H nodes also receives 1/H of the face's mass flux with its own velocity (b[e, h, 0] into
     src through side a, b[e, h, 1] into dst through side b); without open faces (any_open False) b
     is left as it is (zero). u: the node velocities p / m (``node_velocities``); g (E, H, 2 + dim)
-    and b (E, H, 2, 2 + dim) rows in the slots G_MASS, G_KIN, G_MOM + k.
+    and b (E, H, 2, 2 + dim) rows in the slots G_MASS, G_KIN, G_MOM + k. moving (E,) bool: G != 0; an
+    element without (no mass crosses its dual faces) leaves its g rows as they were (its fluxes are zero).
     """
     n_elem = conn.shape[0]
     three = u.shape[1] == 3
     for e in prange(n_elem):
         if three:
             _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass,
-                          node_line, mnode, u, order, g, b, 3, 4)
+                          node_line, mnode, u, order, g, b, moving, 3, 4)
         else:
             _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_open, any_open, fmass,
-                          node_line, mnode, u, order, g, b, 2, 2)
+                          node_line, mnode, u, order, g, b, moving, 2, 2)
 
 
 @njit(cache=True, inline="always")
-def _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, mnode, pnode, knode,
+def _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, moving, mnode, pnode, knode,
                dim, npe):
     """``apply_dual_fluxes`` of node n; dim and npe are constants at the call."""
     dm = 0.0
@@ -145,13 +151,14 @@ def _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_ope
         a = ea - npe * e
         h = corner_edge[a]
         side = corner_dst[a]
-        s = 1.0 if side == 1 else -1.0
-        dm += s * g[e, h, G_MASS]
-        dp0 += s * g[e, h, G_MOM]
-        dp1 += s * g[e, h, G_MOM + 1]
-        if dim == 3:
-            dp2 += s * g[e, h, G_MOM + 2]
-        dk += s * g[e, h, G_KIN]
+        if moving[e]:  # (else its fluxes are zeros: dual_fluxes)
+            s = 1.0 if side == 1 else -1.0
+            dm += s * g[e, h, G_MASS]
+            dp0 += s * g[e, h, G_MOM]
+            dp1 += s * g[e, h, G_MOM + 1]
+            if dim == 3:
+                dp2 += s * g[e, h, G_MOM + 2]
+            dk += s * g[e, h, G_KIN]
         if any_open:
             dm += b[e, h, side, G_MASS]
             dp0 += b[e, h, side, G_MOM]
@@ -168,18 +175,20 @@ def _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_ope
 
 
 @njit(parallel=True, cache=True)
-def apply_dual_fluxes(corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, mnode, pnode, knode):
+def apply_dual_fluxes(corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, moving, mnode, pnode,
+                      knode):
     """Each node adds the dual fluxes of its element corners (a gather); open-face terms if any_open.
 
     corner_edge[a], corner_dst[a]: the edge along this sweep that corner a of an element lies on,
-    and 1 when it is the edge's dst end (on the side-b face).
+    and 1 when it is the edge's dst end (on the side-b face). Elements not ``moving`` (``dual_fluxes``) add
+    nothing from g (their fluxes are zeros).
     """
     n_nodes = mnode.shape[0]
     three = pnode.shape[1] == 3
     for n in prange(n_nodes):
         if three:
-            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, mnode, pnode, knode,
-                       3, 8)
+            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, moving, mnode, pnode,
+                       knode, 3, 8)
         else:
-            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, mnode, pnode, knode,
-                       2, 4)
+            _dual_node(n, corner_edge, corner_dst, node_elem_ptr, node_elem_idx, any_open, g, b, moving, mnode, pnode,
+                       knode, 2, 4)

@@ -15,6 +15,8 @@ from .ring_geometry import ring_volume
 CLOSURE_EQUAL_STRAIN = 0
 CLOSURE_RELAX = 1
 
+_BLOCK = 128  # elements per block of the one-material closure (``energy_elements``)
+
 
 @njit(cache=True, inline="always")
 def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta, phi_eps, pressed,
@@ -104,6 +106,38 @@ def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, c
         vol_m[e, m] += dvm[m]
 
 
+@njit(cache=True, error_model="numpy")
+def one_material_closure(nb, w_blk, v_lag_blk, vol, mass, ener, e_lag, pres, phi_eps):
+    """``_closure_energy`` of the nb elements of a block of a mesh holding one material, as a loop LLVM
+    vectorises (straight-line; the block's slices of flat (E,) views indexed by the loop counter, see
+    ``force_lanes.gas_block``; numpy's error model: the divisions of an absent or massless element give inf
+    or nan that the selects discard). w_blk, v_lag_blk: the block's work and Lagrangian volume.
+
+    With one material there is nothing to relax (n_relax <= 1), so both closures are: dV = V_lag - (0 + V);
+    present when V > phi_eps (0 + V): dV_1 = (dV V) / (0 + V), else 0; own = 0 - p dV_1 where M > 0; rest =
+    w - own; E += (-p) dV_1 + (rest M) / (0 + M) and e_lag = ((-0.5 p) dV_1) / M where M > 0, else e_lag = 0;
+    V += dV_1. The general path's operations in its order (its sums start from 0.0): the same bits.
+    """
+    for i in range(nb):
+        v = vol[i]
+        m = mass[i]
+        p = pres[i]
+        vtot = 0.0 + v
+        dv = v_lag_blk[i] - vtot
+        present = v > phi_eps * vtot
+        v_present = 0.0 + v
+        dvm = dv * v / v_present if present else 0.0
+        full = m > 0.0
+        own = 0.0 - p * dvm if full else 0.0
+        rest = w_blk[i] - own
+        mass_e = 0.0 + m
+        gained = ener[i] + (-p * dvm + rest * m / mass_e)
+        lagged = -0.5 * p * dvm / m
+        ener[i] = gained if full else ener[i]
+        e_lag[i] = lagged if full else 0.0
+        vol[i] = v + dvm
+
+
 @njit(cache=True, inline="always")
 def quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring):
     """(W_e, V_lag) of quad e: the compatible work -dt sum_a f_a . (v_a^{n-1/2} + v_a^{n+1/2}) / 2 (both
@@ -145,11 +179,31 @@ def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_
     n_elem = conn.shape[0]
     n_mat = vol_m.shape[1]
     n_chunks = min(n_elem, N_CHUNKS)
+    # one material: the closure in blocks through one_material_closure, on flat views of the (E, 1) state
+    one = n_mat == 1
+    vol1, mass1, ener1, lag1, pres1 = (vol_m.reshape(-1), mass_m.reshape(-1), ener_m.reshape(-1), e_lag.reshape(-1),
+                                       pres_m.reshape(-1))
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, n_elem, n_chunks)
         dvm = np.empty(n_mat)
         dev = np.empty(n_mat)
         p = np.empty((npe, dim))
+        v_blk = np.empty(_BLOCK)
+        if one:
+            for block in range(start, stop, _BLOCK):
+                nb = min(_BLOCK, stop - block)
+                for i in range(nb):
+                    e = block + i
+                    if dim == 3:
+                        w, v_lag = hex_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p)
+                    else:
+                        w, v_lag = quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring)
+                    work_elem[e] = w
+                    v_blk[i] = v_lag
+                end = block + nb
+                one_material_closure(nb, work_elem[block:end], v_blk, vol1[block:end], mass1[block:end],
+                                     ener1[block:end], lag1[block:end], pres1[block:end], phi_eps)
+            continue
         for e in range(start, stop):
             if dim == 3:
                 w, v_lag = hex_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p)

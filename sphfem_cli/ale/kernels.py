@@ -39,8 +39,11 @@ of the quad4 energy and face kernels. The mixture state, closure, face flux of a
 (``_mixture_pressure``, ``_closure_energy``, ``_face_flux``), the velocity conditions (``apply_bc``)
 and the element-face, dual-mesh and nodal-mass kernels are shared (their loops take the corner count
 and dimension from the arrays). Measured forms and figures: the comments above the kernels. The
-kernels live in ``lagrange`` (steps 1-3), ``remap`` (step 4, element side) and ``dual`` (step 4,
-nodal momentum on the dual mesh); this module names them together.
+kernels live in ``lagrange`` (steps 1-2; its plane force kernel's vectorised passes in ``force_lanes``),
+``energy`` (step 3), ``remap`` (step 4, element side) and ``dual`` (step 4, nodal momentum on the dual mesh);
+this module names them together. Where nothing moves the remap skips work with the same bits: faces that
+sweep no volume are flagged (``face_fluxes``' flow) and their elements skipped by ``apply_face_fluxes``;
+elements through which no mass crosses write and read no dual fluxes (``dual_fluxes``' moving).
 
 Every parallel loop is a gather: faces write face arrays, elements their own rows, nodes their
 own entries. Equations and references: docs/theory/ale.md.

@@ -18,6 +18,9 @@ from numba import njit, prange
 from ..fem.geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient,
                             quad4_gradient, stable_dt)
 from ..materials.kernels import EOS_GRUNEISEN, eos_state
+from .force_lanes import (_ST_AREA, _ST_B, _ST_BLOCK, _ST_C, _ST_COEF, _ST_GX, _ST_HQ, _ST_LONG2, _ST_M, _ST_P, _ST_RHO,
+                          _ST_ROWS, _ST_S, _ST_TRACE, _ST_VMAX2, gas_block, gather_block, geometry_block, one_gas,
+                          viscosity_block)
 
 
 # boundary condition codes per node
@@ -193,98 +196,6 @@ def quad_hourglass(e, xe, ve, b, coef, f_elem):
         f_elem[e, a, 1] -= coef * hq1 * g
 
 
-# rows of the plane force kernel's per-run work array st (one column per element of the run)
-_ST_P, _ST_C, _ST_M = 0, 1, 2  # mixture pressure, sound speed, mass (``_mixture_pressure``)
-_ST_AREA, _ST_TRACE, _ST_VMAX2, _ST_LEN = 3, 4, 5, 6  # area, tr d, largest corner |v|^2, length
-_ST_GX, _ST_HQ, _ST_B = 7, 9, 11  # Gamma . x (2), hourglass rates gamma . v (2), mean gradient b_x (4) then b_y (4)
-_ST_ROWS = 19
-_ST_BLOCK = 128  # elements per block: st of 19 x 128 doubles, 19 kB
-
-
-@njit(cache=True, inline="always")
-def quad_geometry(conn, e, x, v, st, i):
-    """Column i of st: the geometry of plane quad e at x with corner velocities v, on scalars.
-
-    The same arithmetic as ``quad_corners`` (``gather_quad``, ``fem.geometry.quad4_gradient``), the
-    velocity divergence tr d = sum_a v_a . b_a, ``_quad_char_length`` and the hourglass rates of
-    ``quad_hourglass`` (Gamma . x and (gamma . v) per component), in the same order: the same bits.
-    """
-    n0 = conn[e, 0]
-    n1 = conn[e, 1]
-    n2 = conn[e, 2]
-    n3 = conn[e, 3]
-    x0, y0, x1, y1 = x[n0, 0], x[n0, 1], x[n1, 0], x[n1, 1]
-    x2, y2, x3, y3 = x[n2, 0], x[n2, 1], x[n3, 0], x[n3, 1]
-    u0, w0, u1, w1 = v[n0, 0], v[n0, 1], v[n1, 0], v[n1, 1]
-    u2, w2, u3, w3 = v[n2, 0], v[n2, 1], v[n3, 0], v[n3, 1]
-    vmax2 = max(0.0, u0 * u0 + w0 * w0)
-    vmax2 = max(vmax2, u1 * u1 + w1 * w1)
-    vmax2 = max(vmax2, u2 * u2 + w2 * w2)
-    vmax2 = max(vmax2, u3 * u3 + w3 * w3)
-    # quad4_gradient: b_xa = (y_{a+1} - y_{a-1}) / 2A, b_ya = (x_{a-1} - x_{a+1}) / 2A
-    area = 0.5 * ((x2 - x0) * (y3 - y1) + (x1 - x3) * (y2 - y0))
-    inv = 0.5 / area if area > 0.0 else 0.0
-    bx0, by0 = (y1 - y3) * inv, (x3 - x1) * inv
-    bx1, by1 = (y2 - y0) * inv, (x0 - x2) * inv
-    bx2, by2 = (y3 - y1) * inv, (x1 - x3) * inv
-    bx3, by3 = (y0 - y2) * inv, (x2 - x0) * inv
-    trace_d = 0.0
-    trace_d += u0 * bx0 + w0 * by0
-    trace_d += u1 * bx1 + w1 * by1
-    trace_d += u2 * bx2 + w2 * by2
-    trace_d += u3 * bx3 + w3 * by3
-    # _quad_char_length: area over the longest edge
-    dx, dy = x1 - x0, y1 - y0
-    longest2 = max(0.0, dx * dx + dy * dy)
-    dx, dy = x2 - x1, y2 - y1
-    longest2 = max(longest2, dx * dx + dy * dy)
-    dx, dy = x3 - x2, y3 - y2
-    longest2 = max(longest2, dx * dx + dy * dy)
-    dx, dy = x0 - x3, y0 - y3
-    longest2 = max(longest2, dx * dx + dy * dy)
-    # quad_hourglass: Gamma . x, gamma_a = Gamma_a - (Gamma . x) b_a, the rates gamma . v
-    gx0 = 0.0
-    gx1 = 0.0
-    gx0 += QUAD_GAMMA[0] * x0
-    gx1 += QUAD_GAMMA[0] * y0
-    gx0 += QUAD_GAMMA[1] * x1
-    gx1 += QUAD_GAMMA[1] * y1
-    gx0 += QUAD_GAMMA[2] * x2
-    gx1 += QUAD_GAMMA[2] * y2
-    gx0 += QUAD_GAMMA[3] * x3
-    gx1 += QUAD_GAMMA[3] * y3
-    g0 = QUAD_GAMMA[0] - gx0 * bx0 - gx1 * by0
-    g1 = QUAD_GAMMA[1] - gx0 * bx1 - gx1 * by1
-    g2 = QUAD_GAMMA[2] - gx0 * bx2 - gx1 * by2
-    g3 = QUAD_GAMMA[3] - gx0 * bx3 - gx1 * by3
-    hq0 = 0.0
-    hq1 = 0.0
-    hq0 += g0 * u0
-    hq1 += g0 * w0
-    hq0 += g1 * u1
-    hq1 += g1 * w1
-    hq0 += g2 * u2
-    hq1 += g2 * w2
-    hq0 += g3 * u3
-    hq1 += g3 * w3
-    st[_ST_AREA, i] = area
-    st[_ST_TRACE, i] = trace_d
-    st[_ST_VMAX2, i] = vmax2
-    st[_ST_LEN, i] = area / math.sqrt(longest2)
-    st[_ST_GX, i] = gx0
-    st[_ST_GX + 1, i] = gx1
-    st[_ST_HQ, i] = hq0
-    st[_ST_HQ + 1, i] = hq1
-    st[_ST_B, i] = bx0
-    st[_ST_B + 1, i] = bx1
-    st[_ST_B + 2, i] = bx2
-    st[_ST_B + 3, i] = bx3
-    st[_ST_B + 4, i] = by0
-    st[_ST_B + 5, i] = by1
-    st[_ST_B + 6, i] = by2
-    st[_ST_B + 7, i] = by3
-
-
 # quad4 and hex8 force kernels: a dimension-generic kernel (inline body with the dimension as a constant,
 # as in FEM solid_element_forces) measured 6-17 % (2D) and 13-20 % (3D) slower per call (benchmarks/
 # ale_throughput.py cases, 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both
@@ -305,6 +216,13 @@ def quad_geometry(conn, e, x, v, st, i):
 # elements, where the one-pass body (hundreds of instructions per element) kept it waiting. Same
 # arithmetic in the same order (bit-identical states of the one- and two-material benchmark cases and
 # the ALE decks); 71 -> 51 ns per cell-step, one material, 240^2 cells, 1 thread (min of 20 calls).
+# Since (issue 17, second round) the passes of each block of _ST_BLOCK elements are: the material state
+# (``force_lanes.gas_block`` for one ideal or stiffened gas, else ``_mixture_pressure``), the corner gather
+# (``force_lanes.gather_block``), the geometry (``force_lanes.geometry_block``), the viscosity and step
+# (``force_lanes.viscosity_block``), the forces (here); the ``force_lanes`` passes are loops LLVM vectorises
+# (its module docstring). Bit-identical; per element, 480^2 one gas, 1 thread, min of 15 calls: state 15.5 ->
+# 4.7 ns, viscosity and step 14.8 -> 4.4 (the kernel 52.7 -> 32.8) before the geometry pass, which took the
+# kernel from 2.87 to 1.60 ms per call at 240^2 (benchmarks/ale_kernels.py, load 5.6-6.8).
 @njit(parallel=True, cache=True)
 def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                     phi_eps, pscale, pressure_cutoff, f_elem, pres_m, bulk_m, q_elem, dt_elem):
@@ -326,32 +244,42 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, ma
     """
     n_elem = conn.shape[0]
     n_chunks = min(n_elem, N_CHUNKS)
+    gas, gm1, gpinf = one_gas(mat_eos, mat_q, mat_rho0)
+    # one gas: the (E, 1) state as flat (E,) views for gas_block
+    vol1, mass1, ener1, lag1 = vol_m.reshape(-1), mass_m.reshape(-1), ener_m.reshape(-1), e_lag.reshape(-1)
+    pres1, bulk1, pscale1 = pres_m.reshape(-1), bulk_m.reshape(-1), pscale.reshape(-1)
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, n_elem, n_chunks)
         # three passes over each block of the run, through its rows of st (the block's elements along each
         # row): the material state; the geometry; the forces (see the comment above the kernel). Blocks of
         # _ST_BLOCK elements keep st in the first-level cache whatever the run's length.
         st = np.empty((_ST_ROWS, _ST_BLOCK))
+        st_flat = st.reshape(-1)
+        cx = np.empty(16 * _ST_BLOCK)
         for block in range(start, stop, _ST_BLOCK):
             nb = min(_ST_BLOCK, stop - block)
-            for i in range(nb):
-                p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
-                                                       mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
-                st[_ST_P, i] = p_mix
-                st[_ST_C, i] = c_max
-                st[_ST_M, i] = mtot
-            for i in range(nb):
-                quad_geometry(conn, block + i, x, v, st, i)
+            if gas:  # one ideal or stiffened gas: the same state, vectorised (ale/force_lanes.py)
+                end = block + nb
+                gas_block(nb, vol1[block:end], mass1[block:end], ener1[block:end], lag1[block:end], gm1, gpinf,
+                          mat_rho0[0], phi_eps, RHO_VOID, pscale1[block:end], pressure_cutoff, pres1[block:end],
+                          bulk1[block:end], st[_ST_P], st[_ST_C], st[_ST_M])
+            else:
+                for i in range(nb):
+                    p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
+                                                           mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
+                    st[_ST_P, i] = p_mix
+                    st[_ST_C, i] = c_max
+                    st[_ST_M, i] = mtot
+            gather_block(conn, block, nb, x, v, cx)
+            geometry_block(nb, cx, st_flat)
+            viscosity_block(nb, st[_ST_P], st[_ST_C], st[_ST_M], st[_ST_AREA], st[_ST_TRACE], st[_ST_VMAX2],
+                            st[_ST_LONG2], q1, q2, qhg, q_elem[block:block + nb], dt_elem[block:block + nb], st[_ST_S],
+                            st[_ST_RHO], st[_ST_COEF])
             for i in range(nb):
                 e = block + i
-                area = st[_ST_AREA, i]
-                c_max = st[_ST_C, i]
-                rho_e = st[_ST_M, i] / area
-                q = viscosity_and_step(e, rho_e, st[_ST_LEN, i], c_max, st[_ST_TRACE, i], st[_ST_VMAX2, i], q1, q2,
-                                       q_elem, dt_elem)
-                s = area * (st[_ST_P, i] + q)
-                if qhg > 0.0 and rho_e > 0.0:  # quad_hourglass: f_a -= coef (gamma . v) gamma_a
-                    coef = 0.25 * qhg * rho_e * c_max * math.sqrt(area)
+                s = st[_ST_S, i]
+                if qhg > 0.0 and st[_ST_RHO, i] > 0.0:  # quad_hourglass: f_a -= coef (gamma . v) gamma_a
+                    coef = st[_ST_COEF, i]
                     gx0 = st[_ST_GX, i]
                     gx1 = st[_ST_GX + 1, i]
                     hq0 = st[_ST_HQ, i]

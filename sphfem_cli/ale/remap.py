@@ -154,7 +154,7 @@ def _face_flux(f, amount, donor, acc, far, sgn, vol_m, mass_m, ener_m, order, if
 
 @njit(parallel=True, cache=True)
 def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x_lag, x_new,
-                vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener, ring):
+                vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener, flow, ring):
     """Fluxes through the listed faces, positive into the face's first element (its owner).
 
     The volume through a face (owner orientation) is the signed volume it sweeps from the
@@ -169,7 +169,8 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
     at most its volume in the donor. Mass and energy: donor-cell (order 1) or van Leer (order 2)
     values of rho_m and e_m (``_face_flux``). Boundary faces carry flux only when open
     (transmitting): the outside state is a copy of the inside element. Writes fvol, fmass, fener
-    rows of the listed faces.
+    rows of the listed faces, and flow[f]: False where the face sweeps nothing (a closed boundary face, or
+    a swept volume of 0: its rows are zeros), for ``apply_face_fluxes``.
 
     One kernel for the three geometries (plane, ring, hex8): the branch is per face, outside
     ``_face_flux``, where the time goes. Against main's three kernels (min / median of 30 alternated
@@ -198,6 +199,7 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
                 fener[f, m] = 0.0
             el = face_elem[f, 0]
             er = face_elem[f, 1]
+            flow[f] = False
             if er < 0 and not face_open[f]:
                 continue
             if hexa:
@@ -213,6 +215,7 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
                                    x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
             if dv == 0.0:
                 continue
+            flow[f] = True
             if dv > 0.0:
                 donor = er
                 acc = el
@@ -235,11 +238,19 @@ def _opposite_face(k, hexa):
 
 
 @njit(parallel=True, cache=True)
-def apply_face_fluxes(ka, kb, elem_face, elem_sign, fvol, fmass, fener, vol_m, mass_m, ener_m):
-    """Each element adds the fluxes of its two faces ka, kb (local numbers) of this sweep direction (a gather)."""
+def apply_face_fluxes(ka, kb, elem_face, elem_sign, fvol, fmass, fener, flow, vol_m, mass_m, ener_m):
+    """Each element adds the fluxes of its two faces ka, kb (local numbers) of this sweep direction (a gather).
+
+    An element neither of whose faces has flow (``face_fluxes``: their rows are zeros) is skipped, without
+    reading the rows or its state (most of a mesh at rest). Adding the zeros would change nothing: x + 0 is x,
+    except for a state entry of -0.0, which the sums that write the state never make from +0.0 (x + y is -0.0
+    only when both are), so only a -0.0 given in the initial state would keep its sign here.
+    """
     n_elem = elem_face.shape[0]
     n_mat = vol_m.shape[1]
     for e in prange(n_elem):
+        if not (flow[elem_face[e, ka]] or flow[elem_face[e, kb]]):
+            continue
         for k in (ka, kb):
             f = elem_face[e, k]
             s = elem_sign[e, k]

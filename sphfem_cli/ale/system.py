@@ -176,10 +176,12 @@ class AleSystem:
         self._fvol = np.zeros((nf, n_mat))
         self._fmass = np.zeros((nf, n_mat))
         self._fener = np.zeros((nf, n_mat))
+        self._flow = np.zeros(nf, dtype=np.bool_)  # the face swept volume this sweep (remap.face_fluxes)
         n_edges = npe // 2  # element edges along one sweep direction
         # dual-edge fluxes (mass, kinetic energy, momentum per row: dual.G_MASS, G_KIN, G_MOM) and the node velocities
         self._g = np.zeros((n_elem, n_edges, K.G_MOM + dim))
         self._b = np.zeros((n_elem, n_edges, 2, K.G_MOM + dim))
+        self._moving = np.zeros(n_elem, dtype=np.bool_)  # mass crosses the element's dual faces (dual.dual_fluxes)
         self._unode = np.zeros((n_nodes, dim))
         self._impulse = np.zeros((n_nodes, dim))
         self._f_ext = np.zeros((n_nodes, dim))
@@ -555,18 +557,20 @@ class AleSystem:
             ka, kb = topo["side_a"][d], topo["side_b"][d]
             self._k_faces(topo["faces_by_dir"][d], topo["face_nodes"], topo["face_elem"], topo["face_local"],
                           topo["elem_nbr"], self.face_open, x_lag, x_new, self.vol_m, self.mass_m, self.ener_m,
-                          self.order, self.iface, self.options.phi_eps, self._fvol, self._fmass, self._fener)
+                          self.order, self.iface, self.options.phi_eps, self._fvol, self._fmass, self._fener,
+                          self._flow)
             if any_open:
                 fo = np.flatnonzero(self.face_open & (topo["face_dir"] == d))
                 self._inflow_fluxes(fo[self.face_inflow[fo] >= 0], x_lag, x_new)
                 self.outflow -= self._fmass[fo].sum(axis=0)
             K.apply_face_fluxes(ka, kb, topo["elem_face"], topo["elem_sign"], self._fvol, self._fmass, self._fener,
-                                self.vol_m, self.mass_m, self.ener_m)
+                                self._flow, self.vol_m, self.mass_m, self.ener_m)
             K.node_velocities(mnode, pnode, self._unode)
             K.dual_fluxes(ka, kb, d, self.conn, topo["elem_face"], topo["elem_sign"], topo["elem_nbr"], self.face_open,
-                          any_open, self._fmass, topo["node_line"], mnode, self._unode, self.order, self._g, self._b)
+                          any_open, self._fmass, topo["node_line"], mnode, self._unode, self.order, self._g, self._b,
+                          self._moving)
             K.apply_dual_fluxes(topo["corner_edge"][d], topo["corner_dst"][d], topo["node_elem_ptr"],
-                                topo["node_elem_idx"], any_open, self._g, self._b, mnode, pnode, knode)
+                                topo["node_elem_idx"], any_open, self._g, self._b, self._moving, mnode, pnode, knode)
         dissip = self._dissip
         self._k_finish(mnode, pnode, knode, self.m_floor, self.v_lag, self.conn, topo["node_elem_ptr"],
                        topo["node_elem_idx"], self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)

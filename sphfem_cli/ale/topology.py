@@ -42,7 +42,11 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
     Besides the maps, per sweep direction d: ``side_a[d]``, ``side_b[d]`` the local faces it
     crosses, ``corner_edge[d]``, ``corner_dst[d]`` (npe,) the edge along d each corner lies on and
     whether it is that edge's far (side-b) end, ``faces_by_dir[d]`` the faces it sweeps.
+    ``node_line`` is int32 (node numbers below 2^31): the dual fluxes read a quarter of it per sweep, and
+    half the bytes measured 10.9 -> 7.9 ns per element-sweep of ``dual.dual_fluxes`` (480^2 gas, mostly at rest).
     """
+    if n_nodes >= 2 ** 31:
+        raise ValueError("ALE meshes are limited to 2^31 - 1 nodes (int32 node lines)")
     conn = np.ascontiguousarray(conn, dtype=np.int64)
     if conn.shape[1] == 8:
         return _build_topology_3d(conn, n_nodes)
@@ -71,7 +75,7 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
     return dict(
         face_nodes=face_nodes.astype(np.int64, copy=False), face_elem=face_elem, face_local=face_local,
         face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
-        node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line,
+        node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line.astype(np.int32),
         faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64, copy=False) for d in range(2)],
         side_a=QUAD_SIDE_A, side_b=QUAD_SIDE_B, corner_edge=QUAD_CORNER_HALF, corner_dst=QUAD_CORNER_DST,
     )
@@ -216,7 +220,7 @@ def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:
     return dict(
         face_nodes=face_nodes.astype(np.int64, copy=False), face_elem=face_elem, face_local=face_local,
         face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
-        node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line,
+        node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line.astype(np.int32),
         faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64, copy=False) for d in range(3)],
         side_a=(0, 2, 4), side_b=(1, 3, 5), corner_edge=corner_edge, corner_dst=corner_dst,
     )

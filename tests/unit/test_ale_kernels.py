@@ -92,7 +92,7 @@ def test_donor_face_fluxes_match_reference():
     for d in range(2):
         K.face_fluxes(topo["faces_by_dir"][d], topo["face_nodes"], topo["face_elem"], topo["face_local"],
                       topo["elem_nbr"], ale.face_open, x_lag, ale.x0, ale.vol_m, ale.mass_m, ale.ener_m, 1,
-                      K.IFACE_DONOR, ale.options.phi_eps, ale._fvol, ale._fmass, ale._fener, False)
+                      K.IFACE_DONOR, ale.options.phi_eps, ale._fvol, ale._fmass, ale._fener, ale._flow, False)
     ref = R.face_fluxes_donor(topo, ale.face_open, x_lag, ale.x0, ale.vol_m, ale.mass_m, ale.ener_m)
     for got, want in zip((ale._fvol, ale._fmass, ale._fener), ref):
         np.testing.assert_allclose(got, want, rtol=1e-13, atol=1e-16)
