@@ -96,3 +96,37 @@ def test_structure_in_water(variant, tmp_path):
     assert peak_u == pytest.approx(REF_PEAK, rel=0.12)
     f = ringing_frequency(mid["time"], mid["displacement_x"])
     assert 0.8 * REF_FREQUENCY < f < REF_FREQUENCY
+
+
+REF_PEAK_Q4R = 5.734e-4  # m, wet_plate_continuum_reference.driven_response with the solvers' quad4, plate 4 x 60
+
+
+@pytest.mark.validation
+def test_sph_in_the_linear_limit_meets_the_continuum_reference(tmp_path):
+    """SPH (ratio 3, plate 4 x 60, alpha 0) with the drive and the ambient pressure both scaled by 0.1.
+
+    The continuum reference is linear (tests/verification/wet_plate_continuum_reference.py, the
+    solvers' quad4 plate 4 x 60: 0.5734 mm, GCI 0.06 %). With every pressure ratio of the deck kept and
+    the particles moving 0.03 of a spacing instead of 0.3, SPH's peak / 0.1 is +0.60 / +0.54 / +0.43 /
+    +0.65 % from it at ratios 3 / 4 / 5 / 6 (docs/studies/structure_in_water.md, "SPH's gap grows
+    with the drive's amplitude"; 18 s CPU at ratio 3); at the deck's drive the same particles give
+    -2.8 to -2.9 %, an amplitude effect not covered here. Tolerance 1.5 %: the ALE extrapolation's
+    band (0.38 %) plus the SPH levels' spread (0.22 %) and the ratio-3 level's offset, rounded up.
+    """
+    import yaml
+
+    d = yaml.safe_load(open(DECKS / "structure_in_water_sph.yaml"))
+    d["control"]["end_time"] = 0.002
+    d["parts"]["plate"]["geometry"]["box"]["divisions"] = [4, 60]
+    d["parts"]["tank"]["spacing"] = 0.01 / 3.0
+    d["equations_of_state"]["water"]["c0"] *= 0.1
+    drive = next(b for b in d["boundaries"] if b["type"] == "prescribed_velocity")
+    drive["velocity"] = [0.1 * V, None]
+    assert d["sections"]["sph"]["artificial_viscosity"]["alpha"] == 0.0
+    deck = tmp_path / "linear_limit.yaml"
+    yaml.safe_dump(d, open(deck, "w"), sort_keys=False)
+    out = tmp_path / "out"
+    result = CliRunner().invoke(main, ["run", str(deck), "-o", str(out), "-q", "--threads", "1"])
+    assert result.exit_code == 0, result.output
+    peak = np.abs(table(out, "mid")["displacement_x"]).max() / 0.1
+    assert peak == pytest.approx(REF_PEAK_Q4R, rel=0.015)
