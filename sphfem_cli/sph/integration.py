@@ -11,6 +11,38 @@ from numba import njit
 from ..materials.slots import P_VISCOSITY
 
 
+@njit(cache=True, inline="always")
+def _reflect(i, x, v, v_half, walls):
+    """Mirror particle i back across every wall it has crossed (position, velocity and v^{n+1/2});
+    1 if it crossed one, else 0."""
+    crossed = 0
+    for w in range(walls.shape[0]):
+        ax = int(walls[w, 0])
+        pos, side = walls[w, 1], walls[w, 2]
+        if side * (x[i, ax] - pos) < 0.0:
+            x[i, ax] = 2.0 * pos - x[i, ax]
+            v[i, ax] = -v[i, ax]
+            v_half[i, ax] = -v_half[i, ax]
+            crossed = 1
+    return crossed
+
+
+@njit(cache=True, inline="always")
+def _deactivate(i, v, e, m, acc, xsph, drho, de, active):
+    """Take particle i out (it left the domain) and zero its rates; returns its mass and energy
+    m (|v|^2 / 2 + e)."""
+    active[i] = False
+    ke = 0.0
+    for d in range(v.shape[1]):
+        ke += v[i, d] * v[i, d]
+        acc[i, d] = 0.0
+        xsph[i, d] = 0.0
+    drho[i] = 0.0
+    de[i] = 0.0
+    return m[i], m[i] * (0.5 * ke + e[i])
+
+
+
 @njit(cache=True)
 def advance_particles(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsph, f_ext, m, active,
                       gravity, dt, dt_prev, walls, lo, hi, use_domain, work):
@@ -79,16 +111,7 @@ def advance_particles(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsp
         eh = en + hn * de[i]
         e_half[i] = eh
         e[i] = eh + hn * de[i]
-        crossed = 0
-        for w in range(walls.shape[0]):
-            ax = int(walls[w, 0])
-            pos, side = walls[w, 1], walls[w, 2]
-            if side * (x[i, ax] - pos) < 0.0:
-                x[i, ax] = 2.0 * pos - x[i, ax]
-                v[i, ax] = -v[i, ax]
-                v_half[i, ax] = -v_half[i, ax]
-                crossed = 1
-        nref += crossed
+        nref += _reflect(i, x, v, v_half, walls)
         if not use_domain:
             continue
         inside = True
@@ -96,17 +119,10 @@ def advance_particles(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsp
             inside = inside and lo[d] <= x[i, d] <= hi[d]
         if inside:
             continue
-        active[i] = False
         nlost += 1
-        ke = 0.0
-        for d in range(dim):
-            ke += v[i, d] * v[i, d]
-            acc[i, d] = 0.0
-            xsph[i, d] = 0.0
-        lost_mass += m[i]
-        lost_energy += m[i] * (0.5 * ke + e[i])
-        drho[i] = 0.0
-        de[i] = 0.0
+        dm, de_lost = _deactivate(i, v, e, m, acc, xsph, drho, de, active)
+        lost_mass += dm
+        lost_energy += de_lost
     return ptot, nref, nlost, lost_mass, lost_energy
 
 
@@ -168,33 +184,17 @@ def _advance_particles_2d(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de,
         if not active[i]:
             continue
         ptot += work[i] * (hp + hn)
-        crossed = 0
-        for w in range(walls.shape[0]):
-            ax = int(walls[w, 0])
-            pos, side = walls[w, 1], walls[w, 2]
-            if side * (x[i, ax] - pos) < 0.0:
-                x[i, ax] = 2.0 * pos - x[i, ax]
-                v[i, ax] = -v[i, ax]
-                v_half[i, ax] = -v_half[i, ax]
-                crossed = 1
-        nref += crossed
+        nref += _reflect(i, x, v, v_half, walls)
         if not use_domain:
             continue
         inside = lo[0] <= x[i, 0] <= hi[0]
         inside = inside and lo[1] <= x[i, 1] <= hi[1]
         if inside:
             continue
-        active[i] = False
         nlost += 1
-        ke = 0.0
-        for d in range(2):
-            ke += v[i, d] * v[i, d]
-            acc[i, d] = 0.0
-            xsph[i, d] = 0.0
-        lost_mass += m[i]
-        lost_energy += m[i] * (0.5 * ke + e[i])
-        drho[i] = 0.0
-        de[i] = 0.0
+        dm, de_lost = _deactivate(i, v, e, m, acc, xsph, drho, de, active)
+        lost_mass += dm
+        lost_energy += de_lost
     return ptot, nref, nlost, lost_mass, lost_energy
 
 
