@@ -25,6 +25,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 from click.testing import CliRunner
 
 from sphfem_cli.cli import main
@@ -113,8 +114,6 @@ def test_sph_in_the_linear_limit_meets_the_continuum_reference(tmp_path):
     -2.8 to -2.9 %, an amplitude effect not covered here. Tolerance 1.5 %: the ALE extrapolation's
     band (0.38 %) plus the SPH levels' spread (0.22 %) and the ratio-3 level's offset, rounded up.
     """
-    import yaml
-
     d = yaml.safe_load(open(DECKS / "structure_in_water_sph.yaml"))
     d["control"]["end_time"] = 0.002
     d["parts"]["plate"]["geometry"]["box"]["divisions"] = [4, 60]
