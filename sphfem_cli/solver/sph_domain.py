@@ -137,6 +137,8 @@ class SphDomain(Domain):
                 "velocity": ps.v[slots], "density": ps.rho[slots], "pressure": ps.p[slots],
                 "mass": ps.m[slots], "smoothing_length": ps.h[slots], "active": ps.active[slots].astype(np.float64),
             }
+            if ps.shock_switch:  # the switch's alpha_i (sph/switch.py), written whenever a deck uses it
+                point["viscosity_alpha"] = ps.alpha[slots]
             out[i] = (ps.x[slots], {k: val for k, val in point.items() if wanted(k)}, {})
         return out
 

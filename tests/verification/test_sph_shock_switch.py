@@ -135,3 +135,19 @@ def test_switch_is_restored_by_a_restart_and_continues_bit_identically(tmp_path)
         sim.step()
         fresh.step()
     assert np.array_equal(restored.alpha, system.alpha) and np.array_equal(restored.x, system.x)
+
+
+def test_switch_writes_alpha_as_a_particle_field(tmp_path):
+    import h5py
+
+    from tests.unit.test_sph_deck import TANK, invoke
+
+    deck = tmp_path / "tank.yaml"
+    deck.write_text(TANK.replace("fluid: {type: sph}", "fluid: {type: sph, artificial_viscosity: "
+                                 "{alpha: 0.1, beta: 0.2, switch: {alpha_max: 1.0}}}"))
+    result = invoke(["run", str(deck), "-o", str(tmp_path / "out"), "-q"])
+    assert result.exit_code == 0, result.output
+    with h5py.File(tmp_path / "out" / "results.h5", "r") as f:
+        steps = sorted(k for k in f["pool"] if k.startswith("step_"))
+        alpha = f["pool"][steps[-1]]["point"]["viscosity_alpha"][()]
+    assert alpha.shape == (200,) and np.all((alpha >= ALPHA) & (alpha <= ALPHA_MAX))

@@ -63,7 +63,8 @@ class ViscositySwitch(DeckModel):
     2000): each particle carries its own alpha_i, d alpha_i/dt = -(alpha_i - alpha)/tau_i + max(-div v_i, 0)
     (alpha_max - alpha_i), tau_i = h_i/(decay c_i), from the section's alpha (the floor) towards alpha_max where
     the fluid is compressed; a pair uses alpha_ij = (alpha_i + alpha_j)/2 and beta_ij = (beta/alpha) alpha_ij.
-    2D, 3D and axisymmetric. docs/theory/sph.md, "Shock switch"."""
+    2D, 3D and axisymmetric; alpha_i is written as the particle field viscosity_alpha. docs/theory/sph.md,
+    "Shock switch"."""
 
     alpha_max: PositiveFloat = Field(
         1.0, description="Ceiling alpha_max the source drives alpha_i towards (above the section's alpha). Default 1 "
