@@ -465,7 +465,7 @@ class SphSystem:
                 expansion.renormalise_continuity(sx, sd, perm, cs, sr, si, gf, gi, he, self.drho)
         if pts["friction_slots"].size and (self.options.alpha or self.options.beta):
             walls.ghost_friction(sx, sd, pts["svf"], pts["friction_slots"], perm, cs, sr, sf, si, gf, gi, self.acc,
-                                 self.de)
+                                 self.de, salpha)
         if len(self._open_planes):
             self.open_power[:] = 0.0
             sopen, slots = open_sides.open_slots(perm, self.n, pts["ghost_open"], pts["ghost_source"])
