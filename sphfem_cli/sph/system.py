@@ -10,7 +10,9 @@ One step, as the explicit loop drives it (see ``step`` for the integrator)::
 Arrays are public and owned by the system: ``x``, ``v`` (N, dim); ``rho``, ``e`` (specific
 internal energy), ``m``, ``h``, ``p``, ``c`` (N,); ``mat`` (N,) material index into the table;
 ``active`` (N,) bool; rates ``acc`` (N, dim, without gravity and f_ext), ``drho``, ``de``,
-``xsph``; ``f_ext`` (N, dim, force units, applied in the next ``step``; the system never clears
+``xsph``; ``alpha`` (N,) the artificial viscosity's alpha_i (the section's alpha unless the shock switch,
+``sph/switch.py``, moves it) and ``conv`` (N,) -div v of the last evaluation;
+``f_ext`` (N, dim, force units, applied in the next ``step``; the system never clears
 it, so a coupling overwrites it every step). At the second evaluation and then every ``reorder_every``
 evaluations ``compute_rates`` permutes all per-particle arrays in place into cell order for memory
 locality (``ids`` holds each slot's original particle number; ``reorder_every=0`` keeps the order fixed). Counters: ``time``,
