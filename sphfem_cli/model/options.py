@@ -139,6 +139,8 @@ class SphDomainOptions(Options):
     alpha: float
     beta: float
     epsilon: float
+    switch_alpha_max: float | None  # the viscosity switch (None: off) and its decay constant
+    switch_decay: float | None
     density_diffusion: float
     density_diffusion_form: str
     xsph: float
@@ -360,6 +362,8 @@ def _sph_options(deck, model, detonations) -> SphDomainOptions:
     return SphDomainOptions(
         kernel=section.kernel, smoothing_ratio=section.smoothing_ratio, alpha=visc.alpha, beta=visc.beta,
         epsilon=visc.epsilon, density_diffusion=section.density_diffusion,
+        switch_alpha_max=None if visc.switch is None else visc.switch.alpha_max,
+        switch_decay=None if visc.switch is None else visc.switch.decay,
         density_diffusion_form=section.density_diffusion_form, xsph=section.xsph,
         continuity=section.continuity, diffusion_hydrostatic=section.diffusion_hydrostatic, ghost_hydrostatic=section.ghost_hydrostatic,
         pressure_cutoff=section.pressure_cutoff,

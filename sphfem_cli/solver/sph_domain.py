@@ -35,12 +35,15 @@ class SphDomain(Domain):
         sph_options = SphOptions(
             kernel=options.kernel, smoothing_ratio=options.smoothing_ratio,
             alpha=options.alpha, beta=options.beta, eps=options.epsilon, delta=options.density_diffusion,
+            switch_alpha_max=options.switch_alpha_max,
             density_diffusion_form=options.density_diffusion_form, xsph=options.xsph, delta_hydrostatic=options.diffusion_hydrostatic, continuity=options.continuity,
             ghost_hydrostatic=options.ghost_hydrostatic,
             pressure_cutoff=-np.inf if options.pressure_cutoff is None else options.pressure_cutoff,
             walls=tuple(walls), gravity=options.gravity.copy(), domain=options.domain,
             axisymmetric=model.axisymmetric,  # ring masses (model.build), the axis a ghost line
         )
+        if options.switch_decay is not None:
+            sph_options.switch_decay = options.switch_decay
         velocity = np.zeros_like(ps_model.x)
         for part, v in options.initial_velocity:
             velocity[model.parts[model.part_index(part)].particles] = v
@@ -134,6 +137,8 @@ class SphDomain(Domain):
                 "velocity": ps.v[slots], "density": ps.rho[slots], "pressure": ps.p[slots],
                 "mass": ps.m[slots], "smoothing_length": ps.h[slots], "active": ps.active[slots].astype(np.float64),
             }
+            if ps.shock_switch:  # the switch's alpha_i (sph/switch.py), written whenever a deck uses it
+                point["viscosity_alpha"] = ps.alpha[slots]
             out[i] = (ps.x[slots], {k: val for k, val in point.items() if wanted(k)}, {})
         return out
 

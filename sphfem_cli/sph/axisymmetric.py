@@ -76,7 +76,7 @@ from .expansion import renormalised_divergence
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_f, kernel_sigma
 from .search import cell_range, neighbour_list
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GI_NX,
-                    GI_NY, KIND_FLUID, KIND_GHOST, KIND_WALL, SF_ALPHA, SF_BETA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
+                    GI_NY, KIND_FLUID, KIND_GHOST, KIND_WALL, SF_ALPHA, SF_BETA, SF_BETA_PER_ALPHA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
                     SI_DELTA_HYDROSTATIC, SI_KERNEL, SI_CONTINUITY, CONTINUITY_MASS)
 
 TWO_PI = 2.0 * math.pi
@@ -100,21 +100,26 @@ def ring_smoothing_lengths(x, rho, m, active, eta, h):
     return hmax
 
 
-def axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph):
+def axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
+                       conv, salpha, switch):
     """Continuity, momentum, energy, delta-SPH and XSPH rates of every fluid point (module docstring).
 
     ``sd[D_VZ, k]`` of a ghost slot holds its source particle's radius r_j (``SphSystem`` writes it
     into the ghost velocities' third column, unused in 2D); of a particle it is 0 and r_j = x_j.
     The loop is the plane code's before its row scan (``rates._fluid_rates``): per particle a branch-free neighbour list,
     padded with the sentinel slot, summed by ``_pair_sums`` (which LLVM vectorises). Plain Python
-    that picks the kernel's and the term set's specialisation (as ``rates.fluid_rates``).
+    that picks the kernel's, the term set's and the switch's specialisation (as ``rates.fluid_rates``).
+    ``conv[i]`` = -(div v)_i = sum_j A_j v_ij . grad_i W_ij - v_r,i / r_i (mass form: the first sum with
+    rho_j A_j, over rho_i), the continuity equation's estimate without delta-SPH, the shock switch's source;
+    with ``switch`` Pi_ij takes alpha_ij = (alpha_i + alpha_j)/2 from the per-slot ``salpha`` and beta_ij =
+    (beta/alpha) alpha_ij (``sph/switch.py``), without it the section's alpha and beta.
     """
     kernel = int(settings_i[SI_KERNEL])
     lean = settings_f[SF_XSPH] == 0.0
     kshape = _SHAPES[2 if kernel == WENDLAND_C2 else 1]
     tshape = _SHAPES[2 if lean else 1]
     _axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
-                        kshape, tshape)
+                        conv, salpha, kshape, tshape, _SHAPES[2 if switch else 1])
 
 
 _SHAPES = {1: np.empty(0), 2: np.empty((0, 0))}
@@ -126,9 +131,11 @@ _FMV = {"nsz", "arcp", "reassoc"}  # for the neighbour sums only (as rates._FMV)
 
 @njit(cache=True, fastmath=_FM, forceinline=True, error_model="numpy")
 def _pair_terms(j, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
-                gx, gy, dhydro, mform):
+                gx, gy, dhydro, mform, ashape, salpha, ai, bpa):
     """The terms of neighbour slot ``j`` in the sums of ``_pair_sums`` (module docstring); exactly 0 for a
-    wall point or the sentinel. Always inlined, without "reassoc" (see ``rates._pair_terms``)."""
+    wall point or the sentinel. Always inlined, without "reassoc" (see ``rates._pair_terms``). ``ashape.ndim``
+    2: the shock switch's alpha_ij = (``ai`` + ``salpha[j]``)/2, beta_ij = ``bpa`` alpha_ij; 1: ``alpha``,
+    ``beta`` (``salpha`` not read)."""
     wend = kshape.ndim == 2
     full = tshape.ndim == 1
     xj = sx[0, j]
@@ -173,8 +180,14 @@ def _pair_terms(j, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi
     rij = 0.5 * (rhoi + rhoj)
     dd = r2 + eps * hij * hij
     hv = hij * vdotr
+    if ashape.ndim == 2:  # the shock switch: the pair's mean alpha, beta in the section's ratio to it
+        aij = 0.5 * (ai + salpha[j])
+        bij = bpa * aij
+    else:
+        aij = alpha
+        bij = beta
     # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
-    pi_ij = hv * (beta * hv - alpha * cij * dd) / (dd * dd * rij)
+    pi_ij = hv * (bij * hv - aij * cij * dd) / (dd * dd * rij)
     coef = mj * (qi + qj + pi_ij * (2.0 * INV_TWO_PI) / (xi + rj))
     odd = mj * (xj * (1.0 / rj) - 1.0) * qi  # the images' signed radii (0 for particles and floor ghosts)
     ct = coef + odd
@@ -191,7 +204,7 @@ def _pair_terms(j, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi
 
 @njit(cache=True, fastmath=_FMV, error_model="numpy")
 def _pair_sums(nbj, cnt, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
-               gx, gy, dhydro, mform):
+               gx, gy, dhydro, mform, ashape, salpha, ai, bpa):
     """Branch-free sums over ``nbj[:cnt]`` of ``_pair_terms``: (ax, ay, work, cont, kappa_r, kappa_z, diff, sxu,
     sxv)."""
     full = tshape.ndim == 1
@@ -199,7 +212,8 @@ def _pair_sums(nbj, cnt, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, 
     ax = ay = work = cont = kap = kapz = diff = sxu = sxv = 0.0
     for t in range(cnt):
         tx, ty, tw, tc, tk, tkz, td, tu, tv = _pair_terms(nbj[t], sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi,
-                                                     rhoi, ci, qi, fmati, alpha, beta, eps, gx, gy, dhydro, mform)
+                                                     rhoi, ci, qi, fmati, alpha, beta, eps, gx, gy, dhydro, mform,
+                                                     ashape, salpha, ai, bpa)
         ax -= tx
         ay -= ty
         work += tw
@@ -215,14 +229,15 @@ def _pair_sums(nbj, cnt, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, 
 
 @njit(cache=True, parallel=True, error_model="numpy")
 def _axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
-                        kshape, tshape):
-    """``axisymmetric_rates`` for one kernel (``kshape.ndim``: 1 cubic spline, 2 Wendland C2) and term set
-    (``tshape.ndim``: 1 with XSPH, 2 without)."""
+                        conv, salpha, kshape, tshape, ashape):
+    """``axisymmetric_rates`` for one kernel (``kshape.ndim``: 1 cubic spline, 2 Wendland C2), term set
+    (``tshape.ndim``: 1 with XSPH, 2 without) and switch (``ashape.ndim``: 1 off, 2 on)."""
     kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
     nx, ny = grid_i[GI_NX], grid_i[GI_NY]
     dhydro = settings_i[SI_DELTA_HYDROSTATIC] != 0
     mform = settings_i[SI_CONTINUITY] == CONTINUITY_MASS
     alpha, beta, eps = settings_f[SF_ALPHA], settings_f[SF_BETA], settings_f[SF_EPS]
+    bpa = settings_f[SF_BETA_PER_ALPHA]
     delta, exsph = settings_f[SF_DELTA], settings_f[SF_XSPH]
     gx, gy = settings_f[SF_GX], settings_f[SF_GY]
     hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
@@ -247,14 +262,16 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i
             ui, vi = sd[D_VX, k], sd[D_VY, k]
             rhoi, pri, ci = sd[D_RHO, k], sd[D_PR, k], sd[D_C, k]  # pri = p_i / rho_i^2
             qi = pri * INV_TWO_PI / xi  # Q_i = p_i / (2 pi r_i rho_i^2)
+            ai = salpha[k] if ashape.ndim == 2 else alpha
             ax, ay, work, cont, kap, kapz, diff, sxu, sxv = _pair_sums(
                 nbj, npad, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mki >> 2,
-                alpha, beta, eps, gx, gy, dhydro, mform)
+                alpha, beta, eps, gx, gy, dhydro, mform, ashape, salpha, ai, bpa)
             i = perm[k]
             hoop = pri * rhoi / xi  # p_i / (rho_i r_i), times kappa_i = sum_j A_j (x_j - r_i) grad_i W_ij
             acc[i, 0] = ax + hoop * kap
             acc[i, 1] = ay + hoop * kapz
             drho[i] = (cont if mform else rhoi * cont) - rhoi * ui / xi - 2.0 * delta * diff
+            conv[i] = (cont / rhoi if mform else cont) - ui / xi
             de[i] = work - hoop * (kap * ui + kapz * vi)
             xsph[i, 0] = exsph * sxu
             xsph[i, 1] = exsph * sxv

@@ -17,7 +17,7 @@ from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, inv_pow, kernel_shape, 
 from .search import cell_range
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
                     GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, N_LANES, SF_ALPHA, SF_BETA,
-                    SF_DELTA, SF_DILATATIONAL_VISCOSITY, SF_EPS, SF_GX, SF_GY, SF_GZ, SF_XSPH, SI_DELTA_HYDROSTATIC,
+                    SF_BETA_PER_ALPHA, SF_DELTA, SF_DILATATIONAL_VISCOSITY, SF_EPS, SF_GX, SF_GY, SF_GZ, SF_XSPH, SI_DELTA_HYDROSTATIC,
                     SI_CONTINUITY, SI_DIM, SI_KERNEL, SI_NMAT, SI_NWALL, SI_VISCOUS, CONTINUITY_MASS)
 
 # Fast-math flags without nnan/ninf (NaN checks keep working), without "contract" and, but for the
@@ -122,13 +122,16 @@ _FMV = {"nsz", "arcp", "reassoc"}
 
 @njit(cache=True, fastmath=_FM, forceinline=True, error_model="numpy")
 def _pair_terms(j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, fmati,
-                alpha, beta, eps, gx, gy, gz, dhydro, mform):
+                alpha, beta, eps, gx, gy, gz, dhydro, mform, ashape, salpha, ai, bpa):
     """The terms of candidate slot ``j`` (unsigned) in the sums of ``_row_sums`` (same arguments, same order).
 
     Slot ``j`` is a neighbour of slot ``k`` when j != k, j < e (the end of the row's candidates) and
     |x_k - x_j|^2 < (h_k + h_j)^2 = (2 h_kj)^2 (the test of ``search.neighbour_list``); for any other
     candidate every term is selected to exactly 0 (its arithmetic, which may be inf or NaN at
-    j == k, is discarded, not multiplied). Without "reassoc" and always inlined into ``_row_sums``
+    j == k, is discarded, not multiplied). With the shock switch (``ashape.ndim == 2``, a compile-time
+    constant) the viscosity's alpha, beta are the pair's alpha_ij = (alpha_i + alpha_j)/2 (``ai`` and the
+    per-slot ``salpha``) and beta_ij = ``bpa`` alpha_ij (``sph/switch.py``); without it (``ashape.ndim == 1``)
+    the section's ``alpha``, ``beta`` and ``salpha`` is not read. Without "reassoc" and always inlined into ``_row_sums``
     (LLVM keeps each instruction's flags when it inlines), so re-optimising the inlined code cannot
     reorder these products and sums.
     """
@@ -190,8 +193,14 @@ def _pair_terms(j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui
     dd = r2 + eps * hij * hij
     rcp = 1.0 / (dd * dd * rij)
     hv = hij * vdotr
+    if ashape.ndim == 2:  # the shock switch: the pair's mean alpha, beta in the section's ratio to it
+        aij = 0.5 * (ai + salpha[j])
+        bij = bpa * aij
+    else:
+        aij = alpha
+        bij = beta
     # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
-    pi_ij = hv * (beta * hv - alpha * cij * dd) * rcp
+    pi_ij = hv * (bij * hv - aij * cij * dd) * rcp
     coef = mj * (pri + sd[D_PR, j] + pi_ij)
     work = coef * vdotg
     mk = sd[D_MK, j]  # mat * 4 + kind, decoded in floating point (exact for these integers)
@@ -221,7 +230,7 @@ def _pair_terms(j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui
 
 @njit(cache=True, fastmath=_FMV, forceinline=True, error_model="numpy")
 def _row_sums(s, e, k, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mati,
-              alpha, beta, eps, gx, gy, gz, dhydro, mform):
+              alpha, beta, eps, gx, gy, gz, dhydro, mform, ashape, salpha, ai, bpa):
     """Branch-free sums over the candidate slots ``s .. e - 1`` (one row of cells) of slot ``k``.
 
     The slots are read in whole chunks of ``N_LANES`` (``s`` to the multiple of ``N_LANES`` above
@@ -256,7 +265,7 @@ def _row_sums(s, e, k, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, 
     for j in range(s, end):
         tx, ty, tz, tc, tw, tww, td, tu, tv, tws = _pair_terms(
             j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, fmati,
-            alpha, beta, eps, gx, gy, gz, dhydro, mform)
+            alpha, beta, eps, gx, gy, gz, dhydro, mform, ashape, salpha, ai, bpa)
         ax -= tx
         if dim > 1:
             ay -= ty
@@ -276,7 +285,7 @@ def _row_sums(s, e, k, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, 
 
 
 def fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
-                wall_power):
+                wall_power, conv, salpha, switch):
     """Continuity, momentum, energy, delta-SPH and XSPH rates of every real (fluid) point.
 
     For fluid slot k (particle i = perm[k]) and every point j within 2 h_ij, with
@@ -291,7 +300,11 @@ def fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, 
       xsph_i = eps_x sum_j (m_j / rho_ij) (v_j - v_i) W_ij             (fluid and ghost j only)
 
     with sigma = -p I + tau, psi_ij = (rho_j - rho_i) [- rho_ij g.(x_j - x_i)/c_ij^2 with the
-    hydrostatic correction]. ``acc`` excludes gravity and external forces.
+    hydrostatic correction]. ``acc`` excludes gravity and external forces. ``conv[i]`` = -(div v)_i =
+    sum_j V_j v_ij . grad_i W_ij (mass form: that sum with m_j, over rho_i), the continuity sum without
+    delta-SPH: the source of the shock switch (``sph/switch.py``). With ``switch`` true, Pi_ij takes the
+    pair's alpha_ij = (alpha_i + alpha_j)/2, ``salpha`` the alpha of every slot, and beta_ij = (beta/alpha)
+    alpha_ij (``settings_f[SF_BETA_PER_ALPHA]``); without it the section's alpha and beta.
 
     A dummy wall point has no energy of its own: of a fluid-wall pair's work m_i m_j S v_ij.grad W
     the fluid particle keeps half (in de_i), the other half is the power the wall absorbs,
@@ -311,7 +324,8 @@ def fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, 
     (``kshape``: 1 cubic spline, 2 Wendland C2; ``dshape``: dim; ``tshape``: 1 every term, 2 no
     dummy wall points and no XSPH, whose sums are then not computed: they would be exactly 0; 3 the
     same with one material in the table, ``settings_i[SI_NMAT]``, when the delta-SPH term of every
-    neighbour counts: no per-pair material test).
+    neighbour counts: no per-pair material test) and switch (``ashape``: 1 the section's alpha and beta, 2
+    the shock switch's per-pair values).
     This function, plain Python (the one exception to the kernel modules' rule), only picks the
     specialisation, so that numba compiles just the ones a run uses.
     """
@@ -319,7 +333,8 @@ def fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, 
     lean = settings_i[SI_NWALL] == 0 and settings_f[SF_XSPH] == 0.0
     terms = (3 if settings_i[SI_NMAT] == 1 else 2) if lean else 1
     _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
-                 wall_power, _SHAPES[2 if kernel == WENDLAND_C2 else 1], _SHAPES[dim], _SHAPES[terms])
+                 wall_power, conv, salpha, _SHAPES[2 if kernel == WENDLAND_C2 else 1], _SHAPES[dim], _SHAPES[terms],
+                 _SHAPES[2 if switch else 1])
 
 
 _SHAPES = {1: np.empty(0), 2: np.empty((0, 0)), 3: np.empty((0, 0, 0))}
@@ -327,8 +342,9 @@ _SHAPES = {1: np.empty(0), 2: np.empty((0, 0)), 3: np.empty((0, 0, 0))}
 
 @njit(cache=True, parallel=True, error_model="numpy")
 def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,
-                 wall_power, kshape, dshape, tshape):
-    """``fluid_rates`` for one kernel, dimension and term set (``kshape``, ``dshape``, ``tshape``)."""
+                 wall_power, conv, salpha, kshape, dshape, tshape, ashape):
+    """``fluid_rates`` for one kernel, dimension, term set and switch (``kshape``, ``dshape``, ``tshape``,
+    ``ashape``)."""
     kernel = WENDLAND_C2 if kshape.ndim == 2 else CUBIC_SPLINE
     dim = dshape.ndim
     nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
@@ -336,6 +352,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i,
     dhydro = settings_i[SI_DELTA_HYDROSTATIC] != 0
     mform = settings_i[SI_CONTINUITY] == CONTINUITY_MASS
     alpha, beta, eps = settings_f[SF_ALPHA], settings_f[SF_BETA], settings_f[SF_EPS]
+    bpa = settings_f[SF_BETA_PER_ALPHA]
     delta, exsph = settings_f[SF_DELTA], settings_f[SF_XSPH]
     gx, gy, gz = settings_f[SF_GX], settings_f[SF_GY], settings_f[SF_GZ]
     hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
@@ -356,6 +373,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i,
             y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
             z0, z1 = cell_range(zi, reach, oz, inv_cell, nz)
             ku = np.uint64(k)
+            ai = salpha[k] if ashape.ndim == 2 else alpha
             ax = ay = az = 0.0
             cont = work = wall_work = diff = 0.0
             sxu = sxv = sxw = 0.0
@@ -365,7 +383,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i,
                     r0, r1, r2, r3, r4, r5, r6, r7, r8, r9 = _row_sums(
                         np.uint64(cell_start[base + x0]), np.uint64(cell_start[base + x1 + 1]), ku, sx, sd,
                         kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, mki >> 2,
-                        alpha, beta, eps, gx, gy, gz, dhydro, mform)
+                        alpha, beta, eps, gx, gy, gz, dhydro, mform, ashape, salpha, ai, bpa)
                     ax += r0
                     ay += r1
                     az += r2
@@ -421,6 +439,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i,
             if dim > 2:
                 acc[i, 2] = az
             drho[i] = (cont if mform else rhoi * cont) - 2.0 * delta * diff
+            conv[i] = cont / rhoi if mform else cont
             de[i] = 0.5 * work
             wall_power[i] = 0.5 * sd[D_VOL, k] * rhoi * wall_work
             xsph[i, 0] = exsph * sxu

@@ -34,11 +34,13 @@ N_LANES = 8
 N_SENTINEL = N_LANES
 
 # settings_f: Monaghan viscosity alpha, beta, eps; delta-SPH coefficient; XSPH coefficient;
-# gravity; dilatational viscosity mu'; pressure cut-off (the deck's pressure_cutoff)
+# gravity; dilatational viscosity mu'; pressure cut-off (the deck's pressure_cutoff); with the shock
+# switch (sph/switch.py), beta/alpha, the ratio that scales a pair's beta_ij = (beta/alpha) alpha_ij
 SF_ALPHA, SF_BETA, SF_EPS, SF_DELTA, SF_XSPH = 0, 1, 2, 3, 4
 SF_GX, SF_GY, SF_GZ = 5, 6, 7
 SF_DILATATIONAL_VISCOSITY, SF_PRESSURE_CUTOFF = 8, 9
-N_SF = 10
+SF_BETA_PER_ALPHA = 10
+N_SF = 11
 
 # settings_i: dimension; smoothing kernel (kernel_functions.CUBIC_SPLINE / WENDLAND_C2); 1 when a
 # material is viscous; 1 with the hydrostatic delta-SPH correction; number of dummy wall particles;

@@ -10,7 +10,9 @@ One step, as the explicit loop drives it (see ``step`` for the integrator)::
 Arrays are public and owned by the system: ``x``, ``v`` (N, dim); ``rho``, ``e`` (specific
 internal energy), ``m``, ``h``, ``p``, ``c`` (N,); ``mat`` (N,) material index into the table;
 ``active`` (N,) bool; rates ``acc`` (N, dim, without gravity and f_ext), ``drho``, ``de``,
-``xsph``; ``f_ext`` (N, dim, force units, applied in the next ``step``; the system never clears
+``xsph``; ``alpha`` (N,) the artificial viscosity's alpha_i (the section's alpha unless the shock switch,
+``sph/switch.py``, moves it) and ``conv`` (N,) -div v of the last evaluation;
+``f_ext`` (N, dim, force units, applied in the next ``step``; the system never clears
 it, so a coupling overwrites it every step). At the second evaluation and then every ``reorder_every``
 evaluations ``compute_rates`` permutes all per-particle arrays in place into cell order for memory
 locality (``ids`` holds each slot's original particle number; ``reorder_every=0`` keeps the order fixed). Counters: ``time``,
@@ -26,7 +28,7 @@ import numpy as np
 
 from ..materials import kernels as mk
 from ..materials import slots as ms
-from . import diffusion, eos, expansion, integration, open_sides, rates, search, walls
+from . import diffusion, eos, expansion, integration, open_sides, rates, search, switch, walls
 from .walls import Wall
 from . import slots as sl
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2
@@ -56,7 +58,10 @@ class SphOptions:
     ``sph.axisymmetric``'s [False] (slip ghost walls only: no dummy wall particles, no viscous
     material, no no-slip or wall-function walls); continuity: the form of the continuity equation,
     "volume" drho_i/dt = rho_i sum_j V_j v_ij.grad W (the paper's eq. 3.8) or "mass" sum_j m_j
-    v_ij.grad W (Monaghan 1992), see ``rates.fluid_rates`` and docs/theory/sph.md ["volume"].
+    v_ij.grad W (Monaghan 1992), see ``rates.fluid_rates`` and docs/theory/sph.md ["volume"];
+    switch_alpha_max: the shock switch's ceiling alpha_max, None = no switch (``sph/switch.py``: a per-particle
+    alpha_i from alpha (the floor) towards alpha_max where the fluid is compressed, beta_ij = (beta/alpha)
+    alpha_ij) [None]; switch_decay: its decay constant l, tau_i = h_i / (l c_i) [0.1].
     """
 
     kernel: str = "cubic_spline"
@@ -81,6 +86,8 @@ class SphOptions:
     max_cells_per_point: int = 4
     axisymmetric: bool = False
     continuity: str = "volume"
+    switch_alpha_max: float | None = None
+    switch_decay: float = 0.1
 
 
 @dataclass
@@ -169,6 +176,21 @@ class SphSystem:
         self.v_half = self.v.copy()
         self.rho_half = self.rho.copy()
         self.e_half = self.e.copy()
+        # the shock switch (sph/switch.py): alpha_i, its half-step value and rate; conv = -(div v)_i of the
+        # last evaluation (written by the rates with or without the switch)
+        self.shock_switch = opt.switch_alpha_max is not None
+        if self.shock_switch:
+            if not opt.alpha > 0.0:
+                raise ValueError("the viscosity switch needs alpha > 0 (its floor alpha_min, and beta/alpha)")
+            if not opt.switch_alpha_max > opt.alpha:
+                raise ValueError(f"the viscosity switch's alpha_max {opt.switch_alpha_max} must exceed alpha {opt.alpha}")
+            if not opt.switch_decay > 0.0:
+                raise ValueError(f"the viscosity switch's decay must be > 0, got {opt.switch_decay}")
+        self.alpha = np.full(n, float(opt.alpha))
+        self.alpha_half = self.alpha.copy()
+        self.dalpha = np.zeros(n)
+        self.conv = np.zeros(n)
+        self._salpha = switch.empty_slots()
 
         self.axisymmetric = bool(opt.axisymmetric)
         if self.axisymmetric:
@@ -232,6 +254,7 @@ class SphSystem:
         self.settings_f[[sl.SF_GX, sl.SF_GY, sl.SF_GZ]] = self.gravity
         self.settings_f[sl.SF_DILATATIONAL_VISCOSITY] = opt.dilatational_viscosity
         self.settings_f[sl.SF_PRESSURE_CUTOFF] = opt.pressure_cutoff
+        self.settings_f[sl.SF_BETA_PER_ALPHA] = opt.beta / opt.alpha if opt.alpha > 0.0 else 0.0
         self.settings_i = np.zeros(sl.N_SI, dtype=np.int64)
         self.settings_i[sl.SI_DIM] = dim
         self.settings_i[sl.SI_KERNEL] = KERNELS[opt.kernel]
@@ -342,7 +365,8 @@ class SphSystem:
         if np.array_equal(order, np.arange(self.n)):
             return
         for name in ("x", "v", "v_half", "m", "rho", "rho_half", "e", "e_half", "mat", "active", "ids",
-                     "h", "p", "c", "acc", "drho", "de", "xsph", "f_ext", "p_far", "impulse", "open_power"):
+                     "h", "p", "c", "acc", "drho", "de", "xsph", "f_ext", "p_far", "impulse", "open_power",
+                     "alpha", "alpha_half", "dalpha", "conv"):
             arr = getattr(self, name)
             arr[...] = arr[order]  # in place: references held by callers stay valid
 
@@ -420,10 +444,12 @@ class SphSystem:
             stau = self._no_stress
         pts["stau"] = stau
         self.wall_power[:] = 0.0
+        salpha = self._slot_alpha(pts)
         if self.axisymmetric:
             from .axisymmetric import axisymmetric_rates  # compiled only for axisymmetric systems
 
-            axisymmetric_rates(sx, sd, perm, cs, sr, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph)
+            axisymmetric_rates(sx, sd, perm, cs, sr, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph,
+                               self.conv, salpha, self.shock_switch)
             if getattr(self, "burn_light", None) is not None:  # explosive products: renormalised r-z continuity
                 from .axisymmetric import renormalise_ring_continuity
 
@@ -431,7 +457,7 @@ class SphSystem:
                 renormalise_ring_continuity(sx, sd, perm, cs, sr, si, gf, gi, he, self.drho)
         else:
             rates.fluid_rates(sx, sd, stau, perm, cs, sr, sf, si, gf, gi, self.acc, self.drho, self.de, self.xsph,
-                              self.wall_power)
+                              self.wall_power, self.conv, salpha, self.shock_switch)
             if self.delta_plus:  # Antuono et al. 2010's correction of the Molteni-Colagrossi term
                 grad = np.zeros((3, sx.shape[1]))
                 diffusion.density_gradient(sx, sd, cs, sr, si, gf, gi, grad)
@@ -441,7 +467,7 @@ class SphSystem:
                 expansion.renormalise_continuity(sx, sd, perm, cs, sr, si, gf, gi, he, self.drho)
         if pts["friction_slots"].size and (self.options.alpha or self.options.beta):
             walls.ghost_friction(sx, sd, pts["svf"], pts["friction_slots"], perm, cs, sr, sf, si, gf, gi, self.acc,
-                                 self.de)
+                                 self.de, salpha)
         if len(self._open_planes):
             self.open_power[:] = 0.0
             sopen, slots = open_sides.open_slots(perm, self.n, pts["ghost_open"], pts["ghost_source"])
@@ -450,9 +476,23 @@ class SphSystem:
         if len(self.wall_function_walls):
             walls.wall_shear(self.x, self.v, self.rho, self.m, self.mat, self.active, self.params,
                              self.wall_function_walls, self.acc, self.de)
+        if self.shock_switch:
+            switch.switch_rates(self.conv, self.h, self.c, self.alpha, self.active, float(opt.alpha),
+                                float(opt.switch_alpha_max), float(opt.switch_decay), self.dalpha)
         self._sorted = pts
         self._evaluations += 1
         self._rates_valid = True
+
+    def _slot_alpha(self, pts: dict) -> np.ndarray:
+        """The shock switch's alpha of every slot of this evaluation (``switch.slot_alpha``); a dummy without it."""
+        if not self.shock_switch:
+            return self._salpha
+        width = pts["sx"].shape[1]
+        if self._salpha.shape[0] < width:
+            self._salpha = np.empty(width)
+        switch.slot_alpha(pts["perm"], self.n, pts["ghost_source"], self.alpha, float(self.options.alpha), width,
+                          self._salpha)
+        return self._salpha
 
     # ------------------------------------------------------------------ stepping
 
@@ -484,6 +524,9 @@ class SphSystem:
             self.x, self.v, self.v_half, self.rho, self.rho_half, self.e, self.e_half, self.acc, self.drho,
             self.de, self.xsph, self.f_ext, self.m, self.active, self.gravity, dt, self._dt_prev, self.walls,
             self._dom_lo, self._dom_hi, self._use_domain, self._dt_work[0])
+        if self.shock_switch:  # alpha_i in the density's leapfrog (sph/switch.py)
+            switch.advance_switch(self.alpha, self.alpha_half, self.dalpha, self.active, dt, self._dt_prev,
+                                  float(self.options.alpha), float(self.options.switch_alpha_max))
         self.external_work += work
         if len(self.wall_x):  # the dummy walls' share of the pair work, weighted as the kicks weigh de
             self.wall_energy += 0.5 * (self._dt_prev + dt) * float(np.sum(self.wall_power))

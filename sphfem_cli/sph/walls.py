@@ -25,8 +25,8 @@ from .rates import _FM
 from .slots import PLANE_NO_SLIP, PLANE_OPEN
 from .search import cell_range
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
-                    GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, SF_ALPHA, SF_BETA, SF_EPS, SF_GX,
-                    SF_GY, SF_GZ, SF_PRESSURE_CUTOFF, SI_DIM, SI_KERNEL)
+                    GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, SF_ALPHA, SF_BETA, SF_BETA_PER_ALPHA,
+                    SF_EPS, SF_GX, SF_GY, SF_GZ, SF_PRESSURE_CUTOFF, SI_DIM, SI_KERNEL)
 
 
 @dataclass(frozen=True)
@@ -282,7 +282,8 @@ def wall_pressure(sx, sd, cell_start, sreach, settings_f, settings_i, grid_f, gr
 
 
 @njit(cache=True, parallel=True, error_model="numpy")
-def ghost_friction(sx, sd, svf, slots, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, de):
+def ghost_friction(sx, sd, svf, slots, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, de,
+                   salpha):
     """No-slip correction of the artificial viscosity between fluid particles and ghosts.
 
     ``fluid_rates`` evaluates every ghost with its free-slip velocity v_g (``fill_ghosts``). Near
@@ -295,10 +296,15 @@ def ghost_friction(sx, sd, svf, slots, perm, cell_start, sreach, settings_f, set
     with Pi_ig' and Pi_ig the Monaghan viscosity of ``fluid_rates`` with v_i - v_g' and v_i - v_g.
     The wall is at rest and does no work: the kinetic energy the friction takes from particle i
     goes, all of it, into its internal energy (so ghost walls conserve energy, no-slip or not).
+    With the shock switch (``salpha``, the alpha of every slot, longer than 1: ``sph/switch.py``) Pi takes the
+    pair's alpha_ig = (alpha_i + alpha_g)/2 and beta_ig = (beta/alpha) alpha_ig, as in ``fluid_rates``; a
+    one-entry ``salpha`` means the section's alpha and beta.
     """
     kernel, dim = settings_i[SI_KERNEL], settings_i[SI_DIM]
     nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
     alpha, beta, eps = settings_f[SF_ALPHA], settings_f[SF_BETA], settings_f[SF_EPS]
+    bpa = settings_f[SF_BETA_PER_ALPHA]
+    switched = salpha.shape[0] > 1
     hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
     ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
     inv_cell = 1.0 / cell
@@ -334,7 +340,9 @@ def ghost_friction(sx, sd, svf, slots, perm, cell_start, sreach, settings_f, set
                     cij = 0.5 * (ci + sd[D_C, j])
                     scale = hij / (dd * rhoij)
                     mu_s, mu_n = scale * slip, scale * stuck  # mu_ij / rho_ij
-                    dpi = (beta * rhoij * (mu_n * mu_n - mu_s * mu_s) - alpha * cij * (mu_n - mu_s))
+                    aij = 0.5 * (salpha[k] + salpha[j]) if switched else alpha
+                    bij = bpa * aij if switched else beta
+                    dpi = (bij * rhoij * (mu_n * mu_n - mu_s * mu_s) - aij * cij * (mu_n - mu_s))
                     coef = sd[D_VOL, j] * sd[D_RHO, j] * dpi * kernel_f(kernel, dim, math.sqrt(r2), hij)
                     ax -= coef * dx
                     ay -= coef * dy

@@ -45,16 +45,23 @@ def test_identical_run_after_run_and_on_1_or_2_threads(tmp_path, kind):
 
 
 @pytest.mark.cold_cache
-def test_a_run_that_compiles_its_kernels_equals_one_that_loads_them(tmp_path):
+@pytest.mark.parametrize("viscosity", ["fixed", "switch"])
+def test_a_run_that_compiles_its_kernels_equals_one_that_loads_them(tmp_path, viscosity):
     """The first run after a kernel change compiles the kernels and writes numba's cache, later runs
     load it: both must give the same bits (FMA contraction, then reassociation outside the neighbour
     sums differed between the two: see sphfem_cli/sph/rates.py, _FM). Two fresh interpreters on one empty cache folder; the SPH
-    kernels are the ones with fast-math flags."""
+    kernels are the ones with fast-math flags. ``switch``: the same deck with the viscosity's shock switch, the
+    rates' other specialisation (sph/switch.py)."""
     import os
     import subprocess
     import sys
 
-    deck = decks.write(tmp_path, "sph")
+    text = decks.DECKS["sph"]
+    if viscosity == "switch":
+        text = text.replace("artificial_viscosity: {alpha: 0.1}",
+                            "artificial_viscosity: {alpha: 0.1, beta: 0.2, switch: {alpha_max: 1.0}}")
+        assert "switch" in text
+    deck = decks.write(tmp_path, "sph", text)
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba_cache"))
     runs = []
     for name in ("compiles", "loads"):

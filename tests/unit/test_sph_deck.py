@@ -112,6 +112,10 @@ def test_each_scene_compiles_only_what_it_uses(tmp_path):
      r"parts\.pool\.material: an SPH part needs a material of type fluid"),
     (("sides: [left, right, bottom]", "sides: [left, front]"), r"boundaries\[0\]\.sides: back and front walls exist only in 3D"),
     (("{name: front, type: front}", "{name: front, type: pressure}"), r"output\.probes\[2\]\.point: a pressure probe needs 'point'"),
+    (("fluid: {type: sph}", "fluid: {type: sph, artificial_viscosity: {alpha: 0.1, switch: {alpha_max: 0.05}}}"),
+     r"sections\.fluid\.artificial_viscosity\.switch: alpha_max 0\.05 must exceed alpha 0\.1"),
+    (("fluid: {type: sph}", "fluid: {type: sph, artificial_viscosity: {alpha: 0, switch: {}}}"),
+     r"sections\.fluid\.artificial_viscosity\.alpha: a viscosity switch needs alpha > 0"),
 ])
 def test_bad_sph_decks(tmp_path, change, where):
     deck = tmp_path / "bad.yaml"

@@ -14,6 +14,7 @@ __all__ = [
     "Hourglass",
     "BulkViscosity",
     "SolidSection",
+    "ViscositySwitch",
     "ArtificialViscosity",
     "SphSection",
     "AleSection",
@@ -57,12 +58,52 @@ class SolidSection(DeckModel):
     bulk_viscosity: BulkViscosity = Field(default_factory=BulkViscosity, description="Shock viscosity.")
 
 
+class ViscositySwitch(DeckModel):
+    """Shock switch of the artificial viscosity (Morris & Monaghan 1997, with the source limited as Rosswog et al.
+    2000): each particle carries its own alpha_i, d alpha_i/dt = -(alpha_i - alpha)/tau_i + max(-div v_i, 0)
+    (alpha_max - alpha_i), tau_i = h_i/(decay c_i), from the section's alpha (the floor) towards alpha_max where
+    the fluid is compressed; a pair uses alpha_ij = (alpha_i + alpha_j)/2 and beta_ij = (beta/alpha) alpha_ij.
+    2D, 3D and axisymmetric; alpha_i is written as the particle field viscosity_alpha. docs/theory/sph.md,
+    "Shock switch"."""
+
+    alpha_max: PositiveFloat = Field(
+        1.0, description="Ceiling alpha_max the source drives alpha_i towards (above the section's alpha). Default 1 "
+        "(Monaghan's shock setting alpha 1; with beta = 2 alpha, beta_ij reaches 2 there)."
+    )
+    decay: Annotated[float, Field(gt=0, le=1)] = Field(
+        0.1, description="Decay constant l of tau_i = h_i/(l c_i), the time alpha_i takes back to the floor (Morris "
+        "& Monaghan 1997: 0.1-0.2; at l = 0.1, tau = 10 h/c, the time sound takes to cross 10 smoothing lengths). "
+        "Default 0.1."
+    )
+
+
 class ArtificialViscosity(DeckModel):
     """Monaghan artificial viscosity Pi_ij = (-alpha c mu_ij + beta mu_ij^2)/rho for approaching pairs."""
 
-    alpha: NonNegativeFloat = Field(0.1, description="Linear coefficient alpha. Default 0.1.")
-    beta: NonNegativeFloat = Field(0.0, description="Quadratic coefficient beta. Default 0.")
+    alpha: NonNegativeFloat = Field(
+        0.1, description="Linear coefficient alpha; with a switch, the floor every particle starts at and decays to. "
+        "Default 0.1."
+    )
+    beta: NonNegativeFloat = Field(
+        0.0, description="Quadratic coefficient beta; with a switch, beta at the floor alpha: a pair's beta_ij = "
+        "(beta/alpha) alpha_ij. Default 0."
+    )
     epsilon: PositiveFloat = Field(0.01, description="Singularity guard eps in mu_ij = h v.r/(r^2 + eps h^2). Default 0.01.")
+    switch: ViscositySwitch | None = Field(
+        None, description="{alpha_max, decay}: a per-particle alpha_i raised at shocks and decaying behind them "
+        "(Morris & Monaghan 1997). Default none (alpha and beta fixed)."
+    )
+
+    @model_validator(mode="after")
+    def _switch_range(self) -> "ArtificialViscosity":
+        if self.switch is not None:
+            if self.alpha <= 0.0:
+                raise ValueError("@alpha: a viscosity switch needs alpha > 0 (the floor alpha_i decays to; beta/alpha "
+                                 "scales beta_ij)")
+            if self.switch.alpha_max <= self.alpha:
+                raise ValueError(f"@switch: alpha_max {self.switch.alpha_max:g} must exceed alpha {self.alpha:g}, the "
+                                 "floor the switch raises alpha_i from")
+        return self
 
 
 class SphSection(DeckModel):
