@@ -286,19 +286,42 @@ def swept_volumes_3d(faces, face_nodes, x_lag, x_new, out):
 
 
 @njit(cache=True, inline="always")
-def bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, u):
+def element_velocity_range(e, v_old, conn, vrange, dim, npe):
+    """vrange[e, 0, k], vrange[e, 1, k] = min and max of v_old[:, k] over the corners of element e (corner order).
+
+    Written once per element and remap (``finish_nodes``), so that a node's bound reads one row per element
+    instead of npe corner velocities: in a moving flow every node scanned the npe x dim corner values of
+    one to all of its elements, a range that each of the element's npe nodes recomputed.
+    """
+    for k in range(dim):
+        c = v_old[conn[e, 0], k]
+        lo = c
+        hi = c
+        for a in range(1, npe):
+            q = v_old[conn[e, a], k]
+            lo = min(lo, q)
+            hi = max(hi, q)
+        vrange[e, 0, k] = lo
+        vrange[e, 1, k] = hi
+
+
+@njit(cache=True, inline="always")
+def bounded_velocity(n, w, v_old, vrange, npe, node_elem_ptr, node_elem_idx, lo, hi, u):
     """u = w with each component held within the range of v_old over node n and the nodes of its
-    elements (w, u, lo, hi: (dim,) scratch; u may be w).
+    elements (w, u, lo, hi: (dim,) scratch; u may be w; vrange: the elements' corner ranges,
+    ``element_velocity_range``).
 
     One remap sweep moves nodal momentum between neighbours along a node line, so after the sweeps
     (one per direction) a node's velocity is a mean of those of its element-sharing neighbours: a
     monotone remap keeps it in their range (the local bound of Shashkov & Wendroff 2004, J. Comput.
     Phys. 198, 265-277, "the repair paradigm"; here the excess is booked as impulse, not spread).
-    The neighbours are visited element by element until w lies within the range found so far, which
-    in smooth flow is after one or two elements.
+    The elements are visited in turn until w lies within the range found so far, which in smooth
+    flow is after one or two elements; w outside the whole range is clamped to it. The range
+    lo = min(v_n, min over the elements of their corners' min) is the number the former corner-by-corner
+    scan found (min and max do not depend on the grouping, but for the sign of a zero and NaN, which
+    only the clamp of an out-of-range w could pass on; the ALE decks and tests compared bit for bit).
     """
     dim = w.shape[0]
-    npe = conn.shape[1]
     inside = True
     for k in range(dim):
         u[k] = w[k]
@@ -313,10 +336,8 @@ def bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, u)
         e = node_elem_idx[r] // npe
         inside = True
         for k in range(dim):
-            for a in range(npe):
-                q = v_old[conn[e, a], k]
-                lo[k] = min(lo[k], q)
-                hi[k] = max(hi[k], q)
+            lo[k] = min(lo[k], vrange[e, 0, k])
+            hi[k] = max(hi[k], vrange[e, 1, k])
             if w[k] < lo[k] or w[k] > hi[k]:
                 inside = False
         if inside:
@@ -328,15 +349,18 @@ def bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, u)
 
 @njit(cache=True, inline="always")
 def finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
-                 impulse, dissip, dim):
+                 impulse, dissip, vrange, dim, npe):
     """The body of ``finish_remap_nodes`` (quad4) and ``finish_remap_nodes_3d`` (hex8): dim components, a
     literal constant of the caller, so that each compiles as if written for its dimension (the third
     component's lines dropped in 2D).
 
-    Per node: w = p / m, bounded (``bounded_velocity``) and under the velocity conditions, or 0 at or below
+    First the elements' corner ranges of v_old (``element_velocity_range``, into vrange (E, 2, dim)); then per
+    node: w = p / m, bounded (``bounded_velocity``) and under the velocity conditions, or 0 at or below
     the mass floor (``node_conditions``): u; impulse m (u - w) (p itself without mass), v = u,
     dissip = knode - m |u|^2 / 2 (|u|^2 summed in component order).
     """
+    for e in prange(conn.shape[0]):
+        element_velocity_range(e, v_old, conn, vrange, dim, npe)
     n_nodes = mnode.shape[0]
     n_chunks = min(n_nodes, N_CHUNKS)
     for chunk in prange(n_chunks):
@@ -357,7 +381,7 @@ def finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_
             w2 = w[2] if dim == 3 else 0.0
             live = m > m_floor[n] or bc_type[n] == BC_VELOCITY
             if live:
-                bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, w)
+                bounded_velocity(n, w, v_old, vrange, npe, node_elem_ptr, node_elem_idx, lo, hi, w)
             u0, u1, u2 = node_conditions(live, bc_type[n], bc_normal[n], w[0], w[1], (w[2] if dim == 3 else 0.0), dim)
             impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
             impulse[n, 1] = -pnode[n, 1] if m <= 0.0 else m * (u1 - w1)
@@ -381,7 +405,7 @@ def finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_
 # -> 0.56 / 0.87, hex8 2.79 / 3.18 -> 2.48 / 3.10.
 @njit(parallel=True, cache=True)
 def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal,
-                       v, impulse, dissip):
+                       v, impulse, dissip, vrange):
     """Velocity from the remapped momentum, bounded by its neighbours', velocity conditions, kinetic
     energy lost (DeBar); the body: ``finish_nodes``.
 
@@ -393,17 +417,18 @@ def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr,
     Why the bound: p and m come from different flux stencils, so p / m of a near-empty node is
     noise (fog nodes of 2e-58 kg were measured at 8.6e6 m/s, of 2.4e-11 kg, ten times the floor,
     at 2.4e4 m/s beside a water-entry jet where no node moved faster than 11 m/s).
+    vrange (E, 2, 2): scratch, the elements' velocity ranges.
     """
     finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
-                 impulse, dissip, 2)
+                 impulse, dissip, vrange, 2, 4)
 
 
 @njit(parallel=True, cache=True)
 def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type,
-                          bc_normal, v, impulse, dissip):
-    """``finish_remap_nodes`` on hex8 nodes (N, 3): the same body (``finish_nodes``), 3 components."""
+                          bc_normal, v, impulse, dissip, vrange):
+    """``finish_remap_nodes`` on hex8 nodes (N, 3): the same body (``finish_nodes``), 3 components; vrange (E, 2, 3)."""
     finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
-                 impulse, dissip, 3)
+                 impulse, dissip, vrange, 3, 8)
 
 
 @njit(parallel=True, cache=True)

@@ -192,6 +192,7 @@ class AleSystem:
         self._knode = np.zeros(n_nodes)
         self._dissip = np.zeros(n_nodes)
         self._x_lag = np.zeros((n_nodes, dim))
+        self._vrange = np.zeros((n_elem, 2, dim))  # the elements' corner velocity ranges (remap.finish_nodes)
         # body acceleration on the nodal masses, and the forces of couplings to structures
         # (contact.coupling): set f_couple before each step; its impulse is couple_dt * f_couple
         self.gravity = np.zeros(dim)
@@ -573,7 +574,8 @@ class AleSystem:
                                 topo["node_elem_idx"], any_open, self._g, self._b, self._moving, mnode, pnode, knode)
         dissip = self._dissip
         self._k_finish(mnode, pnode, knode, self.m_floor, self.v_lag, self.conn, topo["node_elem_ptr"],
-                       topo["node_elem_idx"], self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)
+                       topo["node_elem_idx"], self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip,
+                       self._vrange)
         K.add_column_sums(self._impulse, self.wall_impulse)  # wall_impulse += impulse.sum(axis=0), same bits
         K.nodal_mass(self.mass_m, topo["node_elem_ptr"], topo["node_elem_idx"], self.npe, self.node_mass)
         K.finish_remap_elements(self.conn, self.mass_m, self.ener_m, self.node_mass, dissip, self.options.ke_fix)
