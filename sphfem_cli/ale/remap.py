@@ -14,6 +14,8 @@ import numpy as np
 from numba import njit, prange
 
 from ..fem.geometry import hex8_volume
+from .face_lanes import (FL_AMOUNT, FL_BLOCK, FL_EA, FL_ED, FL_EU, FL_HASFAR, FL_MA, FL_MD, FL_MU, FL_OE, FL_OM, FL_OV,
+                         FL_ROWS, FL_SGN, FL_VA, FL_VD, FL_VU, face_block)
 from .ring_geometry import ring_volume
 from .lagrange import BC_VELOCITY, N_CHUNKS, chunk_range, node_conditions, quad_area
 
@@ -170,7 +172,10 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
     values of rho_m and e_m (``_face_flux``). Boundary faces carry flux only when open
     (transmitting): the outside state is a copy of the inside element. Writes fvol, fmass, fener
     rows of the listed faces, and flow[f]: False where the face sweeps nothing (a closed boundary face, or
-    a swept volume of 0: its rows are zeros), for ``apply_face_fluxes``.
+    a swept volume of 0: its rows are zeros), for ``apply_face_fluxes``. With one material the faces go in
+    blocks of ``face_lanes.FL_BLOCK``: the flowing faces' donor, acceptor and upwind states are copied
+    into a work array and their fluxes computed together by ``face_lanes.face_block`` (vectorised; the
+    bits of ``_face_flux``); inflow faces (donor outside) and multi-material meshes take ``_face_flux``.
 
     One kernel for the three geometries (plane, ring, hex8): the branch is per face, outside
     ``_face_flux``, where the time goes. Against main's three kernels (min / median of 30 alternated
@@ -185,49 +190,90 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
     # the hex8 swept-volume scratch (8, 3) of each chunk, allocated once a call (unused on a quad4
     # mesh): one more allocation in each of the 512 chunks cost the 2D call ~10 % (benchmark in the report)
     swept = np.empty((n_chunks, 8, 3))
+    one = n_mat == 1  # one material: the fluxes of each block of faces together (face_lanes.face_block)
+    second = order == 2
+    B = FL_BLOCK
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, nf, n_chunks)
         dvm = np.empty(n_mat)
         g = np.empty(n_mat)
         used = np.empty(n_mat, dtype=np.bool_)
         p = swept[chunk]
-        for i in range(start, stop):
-            f = faces[i]
-            for m in range(n_mat):
-                fvol[f, m] = 0.0
-                fmass[f, m] = 0.0
-                fener[f, m] = 0.0
-            el = face_elem[f, 0]
-            er = face_elem[f, 1]
-            flow[f] = False
-            if er < 0 and not face_open[f]:
-                continue
-            if hexa:
-                dv = swept_volume_3d(face_nodes, f, x_lag, x_new, p)
-            else:
-                n0 = face_nodes[f, 0]
-                n1 = face_nodes[f, 1]
-                if ring:
-                    dv = ring_volume(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
-                                     x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
+        # the block's work rows (face_lanes.FL_*) and face numbers, allocated at the chunk's first flowing face
+        wk = np.empty(0)
+        lane_f = np.empty(0, dtype=np.int64)
+        for block in range(start, stop, B):
+            nb = 0
+            for i in range(block, min(block + B, stop)):
+                f = faces[i]
+                for m in range(n_mat):
+                    fvol[f, m] = 0.0
+                    fmass[f, m] = 0.0
+                    fener[f, m] = 0.0
+                el = face_elem[f, 0]
+                er = face_elem[f, 1]
+                flow[f] = False
+                if er < 0 and not face_open[f]:
+                    continue
+                if hexa:
+                    dv = swept_volume_3d(face_nodes, f, x_lag, x_new, p)
                 else:
-                    dv = quad_area(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
-                                   x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
-            if dv == 0.0:
-                continue
-            flow[f] = True
-            if dv > 0.0:
-                donor = er
-                acc = el
-                sgn = 1.0
-                far = elem_nbr[er, _opposite_face(face_local[f, 1], hexa)] if er >= 0 else -1
-            else:
-                donor = el
-                acc = er
-                sgn = -1.0
-                far = elem_nbr[el, _opposite_face(face_local[f, 0], hexa)]
-            _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
-                       fvol, fmass, fener, dvm, g, used)
+                    n0 = face_nodes[f, 0]
+                    n1 = face_nodes[f, 1]
+                    if ring:
+                        dv = ring_volume(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
+                                         x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
+                    else:
+                        dv = quad_area(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
+                                       x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
+                if dv == 0.0:
+                    continue
+                flow[f] = True
+                if dv > 0.0:
+                    donor = er
+                    acc = el
+                    sgn = 1.0
+                    far = elem_nbr[er, _opposite_face(face_local[f, 1], hexa)] if er >= 0 else -1
+                else:
+                    donor = el
+                    acc = er
+                    sgn = -1.0
+                    far = elem_nbr[el, _opposite_face(face_local[f, 0], hexa)]
+                if one and donor >= 0:
+                    if wk.shape[0] == 0:
+                        wk = np.empty(FL_ROWS * B)
+                        lane_f = np.empty(B, dtype=np.int64)
+                    a = acc if acc >= 0 else donor  # outflow: zero gradient outside
+                    lane_f[nb] = f
+                    wk[FL_AMOUNT * B + nb] = abs(dv)
+                    wk[FL_SGN * B + nb] = sgn
+                    wk[FL_VD * B + nb] = vol_m[donor, 0]
+                    wk[FL_MD * B + nb] = mass_m[donor, 0]
+                    wk[FL_ED * B + nb] = ener_m[donor, 0]
+                    wk[FL_VA * B + nb] = vol_m[a, 0]
+                    wk[FL_MA * B + nb] = mass_m[a, 0]
+                    wk[FL_EA * B + nb] = ener_m[a, 0]
+                    u = far if far >= 0 else donor  # (read only where far >= 0: FL_HASFAR)
+                    wk[FL_HASFAR * B + nb] = 1.0 if far >= 0 else 0.0
+                    wk[FL_VU * B + nb] = vol_m[u, 0] if far >= 0 else 0.0
+                    wk[FL_MU * B + nb] = mass_m[u, 0]
+                    wk[FL_EU * B + nb] = ener_m[u, 0]
+                    nb += 1
+                else:
+                    _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
+                               fvol, fmass, fener, dvm, g, used)
+            if nb > 0:
+                face_block(nb, wk[FL_AMOUNT * B:(FL_AMOUNT + 1) * B], wk[FL_SGN * B:(FL_SGN + 1) * B],
+                           wk[FL_HASFAR * B:(FL_HASFAR + 1) * B], wk[FL_VD * B:(FL_VD + 1) * B],
+                           wk[FL_MD * B:(FL_MD + 1) * B], wk[FL_ED * B:(FL_ED + 1) * B], wk[FL_VA * B:(FL_VA + 1) * B],
+                           wk[FL_MA * B:(FL_MA + 1) * B], wk[FL_EA * B:(FL_EA + 1) * B], wk[FL_VU * B:(FL_VU + 1) * B],
+                           wk[FL_MU * B:(FL_MU + 1) * B], wk[FL_EU * B:(FL_EU + 1) * B], second, phi_eps,
+                           wk[FL_OV * B:(FL_OV + 1) * B], wk[FL_OM * B:(FL_OM + 1) * B], wk[FL_OE * B:(FL_OE + 1) * B])
+                for j in range(nb):
+                    f = lane_f[j]
+                    fvol[f, 0] = wk[FL_OV * B + j]
+                    fmass[f, 0] = wk[FL_OM * B + j]
+                    fener[f, 0] = wk[FL_OE * B + j]
 
 
 @njit(cache=True, inline="always")
