@@ -1,6 +1,6 @@
 """sphfem against named peers, side by side (issue 17): one thread, interleaved pairs, CPU time.
 
-    python benchmarks/peers.py [--cases ale2d,hex8,sph2d,dambreak] [--pairs 3] [--size 1.0]
+    python benchmarks/peers.py [--cases ale2d,ale2dflow,hex8,sph2d,dambreak] [--pairs 3] [--size 1.0]
 
 Cases (the ratio is sphfem's rate over the peer's, per cell-step / element-step / particle-step):
 

@@ -352,10 +352,12 @@ def element_velocity_range(e, v_old, conn, vrange, dim, npe):
 
 
 @njit(cache=True, inline="always")
-def bounded_velocity(n, w, v_old, vrange, npe, node_elem_ptr, node_elem_idx, lo, hi, u):
+def bounded_velocity(n, w, v_old, conn, vrange, use_ranges, npe, node_elem_ptr, node_elem_idx, lo, hi, u):
     """u = w with each component held within the range of v_old over node n and the nodes of its
-    elements (w, u, lo, hi: (dim,) scratch; u may be w; vrange: the elements' corner ranges,
-    ``element_velocity_range``).
+    elements (w, u, lo, hi: (dim,) scratch; u may be w; use_ranges: read the elements' corner ranges
+    from vrange, ``element_velocity_range``, else scan their corners here; a constant at the call, as the
+    corner count npe: a literal 4 or 8 makes node_elem_idx // npe a shift, conn.shape[1] a division that
+    cost the bound 3-4 ns a node).
 
     One remap sweep moves nodal momentum between neighbours along a node line, so after the sweeps
     (one per direction) a node's velocity is a mean of those of its element-sharing neighbours: a
@@ -381,11 +383,20 @@ def bounded_velocity(n, w, v_old, vrange, npe, node_elem_ptr, node_elem_idx, lo,
     for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
         e = node_elem_idx[r] // npe
         inside = True
-        for k in range(dim):
-            lo[k] = min(lo[k], vrange[e, 0, k])
-            hi[k] = max(hi[k], vrange[e, 1, k])
-            if w[k] < lo[k] or w[k] > hi[k]:
-                inside = False
+        if use_ranges:
+            for k in range(dim):
+                lo[k] = min(lo[k], vrange[e, 0, k])
+                hi[k] = max(hi[k], vrange[e, 1, k])
+                if w[k] < lo[k] or w[k] > hi[k]:
+                    inside = False
+        else:
+            for k in range(dim):
+                for a in range(npe):
+                    q = v_old[conn[e, a], k]
+                    lo[k] = min(lo[k], q)
+                    hi[k] = max(hi[k], q)
+                if w[k] < lo[k] or w[k] > hi[k]:
+                    inside = False
         if inside:
             return
     for k in range(dim):
@@ -394,19 +405,53 @@ def bounded_velocity(n, w, v_old, vrange, npe, node_elem_ptr, node_elem_idx, lo,
 
 
 @njit(cache=True, inline="always")
+def _finish_node(n, mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
+                 impulse, dissip, vrange, use_ranges, w, lo, hi, dim, npe):
+    """``finish_nodes`` of node n (use_ranges, dim and npe constants at the call)."""
+    m = mnode[n]
+    if m > 0.0:
+        for k in range(dim):
+            w[k] = pnode[n, k] / m
+    else:
+        for k in range(dim):
+            w[k] = 0.0
+    w0 = w[0]
+    w1 = w[1]
+    w2 = w[2] if dim == 3 else 0.0
+    live = m > m_floor[n] or bc_type[n] == BC_VELOCITY
+    if live:
+        bounded_velocity(n, w, v_old, conn, vrange, use_ranges, npe, node_elem_ptr, node_elem_idx, lo, hi, w)
+    u0, u1, u2 = node_conditions(live, bc_type[n], bc_normal[n], w[0], w[1], (w[2] if dim == 3 else 0.0), dim)
+    impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
+    impulse[n, 1] = -pnode[n, 1] if m <= 0.0 else m * (u1 - w1)
+    v[n, 0] = u0
+    v[n, 1] = u1
+    u2sum = u0 * u0 + u1 * u1
+    if dim == 3:
+        impulse[n, 2] = -pnode[n, 2] if m <= 0.0 else m * (u2 - w2)
+        v[n, 2] = u2
+        u2sum += u2 * u2
+    dissip[n] = knode[n] - 0.5 * m * u2sum if m > 0.0 else knode[n]
+
+
+@njit(cache=True, inline="always")
 def finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
-                 impulse, dissip, vrange, dim, npe):
+                 impulse, dissip, vrange, use_ranges, dim, npe):
     """The body of ``finish_remap_nodes`` (quad4) and ``finish_remap_nodes_3d`` (hex8): dim components, a
     literal constant of the caller, so that each compiles as if written for its dimension (the third
     component's lines dropped in 2D).
 
-    First the elements' corner ranges of v_old (``element_velocity_range``, into vrange (E, 2, dim)); then per
-    node: w = p / m, bounded (``bounded_velocity``) and under the velocity conditions, or 0 at or below
-    the mass floor (``node_conditions``): u; impulse m (u - w) (p itself without mass), v = u,
-    dissip = knode - m |u|^2 / 2 (|u|^2 summed in component order).
+    With use_ranges, first the corner ranges of v_old of every element (``element_velocity_range``, into
+    vrange (E, 2, dim)), which the nodes' bounds then read, one row per element; without, each bound scans
+    its elements' corners (the same numbers: ``bounded_velocity``). The remap asks for the ranges where mass
+    crossed at least a quarter of the elements (``AleSystem._remap``). Then per node: w = p / m, bounded
+    (``bounded_velocity``) and under the velocity conditions, or 0 at or below the mass floor
+    (``node_conditions``): u; impulse m (u - w) (p itself without mass), v = u, dissip = knode - m |u|^2 / 2
+    (|u|^2 summed in component order).
     """
-    for e in prange(conn.shape[0]):
-        element_velocity_range(e, v_old, conn, vrange, dim, npe)
+    if use_ranges:
+        for e in prange(conn.shape[0]):
+            element_velocity_range(e, v_old, conn, vrange, dim, npe)
     n_nodes = mnode.shape[0]
     n_chunks = min(n_nodes, N_CHUNKS)
     for chunk in prange(n_chunks):
@@ -414,31 +459,14 @@ def finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_
         lo = np.empty(dim)
         hi = np.empty(dim)
         start, stop = chunk_range(chunk, n_nodes, n_chunks)
-        for n in range(start, stop):
-            m = mnode[n]
-            if m > 0.0:
-                for k in range(dim):
-                    w[k] = pnode[n, k] / m
-            else:
-                for k in range(dim):
-                    w[k] = 0.0
-            w0 = w[0]
-            w1 = w[1]
-            w2 = w[2] if dim == 3 else 0.0
-            live = m > m_floor[n] or bc_type[n] == BC_VELOCITY
-            if live:
-                bounded_velocity(n, w, v_old, vrange, npe, node_elem_ptr, node_elem_idx, lo, hi, w)
-            u0, u1, u2 = node_conditions(live, bc_type[n], bc_normal[n], w[0], w[1], (w[2] if dim == 3 else 0.0), dim)
-            impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
-            impulse[n, 1] = -pnode[n, 1] if m <= 0.0 else m * (u1 - w1)
-            v[n, 0] = u0
-            v[n, 1] = u1
-            u2sum = u0 * u0 + u1 * u1
-            if dim == 3:
-                impulse[n, 2] = -pnode[n, 2] if m <= 0.0 else m * (u2 - w2)
-                v[n, 2] = u2
-                u2sum += u2 * u2
-            dissip[n] = knode[n] - 0.5 * m * u2sum if m > 0.0 else knode[n]
+        if use_ranges:  # two loops, each compiled with its bound (the choice inside the loop cost 4 ns a node)
+            for n in range(start, stop):
+                _finish_node(n, mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type,
+                             bc_normal, v, impulse, dissip, vrange, True, w, lo, hi, dim, npe)
+        else:
+            for n in range(start, stop):
+                _finish_node(n, mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type,
+                             bc_normal, v, impulse, dissip, vrange, False, w, lo, hi, dim, npe)
 
 
 # quad4 and hex8: one body (``finish_nodes``, inline, the dimension a literal constant), one compiled kernel
@@ -451,7 +479,7 @@ def finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_
 # -> 0.56 / 0.87, hex8 2.79 / 3.18 -> 2.48 / 3.10.
 @njit(parallel=True, cache=True)
 def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal,
-                       v, impulse, dissip, vrange):
+                       v, impulse, dissip, vrange, use_ranges):
     """Velocity from the remapped momentum, bounded by its neighbours', velocity conditions, kinetic
     energy lost (DeBar); the body: ``finish_nodes``.
 
@@ -463,18 +491,18 @@ def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr,
     Why the bound: p and m come from different flux stencils, so p / m of a near-empty node is
     noise (fog nodes of 2e-58 kg were measured at 8.6e6 m/s, of 2.4e-11 kg, ten times the floor,
     at 2.4e4 m/s beside a water-entry jet where no node moved faster than 11 m/s).
-    vrange (E, 2, 2): scratch, the elements' velocity ranges.
+    vrange (E, 2, 2): scratch, the elements' velocity ranges, computed and read when use_ranges (bool).
     """
     finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
-                 impulse, dissip, vrange, 2, 4)
+                 impulse, dissip, vrange, use_ranges, 2, 4)
 
 
 @njit(parallel=True, cache=True)
 def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type,
-                          bc_normal, v, impulse, dissip, vrange):
+                          bc_normal, v, impulse, dissip, vrange, use_ranges):
     """``finish_remap_nodes`` on hex8 nodes (N, 3): the same body (``finish_nodes``), 3 components; vrange (E, 2, 3)."""
     finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
-                 impulse, dissip, vrange, 3, 8)
+                 impulse, dissip, vrange, use_ranges, 3, 8)
 
 
 @njit(parallel=True, cache=True)
