@@ -75,6 +75,11 @@ At the issue's 960^2 (``--n 960 --steps 5 --repeat 3 --trees``, one material, 10
 Second round (6 December 2026, main 448264a against branch alespeed, 240^2 one and two materials and
 960^2 one material, load 4): the table in benchmarks/README.md ("Measured", ale2d); forces 81-84 -> 50-53,
 rest 15-17 -> 5-8 ns per cell-step, step speed-up median 1.15-1.21.
+
+``--vortex`` (fourth round, the remap where the whole box flows: ``ale_throughput.vortex_velocity``): main
+45e359a against the branch, 6 December 2026 17:39 UTC, load 6: the velocity bound 27.8 -> 16.7, the face
+fluxes 70.5 -> 62.7 (noisy: medians 72.5 -> 73.4), total 299.8 -> 284.2 ns per cell-step (min; one
+material); the table in benchmarks/README.md ("ALE remap in moving flow").
 """
 from __future__ import annotations
 

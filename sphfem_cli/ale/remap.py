@@ -335,9 +335,10 @@ def swept_volumes_3d(faces, face_nodes, x_lag, x_new, out):
 def element_velocity_range(e, v_old, conn, vrange, dim, npe):
     """vrange[e, 0, k], vrange[e, 1, k] = min and max of v_old[:, k] over the corners of element e (corner order).
 
-    Written once per element and remap (``finish_nodes``), so that a node's bound reads one row per element
-    instead of npe corner velocities: in a moving flow every node scanned the npe x dim corner values of
-    one to all of its elements, a range that each of the element's npe nodes recomputed.
+    Written once per element and remap where the flow fills the mesh (``finish_nodes``' use_ranges), so that
+    a node's bound reads one row per element instead of npe corner velocities: in a moving flow every node
+    scanned the npe x dim corner values of one to all of its elements, a range that each of the element's
+    npe nodes recomputed (the bound 25 -> 13 ns per node in a vortex at 240^2, 1 thread).
     """
     for k in range(dim):
         c = v_old[conn[e, 0], k]
