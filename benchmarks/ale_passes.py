@@ -19,9 +19,9 @@ wrapping the kernel that the orchestration (``ale/system.py``) calls, with the p
   work, Lagrangian volume, mixed-cell closure), ``ext forces`` (``AleSystem._external_forces``);
 * remap: ``mesh target`` (``MeshMover.target``), ``face fluxes`` (``face_fluxes``: swept volumes,
   SLIC material volumes, van Leer mass and energy; the interface reconstruction of the method
-  is this pass's SLIC branch), ``apply faces`` (``apply_face_fluxes``), ``dual fluxes`` and
-  ``apply dual`` (nodal momentum on the dual mesh; ``dual fluxes`` includes ``node_velocities`` where
-  the code has it), ``finish nodes`` (``finish_remap_nodes``:
+  is this pass's SLIC branch), ``apply faces`` (``apply_face_fluxes``), ``node velocities`` (p / m of
+  each sweep), ``dual fluxes`` and ``apply dual`` (nodal momentum on the dual mesh; the tables below
+  before 6 December 2026 evening count ``node velocities`` in ``dual fluxes``), ``finish nodes`` (``finish_remap_nodes``:
   v = p / m, bounds, conditions), ``nodal mass``, ``finish elems`` (DeBar's kinetic-energy fix);
 * ``time step``: ``AleSystem.stable_dt`` minus the forces it triggers (the min over dt_elem);
 * ``rest``: the step's CPU time minus the passes above (Python orchestration, temporaries).
@@ -75,6 +75,11 @@ At the issue's 960^2 (``--n 960 --steps 5 --repeat 3 --trees``, one material, 10
 Second round (6 December 2026, main 448264a against branch alespeed, 240^2 one and two materials and
 960^2 one material, load 4): the table in benchmarks/README.md ("Measured", ale2d); forces 81-84 -> 50-53,
 rest 15-17 -> 5-8 ns per cell-step, step speed-up median 1.15-1.21.
+
+``--vortex`` (fourth round, the remap where the whole box flows: ``ale_throughput.vortex_velocity``): main
+45e359a against the branch, 6 December 2026 17:39 UTC, load 6: the velocity bound 27.8 -> 16.7, the face
+fluxes 70.5 -> 62.7 (noisy: medians 72.5 -> 73.4), total 299.8 -> 284.2 ns per cell-step (min; one
+material); the table in benchmarks/README.md ("ALE remap in moving flow").
 """
 from __future__ import annotations
 
@@ -92,10 +97,10 @@ if str(HERE) not in sys.path:
     sys.path.insert(0, str(HERE))
 
 PASSES = ("forces", "nodal update", "energy", "ext forces", "mesh target", "face fluxes", "apply faces",
-          "dual fluxes", "apply dual", "finish nodes", "nodal mass", "finish elems", "time step")
+          "node velocities", "dual fluxes", "apply dual", "finish nodes", "nodal mass", "finish elems", "time step")
 
 # kernels looked up on the kernels module at each call by AleSystem (K.name)
-_MODULE_KERNELS = {"apply_face_fluxes": "apply faces", "dual_fluxes": "dual fluxes", "node_velocities": "dual fluxes",
+_MODULE_KERNELS = {"apply_face_fluxes": "apply faces", "dual_fluxes": "dual fluxes", "node_velocities": "node velocities",
                    "apply_dual_fluxes": "apply dual", "nodal_mass": "nodal mass",
                    "finish_remap_elements": "finish elems"}
 # kernels bound on the instance at construction (AleSystem._allocate)
@@ -145,11 +150,12 @@ def instrument(ale, timer: PassTimer):
     return undo
 
 
-def measure(n: int, steps: int, two: bool, advance: int = 2) -> dict:
-    """ns per cell-step of each pass, 'rest' and 'total', over ``steps`` steps after ``advance`` warm-up steps."""
+def measure(n: int, steps: int, two: bool, advance: int = 2, vortex: bool = False) -> dict:
+    """ns per cell-step of each pass, 'rest' and 'total', over ``steps`` steps after ``advance`` warm-up steps
+    (vortex: the box flowing, ``ale_throughput.vortex_velocity``)."""
     from ale_throughput import build
 
-    ale = build(n, two)
+    ale = build(n, two, vortex)
     for _ in range(advance):
         ale.step(ale.stable_dt(0.5))
     timer = PassTimer()
@@ -189,7 +195,8 @@ def compare(trees, args, cases) -> None:
         for t in trees:
             env = dict(os.environ, PYTHONPATH=t, NUMBA_NUM_THREADS="1")
             cmd = [sys.executable, str(Path(__file__).resolve()), "--n", str(args.n), "--steps", str(args.steps),
-                   "--advance", str(args.advance), "--repeat", "1", "--json"] + (["--two"] if args.two else [])
+                   "--advance", str(args.advance), "--repeat", "1", "--json"] + (["--two"] if args.two else []) \
+                + (["--vortex"] if args.vortex else [])
             out = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
             for name, r in json.loads(out.strip().splitlines()[-1]).items():
                 runs[t][name].append(r)
@@ -210,13 +217,17 @@ def main():
     ap.add_argument("--advance", type=int, default=2,
                     help="steps before the timed ones (default 2, the compilation; the wave from the bump then "
                          "covers a few %% of the box: 500 at 240^2 set 99.9 %% of the nodes moving)")
+    ap.add_argument("--vortex", action="store_true",
+                    help="the box flowing from the start (a Taylor-Green vortex, ale_throughput.vortex_velocity): "
+                         "every face and node of the remap moves")
     ap.add_argument("--trees", nargs="+", help="source trees to compare, interleaved (child processes)")
     ap.add_argument("--json", action="store_true", help=argparse.SUPPRESS)  # a child's one line of results
     args = ap.parse_args()
     cases = [("one", False)] + ([("two", True)] if args.two else [])
     names = [name for name, _ in cases]
     if args.trees:
-        print(f"ALE 2D passes, {args.n} x {args.n} cells, {args.steps} steps after {args.advance}, 1 thread, "
+        print(f"ALE 2D passes, {args.n} x {args.n} cells{', vortex' if args.vortex else ''}, {args.steps} steps after "
+              f"{args.advance}, 1 thread, "
               f"load {os.getloadavg()[0]:.2f}")
         compare(args.trees, args, names)
         print(f"load after {os.getloadavg()[0]:.2f}")
@@ -226,7 +237,7 @@ def main():
     runs = {name: [] for name in names}
     for _ in range(args.repeat):
         for name, two in cases:
-            runs[name].append(measure(args.n, args.steps, two, args.advance))
+            runs[name].append(measure(args.n, args.steps, two, args.advance, args.vortex))
     if args.json:
         print(json.dumps({name: r[0] for name, r in runs.items()}))
         return

@@ -40,7 +40,8 @@ of the quad4 energy and face kernels. The mixture state, closure, face flux of a
 and the element-face, dual-mesh and nodal-mass kernels are shared (their loops take the corner count
 and dimension from the arrays). Measured forms and figures: the comments above the kernels. The
 kernels live in ``lagrange`` (steps 1-2; its plane force kernel's vectorised passes in ``force_lanes``),
-``energy`` (step 3), ``remap`` (step 4, element side) and ``dual`` (step 4, nodal momentum on the dual mesh);
+``energy`` (step 3), ``remap`` (step 4, element side; its one-material face fluxes' vectorised block in
+``face_lanes``) and ``dual`` (step 4, nodal momentum on the dual mesh);
 this module names them together. Where nothing moves the remap skips work with the same bits: faces that
 sweep no volume are flagged (``face_fluxes``' flow) and their elements skipped by ``apply_face_fluxes``;
 elements through which no mass crosses write and read no dual fluxes (``dual_fluxes``' moving).

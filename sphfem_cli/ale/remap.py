@@ -14,6 +14,8 @@ import numpy as np
 from numba import njit, prange
 
 from ..fem.geometry import hex8_volume
+from .face_lanes import (FL_AMOUNT, FL_BLOCK, FL_EA, FL_ED, FL_EU, FL_HASFAR, FL_MA, FL_MD, FL_MU, FL_OE, FL_OM, FL_OV,
+                         FL_ROWS, FL_SGN, FL_VA, FL_VD, FL_VU, face_block)
 from .ring_geometry import ring_volume
 from .lagrange import BC_VELOCITY, N_CHUNKS, chunk_range, node_conditions, quad_area
 
@@ -170,7 +172,10 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
     values of rho_m and e_m (``_face_flux``). Boundary faces carry flux only when open
     (transmitting): the outside state is a copy of the inside element. Writes fvol, fmass, fener
     rows of the listed faces, and flow[f]: False where the face sweeps nothing (a closed boundary face, or
-    a swept volume of 0: its rows are zeros), for ``apply_face_fluxes``.
+    a swept volume of 0: its rows are zeros), for ``apply_face_fluxes``. With one material the faces go in
+    blocks of ``face_lanes.FL_BLOCK``: the flowing faces' donor, acceptor and upwind states are copied
+    into a work array and their fluxes computed together by ``face_lanes.face_block`` (vectorised; the
+    bits of ``_face_flux``); inflow faces (donor outside) and multi-material meshes take ``_face_flux``.
 
     One kernel for the three geometries (plane, ring, hex8): the branch is per face, outside
     ``_face_flux``, where the time goes. Against main's three kernels (min / median of 30 alternated
@@ -185,49 +190,90 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
     # the hex8 swept-volume scratch (8, 3) of each chunk, allocated once a call (unused on a quad4
     # mesh): one more allocation in each of the 512 chunks cost the 2D call ~10 % (benchmark in the report)
     swept = np.empty((n_chunks, 8, 3))
+    one = n_mat == 1  # one material: the fluxes of each block of faces together (face_lanes.face_block)
+    second = order == 2
+    B = FL_BLOCK
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, nf, n_chunks)
         dvm = np.empty(n_mat)
         g = np.empty(n_mat)
         used = np.empty(n_mat, dtype=np.bool_)
         p = swept[chunk]
-        for i in range(start, stop):
-            f = faces[i]
-            for m in range(n_mat):
-                fvol[f, m] = 0.0
-                fmass[f, m] = 0.0
-                fener[f, m] = 0.0
-            el = face_elem[f, 0]
-            er = face_elem[f, 1]
-            flow[f] = False
-            if er < 0 and not face_open[f]:
-                continue
-            if hexa:
-                dv = swept_volume_3d(face_nodes, f, x_lag, x_new, p)
-            else:
-                n0 = face_nodes[f, 0]
-                n1 = face_nodes[f, 1]
-                if ring:
-                    dv = ring_volume(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
-                                     x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
+        # the block's work rows (face_lanes.FL_*) and face numbers, allocated at the chunk's first flowing face
+        wk = np.empty(0)
+        lane_f = np.empty(0, dtype=np.int64)
+        for block in range(start, stop, B):
+            nb = 0
+            for i in range(block, min(block + B, stop)):
+                f = faces[i]
+                for m in range(n_mat):
+                    fvol[f, m] = 0.0
+                    fmass[f, m] = 0.0
+                    fener[f, m] = 0.0
+                el = face_elem[f, 0]
+                er = face_elem[f, 1]
+                flow[f] = False
+                if er < 0 and not face_open[f]:
+                    continue
+                if hexa:
+                    dv = swept_volume_3d(face_nodes, f, x_lag, x_new, p)
                 else:
-                    dv = quad_area(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
-                                   x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
-            if dv == 0.0:
-                continue
-            flow[f] = True
-            if dv > 0.0:
-                donor = er
-                acc = el
-                sgn = 1.0
-                far = elem_nbr[er, _opposite_face(face_local[f, 1], hexa)] if er >= 0 else -1
-            else:
-                donor = el
-                acc = er
-                sgn = -1.0
-                far = elem_nbr[el, _opposite_face(face_local[f, 0], hexa)]
-            _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
-                       fvol, fmass, fener, dvm, g, used)
+                    n0 = face_nodes[f, 0]
+                    n1 = face_nodes[f, 1]
+                    if ring:
+                        dv = ring_volume(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
+                                         x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
+                    else:
+                        dv = quad_area(x_lag[n0, 0], x_lag[n0, 1], x_new[n0, 0], x_new[n0, 1],
+                                       x_new[n1, 0], x_new[n1, 1], x_lag[n1, 0], x_lag[n1, 1])
+                if dv == 0.0:
+                    continue
+                flow[f] = True
+                if dv > 0.0:
+                    donor = er
+                    acc = el
+                    sgn = 1.0
+                    far = elem_nbr[er, _opposite_face(face_local[f, 1], hexa)] if er >= 0 else -1
+                else:
+                    donor = el
+                    acc = er
+                    sgn = -1.0
+                    far = elem_nbr[el, _opposite_face(face_local[f, 0], hexa)]
+                if one and donor >= 0:
+                    if wk.shape[0] == 0:
+                        wk = np.empty(FL_ROWS * B)
+                        lane_f = np.empty(B, dtype=np.int64)
+                    a = acc if acc >= 0 else donor  # outflow: zero gradient outside
+                    lane_f[nb] = f
+                    wk[FL_AMOUNT * B + nb] = abs(dv)
+                    wk[FL_SGN * B + nb] = sgn
+                    wk[FL_VD * B + nb] = vol_m[donor, 0]
+                    wk[FL_MD * B + nb] = mass_m[donor, 0]
+                    wk[FL_ED * B + nb] = ener_m[donor, 0]
+                    wk[FL_VA * B + nb] = vol_m[a, 0]
+                    wk[FL_MA * B + nb] = mass_m[a, 0]
+                    wk[FL_EA * B + nb] = ener_m[a, 0]
+                    u = far if far >= 0 else donor  # (read only where far >= 0: FL_HASFAR)
+                    wk[FL_HASFAR * B + nb] = 1.0 if far >= 0 else 0.0
+                    wk[FL_VU * B + nb] = vol_m[u, 0] if far >= 0 else 0.0
+                    wk[FL_MU * B + nb] = mass_m[u, 0]
+                    wk[FL_EU * B + nb] = ener_m[u, 0]
+                    nb += 1
+                else:
+                    _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
+                               fvol, fmass, fener, dvm, g, used)
+            if nb > 0:
+                face_block(nb, wk[FL_AMOUNT * B:(FL_AMOUNT + 1) * B], wk[FL_SGN * B:(FL_SGN + 1) * B],
+                           wk[FL_HASFAR * B:(FL_HASFAR + 1) * B], wk[FL_VD * B:(FL_VD + 1) * B],
+                           wk[FL_MD * B:(FL_MD + 1) * B], wk[FL_ED * B:(FL_ED + 1) * B], wk[FL_VA * B:(FL_VA + 1) * B],
+                           wk[FL_MA * B:(FL_MA + 1) * B], wk[FL_EA * B:(FL_EA + 1) * B], wk[FL_VU * B:(FL_VU + 1) * B],
+                           wk[FL_MU * B:(FL_MU + 1) * B], wk[FL_EU * B:(FL_EU + 1) * B], second, phi_eps,
+                           wk[FL_OV * B:(FL_OV + 1) * B], wk[FL_OM * B:(FL_OM + 1) * B], wk[FL_OE * B:(FL_OE + 1) * B])
+                for j in range(nb):
+                    f = lane_f[j]
+                    fvol[f, 0] = wk[FL_OV * B + j]
+                    fmass[f, 0] = wk[FL_OM * B + j]
+                    fener[f, 0] = wk[FL_OE * B + j]
 
 
 @njit(cache=True, inline="always")
@@ -286,19 +332,45 @@ def swept_volumes_3d(faces, face_nodes, x_lag, x_new, out):
 
 
 @njit(cache=True, inline="always")
-def bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, u):
+def element_velocity_range(e, v_old, conn, vrange, dim, npe):
+    """vrange[e, 0, k], vrange[e, 1, k] = min and max of v_old[:, k] over the corners of element e (corner order).
+
+    Written once per element and remap where the flow fills the mesh (``finish_nodes``' use_ranges), so that
+    a node's bound reads one row per element instead of npe corner velocities: in a moving flow every node
+    scanned the npe x dim corner values of one to all of its elements, a range that each of the element's
+    npe nodes recomputed (the bound 25 -> 13 ns per node in a vortex at 240^2, 1 thread).
+    """
+    for k in range(dim):
+        c = v_old[conn[e, 0], k]
+        lo = c
+        hi = c
+        for a in range(1, npe):
+            q = v_old[conn[e, a], k]
+            lo = min(lo, q)
+            hi = max(hi, q)
+        vrange[e, 0, k] = lo
+        vrange[e, 1, k] = hi
+
+
+@njit(cache=True, inline="always")
+def bounded_velocity(n, w, v_old, conn, vrange, use_ranges, npe, node_elem_ptr, node_elem_idx, lo, hi, u):
     """u = w with each component held within the range of v_old over node n and the nodes of its
-    elements (w, u, lo, hi: (dim,) scratch; u may be w).
+    elements (w, u, lo, hi: (dim,) scratch; u may be w; use_ranges: read the elements' corner ranges
+    from vrange, ``element_velocity_range``, else scan their corners here; a constant at the call, as the
+    corner count npe: a literal 4 or 8 makes node_elem_idx // npe a shift, conn.shape[1] a division that
+    cost the bound 3-4 ns a node).
 
     One remap sweep moves nodal momentum between neighbours along a node line, so after the sweeps
     (one per direction) a node's velocity is a mean of those of its element-sharing neighbours: a
     monotone remap keeps it in their range (the local bound of Shashkov & Wendroff 2004, J. Comput.
     Phys. 198, 265-277, "the repair paradigm"; here the excess is booked as impulse, not spread).
-    The neighbours are visited element by element until w lies within the range found so far, which
-    in smooth flow is after one or two elements.
+    The elements are visited in turn until w lies within the range found so far, which in smooth
+    flow is after one or two elements; w outside the whole range is clamped to it. The range
+    lo = min(v_n, min over the elements of their corners' min) is the number the former corner-by-corner
+    scan found (min and max do not depend on the grouping, but for the sign of a zero and NaN, which
+    only the clamp of an out-of-range w could pass on; the ALE decks and tests compared bit for bit).
     """
     dim = w.shape[0]
-    npe = conn.shape[1]
     inside = True
     for k in range(dim):
         u[k] = w[k]
@@ -312,13 +384,20 @@ def bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, u)
     for r in range(node_elem_ptr[n], node_elem_ptr[n + 1]):
         e = node_elem_idx[r] // npe
         inside = True
-        for k in range(dim):
-            for a in range(npe):
-                q = v_old[conn[e, a], k]
-                lo[k] = min(lo[k], q)
-                hi[k] = max(hi[k], q)
-            if w[k] < lo[k] or w[k] > hi[k]:
-                inside = False
+        if use_ranges:
+            for k in range(dim):
+                lo[k] = min(lo[k], vrange[e, 0, k])
+                hi[k] = max(hi[k], vrange[e, 1, k])
+                if w[k] < lo[k] or w[k] > hi[k]:
+                    inside = False
+        else:
+            for k in range(dim):
+                for a in range(npe):
+                    q = v_old[conn[e, a], k]
+                    lo[k] = min(lo[k], q)
+                    hi[k] = max(hi[k], q)
+                if w[k] < lo[k] or w[k] > hi[k]:
+                    inside = False
         if inside:
             return
     for k in range(dim):
@@ -327,16 +406,53 @@ def bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, u)
 
 
 @njit(cache=True, inline="always")
+def _finish_node(n, mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
+                 impulse, dissip, vrange, use_ranges, w, lo, hi, dim, npe):
+    """``finish_nodes`` of node n (use_ranges, dim and npe constants at the call)."""
+    m = mnode[n]
+    if m > 0.0:
+        for k in range(dim):
+            w[k] = pnode[n, k] / m
+    else:
+        for k in range(dim):
+            w[k] = 0.0
+    w0 = w[0]
+    w1 = w[1]
+    w2 = w[2] if dim == 3 else 0.0
+    live = m > m_floor[n] or bc_type[n] == BC_VELOCITY
+    if live:
+        bounded_velocity(n, w, v_old, conn, vrange, use_ranges, npe, node_elem_ptr, node_elem_idx, lo, hi, w)
+    u0, u1, u2 = node_conditions(live, bc_type[n], bc_normal[n], w[0], w[1], (w[2] if dim == 3 else 0.0), dim)
+    impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
+    impulse[n, 1] = -pnode[n, 1] if m <= 0.0 else m * (u1 - w1)
+    v[n, 0] = u0
+    v[n, 1] = u1
+    u2sum = u0 * u0 + u1 * u1
+    if dim == 3:
+        impulse[n, 2] = -pnode[n, 2] if m <= 0.0 else m * (u2 - w2)
+        v[n, 2] = u2
+        u2sum += u2 * u2
+    dissip[n] = knode[n] - 0.5 * m * u2sum if m > 0.0 else knode[n]
+
+
+@njit(cache=True, inline="always")
 def finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
-                 impulse, dissip, dim):
+                 impulse, dissip, vrange, use_ranges, dim, npe):
     """The body of ``finish_remap_nodes`` (quad4) and ``finish_remap_nodes_3d`` (hex8): dim components, a
     literal constant of the caller, so that each compiles as if written for its dimension (the third
     component's lines dropped in 2D).
 
-    Per node: w = p / m, bounded (``bounded_velocity``) and under the velocity conditions, or 0 at or below
-    the mass floor (``node_conditions``): u; impulse m (u - w) (p itself without mass), v = u,
-    dissip = knode - m |u|^2 / 2 (|u|^2 summed in component order).
+    With use_ranges, first the corner ranges of v_old of every element (``element_velocity_range``, into
+    vrange (E, 2, dim)), which the nodes' bounds then read, one row per element; without, each bound scans
+    its elements' corners (the same numbers: ``bounded_velocity``). The remap asks for the ranges where mass
+    crossed at least a quarter of the elements (``AleSystem._remap``). Then per node: w = p / m, bounded
+    (``bounded_velocity``) and under the velocity conditions, or 0 at or below the mass floor
+    (``node_conditions``): u; impulse m (u - w) (p itself without mass), v = u, dissip = knode - m |u|^2 / 2
+    (|u|^2 summed in component order).
     """
+    if use_ranges:
+        for e in prange(conn.shape[0]):
+            element_velocity_range(e, v_old, conn, vrange, dim, npe)
     n_nodes = mnode.shape[0]
     n_chunks = min(n_nodes, N_CHUNKS)
     for chunk in prange(n_chunks):
@@ -344,31 +460,14 @@ def finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_
         lo = np.empty(dim)
         hi = np.empty(dim)
         start, stop = chunk_range(chunk, n_nodes, n_chunks)
-        for n in range(start, stop):
-            m = mnode[n]
-            if m > 0.0:
-                for k in range(dim):
-                    w[k] = pnode[n, k] / m
-            else:
-                for k in range(dim):
-                    w[k] = 0.0
-            w0 = w[0]
-            w1 = w[1]
-            w2 = w[2] if dim == 3 else 0.0
-            live = m > m_floor[n] or bc_type[n] == BC_VELOCITY
-            if live:
-                bounded_velocity(n, w, v_old, conn, node_elem_ptr, node_elem_idx, lo, hi, w)
-            u0, u1, u2 = node_conditions(live, bc_type[n], bc_normal[n], w[0], w[1], (w[2] if dim == 3 else 0.0), dim)
-            impulse[n, 0] = -pnode[n, 0] if m <= 0.0 else m * (u0 - w0)
-            impulse[n, 1] = -pnode[n, 1] if m <= 0.0 else m * (u1 - w1)
-            v[n, 0] = u0
-            v[n, 1] = u1
-            u2sum = u0 * u0 + u1 * u1
-            if dim == 3:
-                impulse[n, 2] = -pnode[n, 2] if m <= 0.0 else m * (u2 - w2)
-                v[n, 2] = u2
-                u2sum += u2 * u2
-            dissip[n] = knode[n] - 0.5 * m * u2sum if m > 0.0 else knode[n]
+        if use_ranges:  # two loops, each compiled with its bound (the choice inside the loop cost 4 ns a node)
+            for n in range(start, stop):
+                _finish_node(n, mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type,
+                             bc_normal, v, impulse, dissip, vrange, True, w, lo, hi, dim, npe)
+        else:
+            for n in range(start, stop):
+                _finish_node(n, mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type,
+                             bc_normal, v, impulse, dissip, vrange, False, w, lo, hi, dim, npe)
 
 
 # quad4 and hex8: one body (``finish_nodes``, inline, the dimension a literal constant), one compiled kernel
@@ -381,7 +480,7 @@ def finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_
 # -> 0.56 / 0.87, hex8 2.79 / 3.18 -> 2.48 / 3.10.
 @njit(parallel=True, cache=True)
 def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal,
-                       v, impulse, dissip):
+                       v, impulse, dissip, vrange, use_ranges):
     """Velocity from the remapped momentum, bounded by its neighbours', velocity conditions, kinetic
     energy lost (DeBar); the body: ``finish_nodes``.
 
@@ -393,17 +492,18 @@ def finish_remap_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr,
     Why the bound: p and m come from different flux stencils, so p / m of a near-empty node is
     noise (fog nodes of 2e-58 kg were measured at 8.6e6 m/s, of 2.4e-11 kg, ten times the floor,
     at 2.4e4 m/s beside a water-entry jet where no node moved faster than 11 m/s).
+    vrange (E, 2, 2): scratch, the elements' velocity ranges, computed and read when use_ranges (bool).
     """
     finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
-                 impulse, dissip, 2)
+                 impulse, dissip, vrange, use_ranges, 2, 4)
 
 
 @njit(parallel=True, cache=True)
 def finish_remap_nodes_3d(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type,
-                          bc_normal, v, impulse, dissip):
-    """``finish_remap_nodes`` on hex8 nodes (N, 3): the same body (``finish_nodes``), 3 components."""
+                          bc_normal, v, impulse, dissip, vrange, use_ranges):
+    """``finish_remap_nodes`` on hex8 nodes (N, 3): the same body (``finish_nodes``), 3 components; vrange (E, 2, 3)."""
     finish_nodes(mnode, pnode, knode, m_floor, v_old, conn, node_elem_ptr, node_elem_idx, bc_type, bc_normal, v,
-                 impulse, dissip, 3)
+                 impulse, dissip, vrange, use_ranges, 3, 8)
 
 
 @njit(parallel=True, cache=True)

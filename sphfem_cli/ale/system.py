@@ -192,6 +192,8 @@ class AleSystem:
         self._knode = np.zeros(n_nodes)
         self._dissip = np.zeros(n_nodes)
         self._x_lag = np.zeros((n_nodes, dim))
+        self._vrange = np.zeros((n_elem, 2, dim))  # the elements' corner velocity ranges (remap.finish_nodes)
+        self._ranged = np.zeros(n_elem, dtype=np.bool_)  # mass crossed the element in a sweep of this remap
         # body acceleration on the nodal masses, and the forces of couplings to structures
         # (contact.coupling): set f_couple before each step; its impulse is couple_dt * f_couple
         self.gravity = np.zeros(dim)
@@ -553,6 +555,8 @@ class AleSystem:
         mnode, pnode, knode = self._mnode, self._pnode, self._knode
         K.remap_nodal_state(self.node_mass, self.velocity, mnode, pnode, knode)
         any_open = bool(self.face_open.any())
+        ranged = self._ranged
+        ranged[:] = False
         for d in self._sweep_order():
             ka, kb = topo["side_a"][d], topo["side_b"][d]
             self._k_faces(topo["faces_by_dir"][d], topo["face_nodes"], topo["face_elem"], topo["face_local"],
@@ -571,9 +575,15 @@ class AleSystem:
                           self._moving)
             K.apply_dual_fluxes(topo["corner_edge"][d], topo["corner_dst"][d], topo["node_elem_ptr"],
                                 topo["node_elem_idx"], any_open, self._g, self._b, self._moving, mnode, pnode, knode)
+            np.logical_or(ranged, self._moving, out=ranged)  # the velocity bound's element ranges: where mass crossed
         dissip = self._dissip
+        # the velocity bound from per-element corner ranges (remap.finish_nodes) where mass crossed at least a
+        # quarter of the elements: the ranges cost 2.5 ns per element, the corner scan they replace about 11 ns
+        # per bounded node (240^2, 1 thread: finish 6.7 -> 9-11 ns per cell at rest, 25 -> 14 in a vortex)
+        use_ranges = 4 * int(np.count_nonzero(ranged)) >= len(ranged)
         self._k_finish(mnode, pnode, knode, self.m_floor, self.v_lag, self.conn, topo["node_elem_ptr"],
-                       topo["node_elem_idx"], self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip)
+                       topo["node_elem_idx"], self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip,
+                       self._vrange, use_ranges)
         K.add_column_sums(self._impulse, self.wall_impulse)  # wall_impulse += impulse.sum(axis=0), same bits
         K.nodal_mass(self.mass_m, topo["node_elem_ptr"], topo["node_elem_idx"], self.npe, self.node_mass)
         K.finish_remap_elements(self.conn, self.mass_m, self.ener_m, self.node_mass, dissip, self.options.ke_fix)

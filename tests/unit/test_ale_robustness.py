@@ -41,7 +41,8 @@ def test_finish_remap_nodes_mass_floor():
     dissip = np.zeros(4)
     bc = np.zeros(4, dtype=np.int64)
     v_old, conn, ptr, idx = _one_quad([[0.0, 0.0], [2.0, 1.0], [0.0, 0.0], [0.0, 0.0]])
-    K.finish_remap_nodes(mnode, pnode, knode, floor, v_old, conn, ptr, idx, bc, np.zeros((4, 2)), v, impulse, dissip)
+    K.finish_remap_nodes(mnode, pnode, knode, floor, v_old, conn, ptr, idx, bc, np.zeros((4, 2)), v, impulse, dissip,
+                         np.zeros((1, 2, 2)), False)  # the corners scanned
     np.testing.assert_array_equal(v[0], 0.0)  # would be 1e7 m/s from p / m
     np.testing.assert_allclose(impulse[0], -pnode[0], rtol=1e-12)  # its momentum booked
     np.testing.assert_array_equal(impulse[2], -pnode[2])
@@ -63,7 +64,8 @@ def test_finish_remap_nodes_bounds_a_light_node_by_its_neighbours():
     dissip = np.zeros(4)
     bc = np.zeros(4, dtype=np.int64)
     v_old, conn, ptr, idx = _one_quad([[0.5, 0.5], [10.0, 1.0], [-3.0, 2.0], [1.0, -1.0]])
-    K.finish_remap_nodes(mnode, pnode, knode, floor, v_old, conn, ptr, idx, bc, np.zeros((4, 2)), v, impulse, dissip)
+    K.finish_remap_nodes(mnode, pnode, knode, floor, v_old, conn, ptr, idx, bc, np.zeros((4, 2)), v, impulse, dissip,
+                         np.zeros((1, 2, 2)), True)  # the element's range row
     np.testing.assert_allclose(v[0], [-3.0, 2.0])  # p / m = (-23750, 4167), held to [-3, 10] x [-1, 2]
     np.testing.assert_allclose(impulse[0], mnode[0] * (v[0] - pnode[0] / mnode[0]), rtol=1e-12)
     assert dissip[0] == pytest.approx(knode[0] - 0.5 * mnode[0] * 13.0)  # no kinetic energy made
