@@ -82,8 +82,11 @@ def geometry_path(name: str, part) -> str:
     return f"parts.{name}.geometry.{kind}" + (".file" if kind == "file" else "")
 
 
+COORDINATE_BOUND = 1.0e100  # |x| of any node: the cube of a size below it stays finite in double precision
+
+
 def elements(name: str, part, mesh: meshgen.MeshData) -> None:
-    """A mesh the elements can work with: finite coordinates, every corner Jacobian positive.
+    """A mesh the elements can work with: finite coordinates within COORDINATE_BOUND, every corner Jacobian positive.
 
     A corner Jacobian <= 0 (``mesh.corner_jacobians``) is an inverted, collapsed or re-entrant
     element at t = 0; the error names the part, the element (0-based, in the part's order) and
@@ -94,6 +97,9 @@ def elements(name: str, part, mesh: meshgen.MeshData) -> None:
     where = geometry_path(name, part)
     if not np.all(np.isfinite(mesh.nodes)):
         raise build.ModelError(where, "the mesh has non-finite coordinates (check the sizes and units)")
+    if np.abs(mesh.nodes).max(initial=0.0) > COORDINATE_BOUND:
+        raise build.ModelError(where, f"the mesh has coordinates beyond {COORDINATE_BOUND:.0e} in magnitude, where an "
+                                      "element's volume (a third power of its size) overflows (check the sizes and units)")
     with np.errstate(over="ignore", invalid="ignore"):
         corners = meshgen.corner_jacobians(mesh.nodes, mesh.elements)
         bad = ~(np.isfinite(corners) & (corners > 0.0))

@@ -477,6 +477,17 @@ def test_re_entrant_imported_element_names_the_element_and_part(tmp_path, cli_ma
     assert re.search(r"element \d of part 'block' is inverted, collapsed or re-entrant at t = 0", match["msg"])
 
 
+@pytest.mark.parametrize("deck_name", ["cantilever_2d", "cantilever_3d"])
+def test_overflowing_box_is_a_deck_error_at_its_geometry(tmp_path, deck_name, cli_main) -> None:
+    """A box reaching 1e308 (finite coordinates, an element volume that overflows) is refused at the box's line,
+    not an internal error in the first element pass (a fuzz-found case)."""
+    text = (Path(__file__).parents[2] / "decks" / f"{deck_name}.yaml").read_text(encoding="utf-8")
+    deck = tmp_path / "huge.yaml"
+    deck.write_text(text.replace("max: [1.0, 0.025", "max: [1.0, 1.0e308"))
+    match = _one_deck_error(deck, cli_main)
+    assert match["path"] == "parts.beam.geometry.box" and "beyond 1e+100" in match["msg"], match[0]
+
+
 # ------------------------------------------------------------------ check checks what run needs (item 2)
 
 def test_unicode_names_check_and_run(tmp_path, cli_main) -> None:
