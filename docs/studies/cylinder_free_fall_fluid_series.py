@@ -21,7 +21,9 @@ T = 0.74) on one thread, with only the fluid's size changed:
 Compared: the decks' penetration (y0 - y) / D at T = (t - t_c) sqrt(g / D) = 0.1 / 0.3 / 0.5 / 0.7 and the speed
 at the end (rigid_structure_refinement.freefall_quantities). Order and GCI: Celik et al. 2008 through
 sphfem_cli.study.metrics.three_grid (h the fluid size, Fs 1.25); the shipped level's estimated error is
-(phi_5mm - phi_ext) / phi_ext where an order exists.
+(phi_5mm - phi_ext) / phi_ext where an order exists. An observed order far below the schemes' (SPH about 1-2,
+the ALE's van Leer advection 1-2) says the three levels are not yet in the asymptotic range, and the Richardson
+value is then an extrapolation far beyond the finest level, not an estimate.
 """
 from __future__ import annotations
 
