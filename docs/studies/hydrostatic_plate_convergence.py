@@ -17,7 +17,7 @@ appended to study_hydro_plate/log.txt):
 - ``ale_f<MM>_p<NX>x<NY>`` / ``sph_dx<MM>_p<NX>x<NY>``: the deck itself at that water size and plate mesh, to its
   own end time; the deflection is the deck's tail mean (ALE: the last half; SPH: t >= 0.04 s, the validation
   tests' windows at the time of those runs, the ALE deck then at pfac 1 to 0.05 s).
-- ``ale_auto_f<MM>_p<NX>x<NY>``: the ALE deck at that water size and plate mesh with the coupling's ``pfac: auto``
+- ``ale_auto_f<MM>_p<NX>x<NY>`` (``ale_pfac1_...``: pfac 1, the deck's before December 2026): the ALE deck at that water size and plate mesh with the coupling's ``pfac: auto``
   (pfac = 2 n, so the penalty layer L_c = n h / pfac = h/2 at every level, docs/theory/coupling.md "Stiffness")
   run to PERIOD_END; the deflection is the mean over PERIOD_WINDOW, two whole periods of the column's acoustic
   ringing 4 H / c0 = 8 / 200 = 0.04 s (a window of whole periods averages the ringing out; the plate's own
@@ -58,7 +58,9 @@ CASES = {  # name: (kind, deck, fluid size [m] or None, plate divisions)
     "ale_auto_f100_p160x8": ("period", "ale", 0.10, [160, 8]),
     "ale_auto_f50_p160x8": ("period", "ale", 0.05, [160, 8]),
     "ale_auto_f25_p160x8": ("period", "ale", 0.025, [160, 8]),
+    "ale_pfac1_f50_p80x4": ("period", "ale", 0.05, [80, 4]),  # the old pfac 1 over the whole-period window
 }
+PFAC = {"ale_pfac1_f50_p80x4": 1.0}  # period cases' pfac where not auto
 SERIES = {  # three-level series (fine, medium, coarse) and the size that is refined
     "ALE deck's plate alone, 160x8 / 80x4 / 40x2": (["dry_ale_p160x8", "dry_ale_p80x4", "dry_ale_p40x2"], [1, 2, 4]),
     "SPH deck's plate alone, 80x8 / 40x4 / 20x2": (["dry_sph_p80x8", "dry_sph_p40x4", "dry_sph_p20x2"], [1, 2, 4]),
@@ -100,7 +102,7 @@ def variant(name: str) -> Path:
         d["parts"]["tank"]["geometry"]["box"]["element_size"] = size
         d["parts"]["tank"]["geometry"]["box"]["min"][1] = -size  # the bottom row overlaps the plate
         if kind == "period":
-            d["couplings"][0]["pfac"] = "auto"
+            d["couplings"][0]["pfac"] = PFAC.get(name, "auto")
             d["control"]["end_time"] = PERIOD_END
     else:
         d["parts"]["water"]["spacing"] = size
