@@ -1,8 +1,8 @@
 """Issue 18 item 1 on decks/hydrostatic_plate_{ale,sph}.yaml: the plate mesh refined with the load fixed, and the
 plate mesh and the fluid refined with the other fixed (figures in docs/studies/hydrostatic_plate_convergence.md).
 
-    python docs/studies/hydrostatic_plate_convergence.py [CASE ...]   # run from the repository root
-    python docs/studies/hydrostatic_plate_convergence.py --summary
+    python /path/to/docs/studies/hydrostatic_plate_convergence.py [CASE ...]   # run folders go where it is run
+    python /path/to/docs/studies/hydrostatic_plate_convergence.py --summary
 
 The compared quantity is the decks' own: the plate's static mid-span deflection, against
 w = q L^4 / (384 D), D = E t^3 / (12 (1 - nu^2)), q = g (rho_f H + rho_s t) = -6.86e-5 m (the decks' headers).
@@ -16,7 +16,12 @@ appended to study_hydro_plate/log.txt):
   residual ringing in the hold (between the first and the last upward crossing of the hold's mean).
 - ``ale_f<MM>_p<NX>x<NY>`` / ``sph_dx<MM>_p<NX>x<NY>``: the deck itself at that water size and plate mesh, to its
   own end time; the deflection is the deck's tail mean (ALE: the last half; SPH: t >= 0.04 s, the validation
-  tests' windows).
+  tests' windows at the time of those runs, the ALE deck then at pfac 1 to 0.05 s).
+- ``ale_auto_f<MM>_p<NX>x<NY>`` (``ale_pfac1_...``: pfac 1, the deck's before December 2026): the ALE deck at that water size and plate mesh with the coupling's ``pfac: auto``
+  (pfac = 2 n, so the penalty layer L_c = n h / pfac = h/2 at every level, docs/theory/coupling.md "Stiffness")
+  run to PERIOD_END; the deflection is the mean over PERIOD_WINDOW, two whole periods of the column's acoustic
+  ringing 4 H / c0 = 8 / 200 = 0.04 s (a window of whole periods averages the ringing out; the plate's own
+  270 Hz ringing is 10 of its periods per 0.04 s).
 """
 import copy, csv, os, resource, subprocess, sys, time
 from pathlib import Path
@@ -26,12 +31,16 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
-from sphfem_cli.study.metrics import three_grid  # noqa: E402
+from sphfem_cli.study.metrics import describe, three_grid  # noqa: E402
 
 WORK = Path("study_hydro_plate")
 W_PLATE = -6.86e-5  # m, the headers' plate formula
 RHO_F, G, H = 1000.0, 9.81, 2.0
 RAMP, HOLD = 0.02, 0.02  # s
+C0 = 200.0  # m/s, the decks' water sound speed
+PERIOD = 4.0 * H / C0  # s, the column's quarter-wave acoustic period (0.04 s)
+PERIOD_WINDOW = (PERIOD, 3.0 * PERIOD)  # s, two whole periods after the first
+PERIOD_END = 3.0 * PERIOD  # s
 CASES = {  # name: (kind, deck, fluid size [m] or None, plate divisions)
     "dry_ale_p40x2": ("dry", "ale", None, [40, 2]), "dry_ale_p80x4": ("dry", "ale", None, [80, 4]),
     "dry_ale_p160x8": ("dry", "ale", None, [160, 8]),
@@ -43,7 +52,15 @@ CASES = {  # name: (kind, deck, fluid size [m] or None, plate divisions)
     "sph_dx25_p20x2": ("wet", "sph", 0.025, [20, 2]), "sph_dx25_p40x4": ("wet", "sph", 0.025, [40, 4]),
     "sph_dx25_p80x8": ("wet", "sph", 0.025, [80, 8]), "sph_dx50_p40x4": ("wet", "sph", 0.05, [40, 4]),
     "sph_dx12.5_p40x4": ("wet", "sph", 0.0125, [40, 4]),
+    "ale_auto_f100_p80x4": ("period", "ale", 0.10, [80, 4]), "ale_auto_f50_p80x4": ("period", "ale", 0.05, [80, 4]),
+    "ale_auto_f25_p80x4": ("period", "ale", 0.025, [80, 4]),
+    "ale_auto_f12.5_p80x4": ("period", "ale", 0.0125, [80, 4]),
+    "ale_auto_f100_p160x8": ("period", "ale", 0.10, [160, 8]),
+    "ale_auto_f50_p160x8": ("period", "ale", 0.05, [160, 8]),
+    "ale_auto_f25_p160x8": ("period", "ale", 0.025, [160, 8]),
+    "ale_pfac1_f50_p80x4": ("period", "ale", 0.05, [80, 4]),  # the old pfac 1 over the whole-period window
 }
+PFAC = {"ale_pfac1_f50_p80x4": 1.0}  # period cases' pfac where not auto
 SERIES = {  # three-level series (fine, medium, coarse) and the size that is refined
     "ALE deck's plate alone, 160x8 / 80x4 / 40x2": (["dry_ale_p160x8", "dry_ale_p80x4", "dry_ale_p40x2"], [1, 2, 4]),
     "SPH deck's plate alone, 80x8 / 40x4 / 20x2": (["dry_sph_p80x8", "dry_sph_p40x4", "dry_sph_p20x2"], [1, 2, 4]),
@@ -51,6 +68,12 @@ SERIES = {  # three-level series (fine, medium, coarse) and the size that is ref
     "ALE plate 80x4, water 25 / 50 / 100 mm": (["ale_f25_p80x4", "ale_f50_p80x4", "ale_f100_p80x4"], [1, 2, 4]),
     "SPH 25 mm, plate 80x8 / 40x4 / 20x2": (["sph_dx25_p80x8", "sph_dx25_p40x4", "sph_dx25_p20x2"], [1, 2, 4]),
     "SPH plate 40x4, water 12.5 / 25 / 50 mm": (["sph_dx12.5_p40x4", "sph_dx25_p40x4", "sph_dx50_p40x4"], [1, 2, 4]),
+    "ALE plate 80x4, pfac auto, water 25 / 50 / 100 mm": (
+        ["ale_auto_f25_p80x4", "ale_auto_f50_p80x4", "ale_auto_f100_p80x4"], [1, 2, 4]),
+    "ALE plate 80x4, pfac auto, water 12.5 / 25 / 50 mm": (
+        ["ale_auto_f12.5_p80x4", "ale_auto_f25_p80x4", "ale_auto_f50_p80x4"], [1, 2, 4]),
+    "ALE plate 160x8, pfac auto, water 25 / 50 / 100 mm": (
+        ["ale_auto_f25_p160x8", "ale_auto_f50_p160x8", "ale_auto_f100_p160x8"], [1, 2, 4]),
 }
 
 
@@ -78,6 +101,9 @@ def variant(name: str) -> Path:
     elif deck == "ale":
         d["parts"]["tank"]["geometry"]["box"]["element_size"] = size
         d["parts"]["tank"]["geometry"]["box"]["min"][1] = -size  # the bottom row overlaps the plate
+        if kind == "period":
+            d["couplings"][0]["pfac"] = PFAC.get(name, "auto")
+            d["control"]["end_time"] = PERIOD_END
     else:
         d["parts"]["water"]["spacing"] = size
     path = WORK / f"{name}.yaml"
@@ -88,8 +114,9 @@ def variant(name: str) -> Path:
 def run(name: str) -> None:
     path = variant(name)
     r0, t0 = resource.getrusage(resource.RUSAGE_CHILDREN), time.time()
-    p = subprocess.run(["sphfem", "run", str(path), "-o", str(WORK / f"out_{name}"), "-q", "--overwrite",
-                        "--threads", "1"], capture_output=True, text=True)
+    env = dict(os.environ, NUMBA_NUM_THREADS="1", PYTHONPATH=str(ROOT))
+    p = subprocess.run([sys.executable, "-m", "sphfem_cli.cli", "run", str(path), "-o", str(WORK / f"out_{name}"),
+                        "-q", "--overwrite", "--threads", "1"], capture_output=True, text=True, env=env)
     r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime
     with open(WORK / "log.txt", "a") as f:
@@ -106,6 +133,9 @@ def deflection(name: str) -> float | None:
     t = dict(zip(rows[0], np.array(rows[1:], float).T))
     tt, uy = t["time"], t["displacement_y"]
     kind, deck = CASES[name][:2]
+    if kind == "period":
+        w = (tt >= PERIOD_WINDOW[0]) & (tt <= PERIOD_WINDOW[1])
+        return float(np.trapezoid(uy[w], tt[w]) / (tt[w][-1] - tt[w][0]))
     if kind == "wet":
         return float(uy[tt > 0.5 * tt[-1]].mean() if deck == "ale" else uy[tt >= 0.04].mean())
     hold = tt >= RAMP
@@ -131,6 +161,10 @@ def summary() -> None:
         if None in w:
             continue
         c = three_grid(h, w)
+        if not c.monotone or c.diverging:  # no order: the spread of the three levels instead
+            print(f"| {label} | {w[0]:.5e} / {w[1]:.5e} / {w[2]:.5e} | {describe(c)} | - | spread "
+                  f"{100 * (max(w) - min(w)) / abs(np.mean(w)):.3f} % | - |")
+            continue
         print(f"| {label} | {w[0]:.5e} / {w[1]:.5e} / {w[2]:.5e} | {c.order:.2f} | {c.extrapolated:.5e} | "
               f"{100 * c.gci_fine:.2f} % | {100 * c.gci_medium:.2f} % |")
 

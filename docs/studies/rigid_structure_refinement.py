@@ -106,11 +106,17 @@ def freefall_level(method: str, around: int, heavy: bool) -> dict:
                      overwrite=True)
     cpu = time.process_time() - cpu
     assert result.completed, result.message
-    h = result.histories()["cylinder"]
+    return freefall_quantities(result.histories()["cylinder"]) | {"cpu_s": cpu, "steps": result.steps}
+
+
+def freefall_quantities(h) -> dict:
+    """The free-fall decks' compared quantities from their ``cylinder`` history: the penetration
+    (y0 - y) / D = (-0.005 - displacement_y) / D at T = (t - t_c) sqrt(g / D) = 0.1 / 0.3 / 0.5 / 0.7 (linear
+    interpolation) and the speed at the end [m/s]."""
     big_t = (h["time"] - T_C) * math.sqrt(G / D)
     depth = (-0.005 - h["displacement_y"]) / D
     out = {f"pen T={t:.1f}": float(np.interp(t, big_t, depth)) for t in (0.1, 0.3, 0.5, 0.7)}
-    out.update({"speed end": float(-h["velocity_y"][-1]), "cpu_s": cpu, "steps": result.steps})
+    out["speed end"] = float(-h["velocity_y"][-1])
     return out
 
 
