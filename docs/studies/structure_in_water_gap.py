@@ -3,6 +3,7 @@
 
     python docs/studies/structure_in_water_gap.py [CASE ...]   # run from the repository root
     python docs/studies/structure_in_water_gap.py --summary
+    python docs/studies/structure_in_water_gap.py --corner-figure
 
 Each case writes a variant of decks/structure_in_water_{ale,sph}.yaml into study_siw_gap/ (plate 4 x 60, 2 ms,
 the code-to-code settings of the study: ALE Lagrangian mesh with L_c = h / 2, i.e. pfac 16 / 16 / 10 at nquad
@@ -23,7 +24,13 @@ The amplitude variants (section "SPH's gap grows with the drive's amplitude"): "
 / ALE decks with the drive's velocity scaled by 0.1, "a01c01" / "a03c03" the SPH deck with the drive and the
 ambient pressure C0 both scaled by 0.1 / 0.3 (the same pressure ratios, particle displacements 0.1 / 0.3 of the
 deck's), "a0" no drive; "xs05" XSPH 0.5 (energy band off: the XSPH drift is not a force the contact's work books);
-"alesm" / "alesma01" the ALE deck with a smoothed mesh and a remap (equipotential, sliding sides) at drive 1 / 0.1.
+"alesm" / "alesma01" the ALE deck with a smoothed mesh and a remap (equipotential, sliding sides) at drive 1 / 0.1
+(ALE levels 10 / 5 / 2.5 / 1.25 / 0.625 mm; 0.625 mm runs to 1.6 ms).
+The wall-treatment variants (section "Where the amplitude effect sits"), each at the deck's drive and as "...a01c01"
+at a tenth of drive and ambient pressure, all alpha 0: "cd0" contact damping 0, "ss03" the contact's soft_scale
+0.3, "sb0" boundary particles on the plate (sph_boundary); "av1" alpha 0.01 and "sw" alpha 0.01 with the shock
+switch {alpha_max 1, decay 0.1}. `--corner-figure` draws the water's speed round the plate's end
+(structure_in_water_corner_flow.png) from cd0_r4_gap, cd0a01c01_r4_gap and ale_2.5_gap.
 Every variant records the x force of the contact / coupling on three bands of each face of the plate
 (y 0.05-0.10, 0.10-0.15, 0.15-0.20) and on its bottom face; `--summary` prints the mid-height peaks and the
 net band impulses over the drive (0-0.75 ms) and the rebound (0.75-1.6 ms).
@@ -37,7 +44,8 @@ import yaml
 ROOT = Path(__file__).resolve().parents[2]
 WORK = Path("study_siw_gap")
 LEVELS = {"ale": {"10": (0.01, 2, 16.0), "5": (0.005, 4, 16.0), "2.5": (0.0025, 5, 10.0),  # size, nquad, pfac
-                  "1.25": (0.00125, 5, 5.0)},  # 2.5 coupling points per 1.25 mm face: pfac 2 n = 5
+                  "1.25": (0.00125, 5, 5.0),  # 2.5 coupling points per 1.25 mm face: pfac 2 n = 5
+                  "0.625": (0.000625, 5, 2.5)},  # 1.25 per 0.625 mm face; run to 1.6 ms only (the peak is at 1.3-1.5 ms)
           "sph": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025},
           "sb": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025},  # SPH with the sph_boundary coupling
           "av": {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025},  # SPH (contact) with alpha 0.01 instead of 0.1
@@ -47,11 +55,23 @@ AV_ALPHA = {"av": 0.01, "av0": 0.0}
 # issue 12's SPH-gap candidates, each the av0 deck (alpha 0) with one setting of its sph section changed
 SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0.05},
                 "wc2": {"kernel": "wendland_c2", "smoothing_ratio": 2.0},
-                "dp": {"density_diffusion_form": "delta_plus"}, "c2": {}, "c3": {}, "ts": {}, "a01": {}, "a01c01": {}, "a0": {}, "xs05": {"xsph": 0.5}, "a03c03": {}}
-AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
+                "dp": {"density_diffusion_form": "delta_plus"}, "c2": {}, "c3": {}, "ts": {}, "a01": {}, "a01c01": {}, "a0": {}, "xs05": {"xsph": 0.5}, "a03c03": {},
+                "cd0": {}, "cd0a01c01": {}, "ss03": {}, "ss03a01c01": {}, "sb0": {}, "sb0a01c01": {},
+                "av1": {}, "av1a01c01": {},
+                "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}},
+                "swa01c01": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
+# the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
+CONTACT = {"cd0": {"damping": 0.0}, "cd0a01c01": {"damping": 0.0},
+           "ss03": {"soft_scale": 0.3}, "ss03a01c01": {"soft_scale": 0.3}}
+SPH_BOUNDARY = {"sb", "sb0", "sb0a01c01"}  # boundary particles carried by the plate instead of the penalty contact
+AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5,
+           "cd0a01c01": 1.0e5, "ss03a01c01": 1.0e5, "sb0a01c01": 1.0e5,
+           "av1a01c01": 1.0e5, "swa01c01": 1.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
 LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: linear water, no kernel)
 # the drive's velocity scaled (2 -> 0.2 m/s: the linear limit); "a01c01" / "a03c03" scale the ambient pressure with it
-AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1}
+AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1,
+             "cd0a01c01": 0.1, "ss03a01c01": 0.1, "sb0a01c01": 0.1,
+             "av1a01c01": 0.1, "swa01c01": 0.1}
 LEVELS["alea01"] = LEVELS["ale"]
 # the ALE deck with a smoothed mesh and a remap (mesh_motion smoothed, equipotential, sliding sides) instead of
 # the Lagrangian mesh: material may cross element faces, so the flow may separate at the plate's corners
@@ -60,6 +80,7 @@ LEVELS["alesm"] = LEVELS["alesma01"] = LEVELS["ale"]
 for _kind in SPH_VARIANTS:
     LEVELS[_kind] = {"r2": 0.005, "r3": 0.01 / 3.0, "r4": 0.0025, "r5": 0.002, "r6": 0.01 / 6.0}
     AV_ALPHA[_kind] = 0.0
+AV_ALPHA["av1"] = AV_ALPHA["av1a01c01"] = 0.01  # the switch's floor without the switch, the control of "sw"
 CASES = [f"{kind}_{level}_{geo}" for geo in ("gap", "nogap") for kind in LEVELS for level in LEVELS[kind]]
 BANDS = ((0.0499, 0.1001), (0.1002, 0.1501), (0.1502, 0.2001))  # node boxes: each face node in exactly one band
 WINDOWS = {"drive": (0.0, 0.75e-3), "rebound": (0.75e-3, 1.6e-3)}
@@ -71,7 +92,7 @@ def variant(name: str) -> Path:
     kind, level, geo = name.split("_")
     base = "sph" if kind in ("sb", *AV_ALPHA) else "ale" if kind in ("alec3", "alea01", *SMOOTHED) else kind
     d = copy.deepcopy(yaml.safe_load(open(ROOT / f"decks/structure_in_water_{base}.yaml")))
-    d["control"]["end_time"] = 0.002
+    d["control"]["end_time"] = 0.0016 if level == "0.625" else 0.002
     d["parts"]["plate"]["geometry"]["box"]["divisions"] = [4, 60]
     sets, hist = d["sets"], d["output"]["histories"]
     for side, x in (("R", 0.21), ("L", 0.20)):
@@ -116,7 +137,9 @@ def variant(name: str) -> Path:
             d["control"]["timestep_scale"] = 0.45
         if kind in AMBIENT:
             d["equations_of_state"]["water"]["c0"] = AMBIENT[kind]
-        if kind == "sb":  # boundary particles carried by the plate instead of the penalty contact
+        for contact in d["contacts"]:
+            contact.update(CONTACT.get(kind, {}))
+        if kind in SPH_BOUNDARY:  # boundary particles carried by the plate instead of the penalty contact
             d["couplings"] = [{"type": "sph_boundary", "structure": "plate", "fluid": c["nodes"]} for c in d["contacts"]]
             d["contacts"] = []
     WORK.mkdir(exist_ok=True)
@@ -185,10 +208,38 @@ def summary() -> None:
         print(f"{name} | {row[0]} | {row[1]} | {row[2]} ; {row[3]} | {row[4]}")
 
 
+def corner_figure(path: str = "structure_in_water_corner_flow.png") -> None:
+    """Water speed round the plate's lower end at 0.5 and 1.0 ms: SPH ratio 4 at the deck's drive and at a tenth
+    (velocities x 10), and the Lagrangian ALE at 2.5 mm (its mesh nodes); runs cd0_r4_gap, cd0a01c01_r4_gap and
+    ale_2.5_gap."""
+    import h5py
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    runs = (("cd0_r4_gap", 1.0, "SPH ratio 4, deck drive"), ("cd0a01c01_r4_gap", 10.0, "SPH ratio 4, drive / 10 (v x 10)"),
+            ("ale_2.5_gap", 1.0, "ALE 2.5 mm Lagrangian, deck drive"))
+    fig, axes = plt.subplots(2, 3, figsize=(15, 9.5), constrained_layout=True)
+    for row, step in zip(axes, ("step_000001", "step_000002")):
+        for ax, (name, scale, title) in zip(row, runs):
+            with h5py.File(WORK / name / "results.h5", "r") as f:
+                x, v = f[f"tank/{step}/coordinates"][:], scale * f[f"tank/{step}/point/velocity"][:]
+                plate = f[f"plate/{step}/coordinates"][:]
+            m = (np.abs(x[:, 0] - 0.205) < 0.016) & (x[:, 1] > 0.035) & (x[:, 1] < 0.065)
+            dots = ax.scatter(1e3 * x[m, 0], 1e3 * x[m, 1], c=np.linalg.norm(v[m], axis=1), s=30, vmin=0, vmax=10)
+            ax.quiver(1e3 * x[m, 0], 1e3 * x[m, 1], v[m, 0], v[m, 1], scale=150, width=0.003)
+            ax.plot(1e3 * plate[:, 0], 1e3 * plate[:, 1], "rs", ms=3)
+            ax.set(title=f"{title}, t = {0.5 * int(step[-1]):.1f} ms", xlabel="x (mm)", ylabel="y (mm)",
+                   xlim=(189, 221), ylim=(35, 65), aspect="equal")
+    fig.colorbar(dots, ax=axes, label="water speed (m/s); red: plate nodes")
+    fig.savefig(path, dpi=70)
+
+
 if __name__ == "__main__":
     args = sys.argv[1:]
     if args == ["--summary"]:
         summary()
+    elif args == ["--corner-figure"]:
+        corner_figure()
     else:
         for case in args or CASES:
             run(case)
