@@ -75,6 +75,7 @@ from numba import njit, prange
 from .expansion import renormalised_divergence
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_f, kernel_sigma
 from .search import cell_range, neighbour_list
+from .switch import pair_coefficients
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GI_NX,
                     GI_NY, KIND_FLUID, KIND_GHOST, KIND_WALL, SF_ALPHA, SF_BETA, SF_BETA_PER_ALPHA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
                     SI_DELTA_HYDROSTATIC, SI_KERNEL, SI_CONTINUITY, CONTINUITY_MASS)
@@ -180,12 +181,7 @@ def _pair_terms(j, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi
     rij = 0.5 * (rhoi + rhoj)
     dd = r2 + eps * hij * hij
     hv = hij * vdotr
-    if ashape.ndim == 2:  # the shock switch: the pair's mean alpha, beta in the section's ratio to it
-        aij = 0.5 * (ai + salpha[j])
-        bij = bpa * aij
-    else:
-        aij = alpha
-        bij = beta
+    aij, bij = pair_coefficients(ashape, ai, salpha, j, bpa, alpha, beta)
     # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
     pi_ij = hv * (bij * hv - aij * cij * dd) / (dd * dd * rij)
     coef = mj * (qi + qj + pi_ij * (2.0 * INV_TWO_PI) / (xi + rj))

@@ -43,6 +43,16 @@ def _deactivate(i, v, e, m, acc, xsph, drho, de, active):
 
 
 
+@njit(cache=True, inline="always")
+def _scalar_kdk(q, q_half, dq, hp, hn, closing):
+    """(q^{n+1/2}, predicted q^{n+1}) of a particle scalar stepped as the density: q^n = q^{n-1/2} + hp dq
+    closes the previous step (q itself on the first, ``closing`` false), q^{n+1/2} = q^n + hn dq, and
+    q^{n+1} = q^{n+1/2} + hn dq is the prediction the next rates use (hp, hn = dt_prev/2, dt/2)."""
+    qn = q_half + hp * dq if closing else q
+    qh = qn + hn * dq
+    return qh, qh + hn * dq
+
+
 @njit(cache=True)
 def advance_particles(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsph, f_ext, m, active,
                       gravity, dt, dt_prev, walls, lo, hi, use_domain, work):
@@ -103,14 +113,8 @@ def advance_particles(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de, xsp
             v[i, d] = vh + hn * a
             pw += f_ext[i, d] * 0.5 * (v_old + vh)
         ptot += pw * (hp + hn)
-        rn = rho_half[i] + hp * drho[i] if closing else rho[i]
-        rh = rn + hn * drho[i]
-        rho_half[i] = rh
-        rho[i] = rh + hn * drho[i]
-        en = e_half[i] + hp * de[i] if closing else e[i]
-        eh = en + hn * de[i]
-        e_half[i] = eh
-        e[i] = eh + hn * de[i]
+        rho_half[i], rho[i] = _scalar_kdk(rho[i], rho_half[i], drho[i], hp, hn, closing)
+        e_half[i], e[i] = _scalar_kdk(e[i], e_half[i], de[i], hp, hn, closing)
         nref += _reflect(i, x, v, v_half, walls)
         if not use_domain:
             continue
@@ -166,14 +170,10 @@ def _advance_particles_2d(x, v, v_half, rho, rho_half, e, e_half, acc, drho, de,
             vf[f] = v_new if act else vf[f]
             pw += ff[f] * 0.5 * (v_old + vh)
         work[i] = pw
-        rn = rho_half[i] + hp * drho[i] if closing else rho[i]
-        rh = rn + hn * drho[i]
-        r_new = rh + hn * drho[i]
+        rh, r_new = _scalar_kdk(rho[i], rho_half[i], drho[i], hp, hn, closing)
         rho_half[i] = rh if act else rho_half[i]
         rho[i] = r_new if act else rho[i]
-        en = e_half[i] + hp * de[i] if closing else e[i]
-        eh = en + hn * de[i]
-        e_new = eh + hn * de[i]
+        eh, e_new = _scalar_kdk(e[i], e_half[i], de[i], hp, hn, closing)
         e_half[i] = eh if act else e_half[i]
         e[i] = e_new if act else e[i]
     ptot = 0.0

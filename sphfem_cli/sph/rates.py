@@ -15,6 +15,7 @@ from numba import njit, prange
 from ..materials.slots import P_VISCOSITY
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, inv_pow, kernel_shape, kernel_f, kernel_sigma, kernel_w
 from .search import cell_range
+from .switch import pair_coefficients
 from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
                     GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, N_LANES, SF_ALPHA, SF_BETA,
                     SF_BETA_PER_ALPHA, SF_DELTA, SF_DILATATIONAL_VISCOSITY, SF_EPS, SF_GX, SF_GY, SF_GZ, SF_XSPH, SI_DELTA_HYDROSTATIC,
@@ -193,12 +194,7 @@ def _pair_terms(j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui
     dd = r2 + eps * hij * hij
     rcp = 1.0 / (dd * dd * rij)
     hv = hij * vdotr
-    if ashape.ndim == 2:  # the shock switch: the pair's mean alpha, beta in the section's ratio to it
-        aij = 0.5 * (ai + salpha[j])
-        bij = bpa * aij
-    else:
-        aij = alpha
-        bij = beta
+    aij, bij = pair_coefficients(ashape, ai, salpha, j, bpa, alpha, beta)
     # Monaghan: Pi = (-alpha c mu + beta mu^2)/rho_ij, mu = h v.r/(r^2 + eps h^2) for v.r < 0
     pi_ij = hv * (bij * hv - aij * cij * dd) * rcp
     coef = mj * (pri + sd[D_PR, j] + pi_ij)

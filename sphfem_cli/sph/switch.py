@@ -36,6 +36,17 @@ import numpy as np
 from numba import njit
 
 
+@njit(cache=True, inline="always")
+def pair_coefficients(ashape, ai, salpha, j, bpa, alpha, beta):
+    """(alpha_ij, beta_ij) of Monaghan's Pi_ij for the pair (i, j): with the switch (``ashape.ndim`` 2, a
+    compile-time choice) alpha_ij = (``ai`` + ``salpha[j]``)/2 and beta_ij = ``bpa`` alpha_ij (module
+    docstring); without it (``ashape.ndim`` 1) the section's ``alpha`` and ``beta``, ``salpha`` not read."""
+    if ashape.ndim == 2:
+        aij = 0.5 * (ai + salpha[j])
+        return aij, bpa * aij
+    return alpha, beta
+
+
 @njit(cache=True, error_model="numpy")
 def switch_rates(conv, h, c, alpha, active, alpha_min, alpha_max, decay, dalpha):
     """d alpha_i/dt of every active particle (module docstring); ``conv`` = -(div v)_i [1/time], h_i the
