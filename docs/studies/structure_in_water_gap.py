@@ -57,24 +57,24 @@ AV_ALPHA = {"av": 0.01, "av0": 0.0}
 SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0.05},
                 "wc2": {"kernel": "wendland_c2", "smoothing_ratio": 2.0},
                 "dp": {"density_diffusion_form": "delta_plus"}, "c2": {}, "c3": {}, "ts": {}, "a01": {}, "a01c01": {}, "a0": {}, "xs05": {"xsph": 0.5}, "a03c03": {},
-                "cd0": {}, "cd0a01c01": {}, "ss03": {}, "ss03a01c01": {}, "sb0": {}, "sb0a01c01": {},
-                "av1": {}, "av1a01c01": {},
-                "wc2a01c01": {"kernel": "wendland_c2", "smoothing_ratio": 2.0},
-                "hr15": {"smoothing_ratio": 1.5}, "hr15a01c01": {"smoothing_ratio": 1.5},
-                "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}},
-                "swa01c01": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
+                "cd0": {}, "ss03": {}, "sb0": {}, "av1": {}, "hr15": {"smoothing_ratio": 1.5},
+                "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
-CONTACT = {"cd0": {"damping": 0.0}, "cd0a01c01": {"damping": 0.0},
-           "ss03": {"soft_scale": 0.3}, "ss03a01c01": {"soft_scale": 0.3}}
-SPH_BOUNDARY = {"sb", "sb0", "sb0a01c01"}  # boundary particles carried by the plate instead of the penalty contact
-AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5,
-           "cd0a01c01": 1.0e5, "ss03a01c01": 1.0e5, "sb0a01c01": 1.0e5,
-           "av1a01c01": 1.0e5, "swa01c01": 1.0e5, "wc2a01c01": 1.0e5, "hr15a01c01": 1.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
+CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3}}
+SPH_BOUNDARY = {"sb", "sb0"}  # boundary particles carried by the plate instead of the penalty contact
+AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
 LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: linear water, no kernel)
 # the drive's velocity scaled (2 -> 0.2 m/s: the linear limit); "a01c01" / "a03c03" scale the ambient pressure with it
-AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1,
-             "cd0a01c01": 0.1, "ss03a01c01": 0.1, "sb0a01c01": 0.1,
-             "av1a01c01": 0.1, "swa01c01": 0.1, "wc2a01c01": 0.1, "hr15a01c01": 0.1}
+AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1}
+# the twins "<kind>a01c01" of these SPH kinds: the same change at a tenth of the drive and of the ambient pressure
+for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15"):
+    _twin = _kind + "a01c01"
+    SPH_VARIANTS[_twin] = SPH_VARIANTS[_kind]
+    if _kind in CONTACT:
+        CONTACT[_twin] = CONTACT[_kind]
+    if _kind in SPH_BOUNDARY:
+        SPH_BOUNDARY.add(_twin)
+    AMPLITUDE[_twin], AMBIENT[_twin] = AMPLITUDE["a01c01"], AMBIENT["a01c01"]
 LEVELS["alea01"] = LEVELS["ale"]
 # the ALE deck with a smoothed mesh and a remap (mesh_motion smoothed, equipotential, sliding sides) instead of
 # the Lagrangian mesh: material may cross element faces, so the flow may separate at the plate's corners

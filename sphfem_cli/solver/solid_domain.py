@@ -292,12 +292,6 @@ class SolidDomain(Domain):
         m = self.model
         bad = np.flatnonzero(self._dt_elem == INVERTED)
         if len(bad) and not np.isfinite(st.volume[bad]).all():
-            if st is not getattr(self.sim, "state", None):  # the initial state's zero-length step: the mesh itself
-                e = int(bad[~np.isfinite(st.volume[bad])][0])
-                raise RunStopped(
-                    f"non-finite volume of element {e} of part {self.part_of(e)} in the initial mesh (remedies: "
-                    "check the part's geometry: its coordinates, sizes and their units)",
-                    "non_finite", {"array": "element volume", "row": e})
             self.sim.check_finite()  # an element "inverted" by a non-finite state: that state is the fault
         if len(bad) and self._erode_inverted[bad].any():
             self._erode(st, bad[self._erode_inverted[bad]], "negative volume")
