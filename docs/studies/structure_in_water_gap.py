@@ -29,7 +29,9 @@ deck's), "a0" no drive; "xs05" XSPH 0.5 (energy band off: the XSPH drift is not 
 The wall-treatment variants (section "Where the amplitude effect sits"), each at the deck's drive and as "...a01c01"
 at a tenth of drive and ambient pressure, all alpha 0: "cd0" contact damping 0, "ss03" the contact's soft_scale
 0.3, "sb0" boundary particles on the plate (sph_boundary); "av1" alpha 0.01 and "sw" alpha 0.01 with the shock
-switch {alpha_max 1, decay 0.1}; "hr15" the cubic spline at h/dx 1.5, "wc2a01c01" Wendland C2 at h/dx 2 at a tenth.
+switch {alpha_max 1, decay 0.1}; "hr15" the cubic spline at h/dx 1.5, "wc2a01c01" Wendland C2 at h/dx 2 at a tenth;
+"sb0hr15" boundary particles at h/dx 1.5, "hr15dp" / "hr15d05" h/dx 1.5 with the delta-plus form / delta 0.05, "d02" /
+"d01" the deck's kernel with delta 0.02 / 0.01 ("d05" and these also as a01c01 twins).
 `--corner-figure` draws the water's speed round the plate's end
 (structure_in_water_corner_flow.png) from cd0_r4_gap, cd0a01c01_r4_gap and ale_2.5_gap.
 Every variant records the x force of the contact / coupling on three bands of each face of the plate
@@ -58,16 +60,20 @@ SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0
                 "wc2": {"kernel": "wendland_c2", "smoothing_ratio": 2.0},
                 "dp": {"density_diffusion_form": "delta_plus"}, "c2": {}, "c3": {}, "ts": {}, "a01": {}, "a01c01": {}, "a0": {}, "xs05": {"xsph": 0.5}, "a03c03": {},
                 "cd0": {}, "ss03": {}, "sb0": {}, "av1": {}, "hr15": {"smoothing_ratio": 1.5},
+                "sb0hr15": {"smoothing_ratio": 1.5},
+                "hr15dp": {"smoothing_ratio": 1.5, "density_diffusion_form": "delta_plus"},
+                "hr15d05": {"smoothing_ratio": 1.5, "density_diffusion": 0.05},
+                "d02": {"density_diffusion": 0.02}, "d01": {"density_diffusion": 0.01},
                 "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
 CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3}}
-SPH_BOUNDARY = {"sb", "sb0"}  # boundary particles carried by the plate instead of the penalty contact
+SPH_BOUNDARY = {"sb", "sb0", "sb0hr15"}  # boundary particles carried by the plate instead of the penalty contact
 AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
 LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: linear water, no kernel)
 # the drive's velocity scaled (2 -> 0.2 m/s: the linear limit); "a01c01" / "a03c03" scale the ambient pressure with it
 AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1}
 # the twins "<kind>a01c01" of these SPH kinds: the same change at a tenth of the drive and of the ambient pressure
-for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15"):
+for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15", "sb0hr15", "hr15dp", "hr15d05", "d05", "d02", "d01"):
     _twin = _kind + "a01c01"
     SPH_VARIANTS[_twin] = SPH_VARIANTS[_kind]
     if _kind in CONTACT:
