@@ -1,6 +1,12 @@
-"""ALE 2D step, pass by pass: ns per cell-step of every pass of the Eulerian quad4 step (issue 17).
+"""ALE step, pass by pass: ns per cell-step of every pass of the Eulerian quad4 (or hex8) step (issue 17).
 
     NUMBA_NUM_THREADS=1 python benchmarks/ale_passes.py [--n 240] [--steps 10] [--repeat 3] [--two] [--advance 2]
+                                                        [--vortex] [--dim 3]
+
+``--dim 3``: the n^3 hex8 box of ``ale_throughput.build_3d`` instead (one ideal gas, a spherical pressure bump,
+slip walls; with ``--vortex`` the 2D vortex in every z layer, w = 0), the same passes (the hex8 kernels the
+orchestration calls under the same names); ``--two`` is ignored. The 3D figures (60^3, main against the
+branch ale3dspeed, and the 3D / 2D per-cell ratio of issue 17): benchmarks/README.md, "ALE 3D".
 
 Case: ``ale_throughput.build(n, two)``, the n x n box of ``peers.py``'s ``ale2d`` case (one
 ideal gas with a pressure bump; ``--two`` adds the water/air case of ``ale_throughput``, two
