@@ -350,10 +350,10 @@ def hex_volume_block(nb, c):
     the last row of c: ``fem.geometry.hex8_volume_origin`` of the corners relative to corner 0 (p_a = c_a - c_0),
     the bits of ``hex8_volume``. For the ALE face sweep (``remap.face_fluxes``: the face at x_lag then at
     x_new) and the hex8 Lagrangian volume (``energy.lagrange_energy_3d``). Its sum of 45 terms is one
-    chain of dependent additions per hexahedron, which the vector units run for 8 hexahedra at once. Swept
-    volumes alone (``remap.swept_volumes_3d``, 40^3 box, 1 thread, min of 7 calls): 36 ns a face through the
-    table loop of ``hex8_volume``, 16.5 written out; ``face_fluxes`` at rest 44 -> 42 (written out) -> 38 ns
-    a face (this block; the gather of the 24 coordinates is most of what is left).
+    chain of dependent additions per hexahedron, which the vector units run for 8 hexahedra at once.
+    ``face_fluxes`` at rest per face and sweep (40^3 box, 1 thread): about 150 ns through the table loop of
+    ``hex8_volume`` (the pass benchmark), 42-44 written out, 38 with this block (min of 7 calls; the gather of
+    the 24 coordinates and the per-face bookkeeping are most of what is left).
     """
     B = _HV_BLOCK
     for i in range(nb):
