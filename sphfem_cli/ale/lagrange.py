@@ -312,7 +312,10 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
     In passes over blocks of elements (``hex_lanes``: state, gather, geometry, viscosity and step, hourglass
     coefficient, forces), the vectorised ones the scalar code's operations in its order: the same bits as the
     one-element-at-a-time loop it replaced (hashes of the 3D ALE decks and benchmark boxes). 40^3 box in a
-    vortex, 1 thread, min of 7 calls: 250 -> 121 ns per element (the hourglass 167 -> about 10 of it).
+    vortex, 1 thread, min of 7 calls: 250 -> 121 ns per element (the scalar hourglass had been 167 of the 250;
+    now the corner gather 38, geometry 29, forces and hourglass 24, the copy into f_elem 20, the rest 9). A
+    collapsed element (V = 0) gives rho_e = inf here (numpy's error model) where the scalar loop raised
+    ZeroDivisionError.
     """
     n_elem = conn.shape[0]
     n_chunks = min(n_elem, N_CHUNKS)
