@@ -1,6 +1,12 @@
-"""ALE 2D step, pass by pass: ns per cell-step of every pass of the Eulerian quad4 step (issue 17).
+"""ALE step, pass by pass: ns per cell-step of every pass of the Eulerian quad4 (or hex8) step (issue 17).
 
     NUMBA_NUM_THREADS=1 python benchmarks/ale_passes.py [--n 240] [--steps 10] [--repeat 3] [--two] [--advance 2]
+                                                        [--vortex] [--dim 3]
+
+``--dim 3``: the n^3 hex8 box of ``ale_throughput.build_3d`` instead (one ideal gas, a spherical pressure bump,
+slip walls; with ``--vortex`` the 2D vortex in every z layer, w = 0), the same passes (the hex8 kernels the
+orchestration calls under the same names); ``--two`` is ignored. The 3D figures (60^3, main against the
+branch ale3dspeed, and the 3D / 2D per-cell ratio of issue 17): benchmarks/README.md, "ALE 3D".
 
 Case: ``ale_throughput.build(n, two)``, the n x n box of ``peers.py``'s ``ale2d`` case (one
 ideal gas with a pressure bump; ``--two`` adds the water/air case of ``ale_throughput``, two
@@ -150,12 +156,13 @@ def instrument(ale, timer: PassTimer):
     return undo
 
 
-def measure(n: int, steps: int, two: bool, advance: int = 2, vortex: bool = False) -> dict:
+def measure(n: int, steps: int, two: bool, advance: int = 2, vortex: bool = False, dim: int = 2) -> dict:
     """ns per cell-step of each pass, 'rest' and 'total', over ``steps`` steps after ``advance`` warm-up steps
-    (vortex: the box flowing, ``ale_throughput.vortex_velocity``)."""
-    from ale_throughput import build
+    (vortex: the box flowing, ``ale_throughput.vortex_velocity``; dim 3: the n^3 hex8 box of
+    ``ale_throughput.build_3d``, one gas, the vortex with w = 0)."""
+    from ale_throughput import build, build_3d
 
-    ale = build(n, two, vortex)
+    ale = build(n, two, vortex) if dim == 2 else build_3d(n, vortex)
     for _ in range(advance):
         ale.step(ale.stable_dt(0.5))
     timer = PassTimer()
@@ -195,7 +202,7 @@ def compare(trees, args, cases) -> None:
         for t in trees:
             env = dict(os.environ, PYTHONPATH=t, NUMBA_NUM_THREADS="1")
             cmd = [sys.executable, str(Path(__file__).resolve()), "--n", str(args.n), "--steps", str(args.steps),
-                   "--advance", str(args.advance), "--repeat", "1", "--json"] + (["--two"] if args.two else []) \
+                   "--advance", str(args.advance), "--dim", str(args.dim), "--repeat", "1", "--json"] + (["--two"] if args.two else []) \
                 + (["--vortex"] if args.vortex else [])
             out = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
             for name, r in json.loads(out.strip().splitlines()[-1]).items():
@@ -220,13 +227,15 @@ def main():
     ap.add_argument("--vortex", action="store_true",
                     help="the box flowing from the start (a Taylor-Green vortex, ale_throughput.vortex_velocity): "
                          "every face and node of the remap moves")
+    ap.add_argument("--dim", type=int, choices=(2, 3), default=2,
+                    help="3: the hex8 box of ale_throughput.build_3d, n^3 cells, one gas (--two ignored)")
     ap.add_argument("--trees", nargs="+", help="source trees to compare, interleaved (child processes)")
     ap.add_argument("--json", action="store_true", help=argparse.SUPPRESS)  # a child's one line of results
     args = ap.parse_args()
-    cases = [("one", False)] + ([("two", True)] if args.two else [])
+    cases = [("one", False)] + ([("two", True)] if args.two and args.dim == 2 else [])
     names = [name for name, _ in cases]
     if args.trees:
-        print(f"ALE 2D passes, {args.n} x {args.n} cells{', vortex' if args.vortex else ''}, {args.steps} steps after "
+        print(f"ALE {args.dim}D passes, {args.n}^{args.dim} cells{', vortex' if args.vortex else ''}, {args.steps} steps after "
               f"{args.advance}, 1 thread, "
               f"load {os.getloadavg()[0]:.2f}")
         compare(args.trees, args, names)
@@ -237,11 +246,11 @@ def main():
     runs = {name: [] for name in names}
     for _ in range(args.repeat):
         for name, two in cases:
-            runs[name].append(measure(args.n, args.steps, two, args.advance, args.vortex))
+            runs[name].append(measure(args.n, args.steps, two, args.advance, args.vortex, args.dim))
     if args.json:
         print(json.dumps({name: r[0] for name, r in runs.items()}))
         return
-    print_table(f"ALE 2D passes, {args.n} x {args.n} cells, {args.steps} steps, numba threads "
+    print_table(f"ALE {args.dim}D passes, {args.n}^{args.dim} cells, {args.steps} steps, numba threads "
                 f"{numba.get_num_threads()}, load {os.getloadavg()[0]:.2f}", names, runs)
     print(f"load after {os.getloadavg()[0]:.2f}")
 

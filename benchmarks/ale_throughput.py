@@ -20,12 +20,17 @@ from sphfem_cli.materials.tables import gas_row
 from sphfem_cli.model.mesh import box_mesh
 
 
-def build_3d(n):
+def build_3d(n, vortex=False):
+    """The n^3 hex8 box: one ideal gas, p = 10 in a sphere of radius 0.1 at the centre, 1 around, rho = 1;
+    slip walls. vortex: the 2D Taylor-Green vortex of ``vortex_velocity`` in every z layer (U = 0.5, w = 0:
+    divergence-free, no normal velocity on the six walls), so that the whole box flows."""
     mesh = box_mesh([0.0, 0.0, 0.0], [1.0, 1.0, 1.0], divisions=[n, n, n])
     nodes, conn = mesh.nodes, mesh.elements
     r2 = ((nodes[conn].mean(axis=1) - 0.5) ** 2).sum(axis=1)
     p = np.where(r2 < 0.01, 10.0, 1.0)
-    ale = AleSystem(nodes, conn, [gas_row(1.4, 1.0)], np.ones((len(conn), 1)), [1.0], pressure=p[:, None])
+    velocity = np.concatenate([vortex_velocity(nodes, 0.5), np.zeros((len(nodes), 1))], 1) if vortex else None
+    ale = AleSystem(nodes, conn, [gas_row(1.4, 1.0)], np.ones((len(conn), 1)), [1.0], pressure=p[:, None],
+                    velocity=velocity)
     for axis in range(3):
         ale.set_slip(np.flatnonzero((nodes[:, axis] == 0.0) | (nodes[:, axis] == 1.0)), np.eye(3)[axis])
     return ale

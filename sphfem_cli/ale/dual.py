@@ -56,6 +56,8 @@ def _dual_element(e, ka, kb, direction, elem_face, elem_sign, elem_nbr, face_ope
     # open boundary faces (read only when there are some: two rows fewer per element otherwise)
     open_a = any_open and elem_nbr[e, ka] < 0 and face_open[fa]
     open_b = any_open and elem_nbr[e, kb] < 0 and face_open[fb]
+    if gh == 0.0 and not any_open:
+        return  # nothing to write: the node lines are not read (their rows, 128 bytes a hex8 and sweep, are traffic)
     for h in range(n_edges):
         src = node_line[e, direction, h, 1]
         dst = node_line[e, direction, h, 2]

@@ -7,7 +7,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from ..fem.geometry import hex8_volume
+from ..fem.geometry import hex8_volume_origin
+from .hex_lanes import _HV_BLOCK, _HV_ROWS, hex_volume_block
 from .lagrange import N_CHUNKS, chunk_range, quad_area
 from .ring_geometry import ring_volume
 
@@ -15,7 +16,8 @@ from .ring_geometry import ring_volume
 CLOSURE_EQUAL_STRAIN = 0
 CLOSURE_RELAX = 1
 
-_BLOCK = 128  # elements per block of the one-material closure (``energy_elements``)
+_BLOCK = 128  # elements per block of the one-material closure and of the hex8 volumes (``energy_elements``)
+assert _BLOCK == _HV_BLOCK
 
 
 @njit(cache=True, inline="always")
@@ -139,6 +141,14 @@ def one_material_closure(nb, w_blk, v_lag_blk, vol, mass, ener, e_lag, pres, phi
 
 
 @njit(cache=True, inline="always")
+def _volume_origin(p):
+    """``fem.geometry.hex8_volume_origin`` of the corners p (8, 3) relative to p[0] (= 0): the bits of hex8_volume(p)."""
+    return hex8_volume_origin(p[1, 0], p[1, 1], p[1, 2], p[2, 0], p[2, 1], p[2, 2], p[3, 0], p[3, 1], p[3, 2],
+                              p[4, 0], p[4, 1], p[4, 2], p[5, 0], p[5, 1], p[5, 2], p[6, 0], p[6, 1], p[6, 2],
+                              p[7, 0], p[7, 1], p[7, 2])
+
+
+@njit(cache=True, inline="always")
 def quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring):
     """(W_e, V_lag) of quad e: the compatible work -dt sum_a f_a . (v_a^{n-1/2} + v_a^{n+1/2}) / 2 (both
     components of a corner summed first) and the area (plane) or ring volume (``ring`` True) of the quad
@@ -157,25 +167,26 @@ def quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring):
 
 
 @njit(cache=True, inline="always")
-def hex_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p):
-    """(W_e, V_lag) of hex8 e: the compatible work (component by component) and the trilinear volume
-    (``fem.geometry.hex8_volume``) at x + dt v^{n+1/2}, its corners relative to corner 0 into p (8, 3)."""
+def hex_work_corners(e, x, v_old, v_new, dt, conn, f_elem, hv, i):
+    """W_e of hex8 e, the compatible work (component by component), returned; its corners at x + dt v^{n+1/2}
+    into column i of hv (``hex_lanes.hex_volume_block``'s rows, which give the trilinear volume
+    ``fem.geometry.hex8_volume`` of the corners relative to corner 0)."""
     w = 0.0
-    r = conn[e, 0]
     for a in range(8):
         n = conn[e, a]
         for k in range(3):
             w -= f_elem[e, a, k] * 0.5 * (v_old[n, k] + v_new[n, k])
-            p[a, k] = (x[n, k] + dt * v_new[n, k]) - (x[r, k] + dt * v_new[r, k])
-    return w * dt, hex8_volume(p)
+            hv[(3 * a + k) * _BLOCK + i] = x[n, k] + dt * v_new[n, k]
+    return w * dt
 
 
 @njit(cache=True, inline="always")
 def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta,
                     phi_eps, pressed, work_elem, ring, npe, dim):
     """The body of ``lagrange_energy`` (quad4, plane or ring) and ``lagrange_energy_3d`` (hex8): per element its
-    work and Lagrangian volume (``quad_work_volume``, ``hex_work_volume``; npe and dim literal constants of
-    the caller, the other element's branch pruned before typing), then the closure (``_closure_energy``)."""
+    work and Lagrangian volume (``quad_work_volume``; hex8: ``hex_work_corners``, then the block's volumes together,
+    ``hex_lanes.hex_volume_block``; npe and dim literal constants of the caller, the other element's branch
+    pruned before typing), then the closure (``_closure_energy``)."""
     n_elem = conn.shape[0]
     n_mat = vol_m.shape[1]
     n_chunks = min(n_elem, N_CHUNKS)
@@ -189,26 +200,36 @@ def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_
         dev = np.empty(n_mat)
         p = np.empty((npe, dim))
         v_blk = np.empty(_BLOCK)
-        if one:
+        # hex8: the corners at x + dt v^{n+1/2} of a block (hex_lanes.hex_volume_block's rows; its volume row)
+        if dim == 3:
+            hv = np.empty(_HV_ROWS * _BLOCK)
+        else:
+            hv = v_blk  # (unread: no allocation on quad4)
+        if one or dim == 3:
             for block in range(start, stop, _BLOCK):
                 nb = min(_BLOCK, stop - block)
                 for i in range(nb):
                     e = block + i
                     if dim == 3:
-                        w, v_lag = hex_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p)
+                        w = hex_work_corners(e, x, v_old, v_new, dt, conn, f_elem, hv, i)
                     else:
                         w, v_lag = quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring)
+                        v_blk[i] = v_lag
                     work_elem[e] = w
-                    v_blk[i] = v_lag
+                if dim == 3:
+                    hex_volume_block(nb, hv)
+                    v_blk[:nb] = hv[(_HV_ROWS - 1) * _BLOCK:(_HV_ROWS - 1) * _BLOCK + nb]
                 end = block + nb
-                one_material_closure(nb, work_elem[block:end], v_blk, vol1[block:end], mass1[block:end],
-                                     ener1[block:end], lag1[block:end], pres1[block:end], phi_eps)
+                if one:
+                    one_material_closure(nb, work_elem[block:end], v_blk, vol1[block:end], mass1[block:end],
+                                         ener1[block:end], lag1[block:end], pres1[block:end], phi_eps)
+                else:
+                    for i in range(nb):
+                        _closure_energy(block + i, work_elem[block + i], v_blk[i], vol_m, mass_m, ener_m, e_lag, pres_m,
+                                        bulk_m, closure, alpha, beta, phi_eps, pressed, dvm, dev)
             continue
         for e in range(start, stop):
-            if dim == 3:
-                w, v_lag = hex_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p)
-            else:
-                w, v_lag = quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring)
+            w, v_lag = quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring)
             work_elem[e] = w
             _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta, phi_eps,
                             pressed, dvm, dev)
@@ -248,7 +269,7 @@ def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_
 def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, q_elem,
                        closure, alpha, beta, phi_eps, pressed, work_elem):
     """``lagrange_energy`` on hex8: compatible work W_e = -dt sum_I f_eI . (v_I^{n-1/2} + v_I^{n+1/2}) / 2,
-    the Lagrangian volume (``fem.geometry.hex8_volume``) at x + dt v^{n+1/2}, then the same closure
+    the Lagrangian volume (``fem.geometry.hex8_volume_origin``) at x + dt v^{n+1/2}, then the same closure
     (``energy_elements``)."""
     energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta,
                     phi_eps, pressed, work_elem, False, 8, 3)
@@ -256,7 +277,7 @@ def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m,
 
 @njit(parallel=True, cache=True)
 def element_volumes_3d(x, conn, out):
-    """Exact trilinear volume of every hex8 (``fem.geometry.hex8_volume``), (E,)."""
+    """Exact trilinear volume of every hex8 (``fem.geometry.hex8_volume_origin``), (E,)."""
     n_elem = conn.shape[0]
     n_chunks = min(n_elem, N_CHUNKS)
     for chunk in prange(n_chunks):
@@ -268,4 +289,4 @@ def element_volumes_3d(x, conn, out):
                 n = conn[e, a]
                 for k in range(3):
                     p[a, k] = x[n, k] - x[r, k]
-            out[e] = hex8_volume(p)
+            out[e] = _volume_origin(p)

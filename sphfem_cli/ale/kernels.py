@@ -39,7 +39,8 @@ of the quad4 energy and face kernels. The mixture state, closure, face flux of a
 (``_mixture_pressure``, ``_closure_energy``, ``_face_flux``), the velocity conditions (``apply_bc``)
 and the element-face, dual-mesh and nodal-mass kernels are shared (their loops take the corner count
 and dimension from the arrays). Measured forms and figures: the comments above the kernels. The
-kernels live in ``lagrange`` (steps 1-2; its plane force kernel's vectorised passes in ``force_lanes``),
+kernels live in ``lagrange`` (steps 1-2; its plane force kernel's vectorised passes in ``force_lanes``, the
+hex8 one's in ``hex_lanes``, which also computes blocks of hex8 and swept volumes),
 ``energy`` (step 3), ``remap`` (step 4, element side; its one-material face fluxes' vectorised block in
 ``face_lanes``) and ``dual`` (step 4, nodal momentum on the dual mesh);
 this module names them together. Where nothing moves the remap skips work with the same bits: faces that

@@ -15,12 +15,13 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..fem.geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient,
-                            quad4_gradient, stable_dt)
+from ..fem.geometry import QUAD_GAMMA, bulk_viscosity, quad4_gradient, stable_dt
 from ..materials.kernels import EOS_GRUNEISEN, eos_state
 from .force_lanes import (_ST_AREA, _ST_B, _ST_BLOCK, _ST_C, _ST_COEF, _ST_GX, _ST_HQ, _ST_LONG2, _ST_M, _ST_P, _ST_RHO,
                           _ST_ROWS, _ST_S, _ST_TRACE, _ST_VMAX2, gas_block, gather_block, geometry_block, one_gas,
                           viscosity_block)
+from .hex_lanes import (_HC_ROWS, _HF_ROWS, _HX_BLOCK, _HX_C, _HX_COEF, _HX_HG, _HX_M, _HX_P, _HX_RHO, _HX_ROWS, _HX_VOL,
+                        gather_hex_block, hex_force_block, hex_geometry_block, hex_viscosity_block)
 
 
 # boundary condition codes per node
@@ -307,59 +308,58 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
     hourglass on the four hex8 modes gamma_j = Gamma_j - (Gamma_j . x) b, force
     -c_hg (gamma_j . v) gamma_j with c_hg = qhg rho c V^(2/3) / 4 (the FEM solid's viscous form).
     Written: f_elem (E, 8, 3), pres_m, bulk_m, q_elem, dt_elem as in 2D.
+
+    In passes over blocks of elements (``hex_lanes``: state, gather, geometry, viscosity and step, hourglass
+    coefficient, forces), the vectorised ones the scalar code's operations in its order: the same bits as the
+    one-element-at-a-time loop it replaced (hashes of the 3D ALE decks and benchmark boxes). 40^3 box in a
+    vortex, 1 thread, min of 7 calls: 250 -> 121 ns per element (the scalar hourglass had been 167 of the 250;
+    now the corner gather 38, geometry 29, forces and hourglass 24, the copy into f_elem 20, the rest 9). A
+    collapsed element (V = 0) gives rho_e = inf here (numpy's error model) where the scalar loop raised
+    ZeroDivisionError.
     """
     n_elem = conn.shape[0]
     n_chunks = min(n_elem, N_CHUNKS)
+    gas, gm1, gpinf = one_gas(mat_eos, mat_q, mat_rho0)
+    vol1, mass1, ener1, lag1 = vol_m.reshape(-1), mass_m.reshape(-1), ener_m.reshape(-1), e_lag.reshape(-1)
+    pres1, bulk1, pscale1 = pres_m.reshape(-1), bulk_m.reshape(-1), pscale.reshape(-1)
+    B = _HX_BLOCK
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, n_elem, n_chunks)
-        xe = np.empty((8, 3))
-        ve = np.empty((8, 3))
-        b = np.empty((3, 8))
-        gam = np.empty(8)
-        for e in range(start, stop):
-            vmax2 = 0.0
-            for a in range(8):
-                n = conn[e, a]
-                for k in range(3):
-                    xe[a, k] = x[n, k]
-                    ve[a, k] = v[n, k]
-                vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1] + v[n, 2] * v[n, 2])
-            vol = hex8_gradient(xe, b)
-            p_mix, c_max, mtot = _mixture_pressure(e, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, phi_eps,
-                                                   pscale, pressure_cutoff, pres_m, bulk_m)
-            rho_e = mtot / vol
-            trace_d = 0.0
-            for a in range(8):
-                trace_d += ve[a, 0] * b[0, a] + ve[a, 1] * b[1, a] + ve[a, 2] * b[2, a]
-            length = hex8_char_length(xe, vol)
-            q = viscosity_and_step(e, rho_e, length, c_max, trace_d, vmax2, q1, q2, q_elem, dt_elem)
-            s = vol * (p_mix + q)
-            for a in range(8):
-                for k in range(3):
-                    f_elem[e, a, k] = s * b[k, a]
-            if qhg > 0.0 and rho_e > 0.0:
-                coef = 0.25 * qhg * rho_e * c_max * vol ** (2.0 / 3.0)
-                for mode in range(4):
-                    gx0 = 0.0
-                    gx1 = 0.0
-                    gx2 = 0.0
-                    for a in range(8):
-                        gx0 += HEX_GAMMA[mode, a] * xe[a, 0]
-                        gx1 += HEX_GAMMA[mode, a] * xe[a, 1]
-                        gx2 += HEX_GAMMA[mode, a] * xe[a, 2]
-                    h0 = 0.0
-                    h1 = 0.0
-                    h2 = 0.0
-                    for a in range(8):
-                        g = HEX_GAMMA[mode, a] - gx0 * b[0, a] - gx1 * b[1, a] - gx2 * b[2, a]
-                        gam[a] = g
-                        h0 += g * ve[a, 0]
-                        h1 += g * ve[a, 1]
-                        h2 += g * ve[a, 2]
-                    for a in range(8):
-                        f_elem[e, a, 0] -= coef * h0 * gam[a]
-                        f_elem[e, a, 1] -= coef * h1 * gam[a]
-                        f_elem[e, a, 2] -= coef * h2 * gam[a]
+        # passes over each block of the run through its work rows (ale/hex_lanes.py): the material state, the
+        # corner gather, the geometry, the viscosity and step, then the forces and hourglass here
+        st = np.empty(_HX_ROWS * B)
+        cx = np.empty(_HC_ROWS * B)
+        fo = np.empty(_HF_ROWS * B)
+        for block in range(start, stop, B):
+            nb = min(B, stop - block)
+            end = block + nb
+            if gas:  # one ideal or stiffened gas (force_lanes.gas_block, vectorised)
+                gas_block(nb, vol1[block:end], mass1[block:end], ener1[block:end], lag1[block:end], gm1, gpinf,
+                          mat_rho0[0], phi_eps, RHO_VOID, pscale1[block:end], pressure_cutoff, pres1[block:end],
+                          bulk1[block:end], st[_HX_P * B:(_HX_P + 1) * B], st[_HX_C * B:(_HX_C + 1) * B],
+                          st[_HX_M * B:(_HX_M + 1) * B])
+            else:
+                for i in range(nb):
+                    p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
+                                                           mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
+                    st[_HX_P * B + i] = p_mix
+                    st[_HX_C * B + i] = c_max
+                    st[_HX_M * B + i] = mtot
+            gather_hex_block(conn, block, nb, x, v, cx)
+            hex_geometry_block(nb, cx, st)
+            hex_viscosity_block(nb, st, q1, q2, q_elem[block:end], dt_elem[block:end])
+            for i in range(nb):  # the hourglass coefficient (the power: scalar)
+                rho_e = st[_HX_RHO * B + i]
+                hg = qhg > 0.0 and rho_e > 0.0
+                st[_HX_HG * B + i] = 1.0 if hg else 0.0
+                st[_HX_COEF * B + i] = 0.25 * qhg * rho_e * st[_HX_C * B + i] * st[_HX_VOL * B + i] ** (2.0 / 3.0) \
+                    if hg else 0.0
+            hex_force_block(nb, cx, st, fo)
+            for i in range(nb):
+                e = block + i
+                for a in range(8):
+                    for k in range(3):
+                        f_elem[e, a, k] = fo[(3 * a + k) * B + i]
 
 
 @njit(cache=True, inline="always")

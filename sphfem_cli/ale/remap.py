@@ -13,12 +13,15 @@ from __future__ import annotations
 import numpy as np
 from numba import njit, prange
 
-from ..fem.geometry import hex8_volume
+from ..fem.geometry import hex8_volume_origin
 from .face_lanes import (FL_AMOUNT, FL_BLOCK, FL_EA, FL_ED, FL_EU, FL_HASFAR, FL_MA, FL_MD, FL_MU, FL_OE, FL_OM, FL_OV,
                          FL_ROWS, FL_SGN, FL_VA, FL_VD, FL_VU, face_block)
+from .hex_lanes import _HV_BLOCK, _HV_ROWS, hex_volume_block
 from .ring_geometry import ring_volume
 from .lagrange import BC_VELOCITY, N_CHUNKS, chunk_range, node_conditions, quad_area
 
+
+assert FL_BLOCK == _HV_BLOCK  # the swept volumes of a block of faces go through hex_volume_block's rows
 
 # interface (material volume flux) modes
 IFACE_DONOR = 0
@@ -176,6 +179,8 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
     blocks of ``face_lanes.FL_BLOCK``: the flowing faces' donor, acceptor and upwind states are copied
     into a work array and their fluxes computed together by ``face_lanes.face_block`` (vectorised; the
     bits of ``_face_flux``); inflow faces (donor outside) and multi-material meshes take ``_face_flux``.
+    On a hex8 mesh the swept volumes of each block of faces are computed together first
+    (``hex_lanes.hex_volume_block``, vectorised; the bits of ``swept_volume_3d``).
 
     One kernel for the three geometries (plane, ring, hex8): the branch is per face, outside
     ``_face_flux``, where the time goes. Against main's three kernels (min / median of 30 alternated
@@ -187,24 +192,35 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
     n_mat = vol_m.shape[1]
     hexa = face_nodes.shape[1] == 4
     n_chunks = min(nf, N_CHUNKS)
-    # the hex8 swept-volume scratch (8, 3) of each chunk, allocated once a call (unused on a quad4
-    # mesh): one more allocation in each of the 512 chunks cost the 2D call ~10 % (benchmark in the report)
-    swept = np.empty((n_chunks, 8, 3))
     one = n_mat == 1  # one material: the fluxes of each block of faces together (face_lanes.face_block)
     second = order == 2
     B = FL_BLOCK
+    SV = FL_ROWS * B  # hex8: the swept-volume rows in wk
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, nf, n_chunks)
         dvm = np.empty(n_mat)
         g = np.empty(n_mat)
         used = np.empty(n_mat, dtype=np.bool_)
-        p = swept[chunk]
         # the block's work rows (face_lanes.FL_*) and face numbers, allocated at the chunk's first flowing face
         wk = np.empty(0)
         lane_f = np.empty(0, dtype=np.int64)
         for block in range(start, stop, B):
+            bend = min(block + B, stop)
+            if hexa:  # the block's swept volumes together (hex_lanes.hex_volume_block), after the flux rows of wk
+                if wk.shape[0] == 0:
+                    wk = np.empty((FL_ROWS + _HV_ROWS) * B)
+                    lane_f = np.empty(B, dtype=np.int64)
+                for i in range(block, bend):
+                    j = i - block
+                    f = faces[i]
+                    for a in range(4):
+                        n = face_nodes[f, a]
+                        for k in range(3):
+                            wk[SV + (3 * a + k) * B + j] = x_lag[n, k]
+                            wk[SV + (3 * a + 12 + k) * B + j] = x_new[n, k]
+                hex_volume_block(bend - block, wk[SV:])
             nb = 0
-            for i in range(block, min(block + B, stop)):
+            for i in range(block, bend):
                 f = faces[i]
                 for m in range(n_mat):
                     fvol[f, m] = 0.0
@@ -216,7 +232,7 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
                 if er < 0 and not face_open[f]:
                     continue
                 if hexa:
-                    dv = swept_volume_3d(face_nodes, f, x_lag, x_new, p)
+                    dv = wk[SV + (_HV_ROWS - 1) * B + i - block]  # swept_volume_3d
                 else:
                     n0 = face_nodes[f, 0]
                     n1 = face_nodes[f, 1]
@@ -306,29 +322,36 @@ def apply_face_fluxes(ka, kb, elem_face, elem_sign, fvol, fmass, fener, flow, vo
                 ener_m[e, m] += s * fener[f, m]
 
 
-@njit(cache=True)
-def swept_volume_3d(face_nodes, f, x_lag, x_new, p):
+@njit(cache=True, inline="always")
+def swept_volume_3d(face_nodes, f, x_lag, x_new):
     """Signed volume swept by the quad face f from x_lag to x_new: the trilinear hexahedron whose
     bottom is the face at x_lag and top the face at x_new (face_nodes[f] ordered with the normal
     out of the owner element), positive when the face moves out of the owner, which then gains
     that volume from its neighbour. The six swept volumes of an element sum exactly to its new
     minus its Lagrangian volume (each lateral bilinear side is shared by two swept hexahedra with
-    opposite orientations). p: scratch (8, 3)."""
+    opposite orientations). Corners relative to the face's first node at x_lag
+    (``fem.geometry.hex8_volume_origin``: the bits of ``hex8_volume``)."""
     r = face_nodes[f, 0]
-    for a in range(4):
-        n = face_nodes[f, a]
-        for k in range(3):
-            p[a, k] = x_lag[n, k] - x_lag[r, k]
-            p[a + 4, k] = x_new[n, k] - x_lag[r, k]
-    return hex8_volume(p)
+    n1 = face_nodes[f, 1]
+    n2 = face_nodes[f, 2]
+    n3 = face_nodes[f, 3]
+    xr = x_lag[r, 0]
+    yr = x_lag[r, 1]
+    zr = x_lag[r, 2]
+    return hex8_volume_origin(x_lag[n1, 0] - xr, x_lag[n1, 1] - yr, x_lag[n1, 2] - zr,
+                              x_lag[n2, 0] - xr, x_lag[n2, 1] - yr, x_lag[n2, 2] - zr,
+                              x_lag[n3, 0] - xr, x_lag[n3, 1] - yr, x_lag[n3, 2] - zr,
+                              x_new[r, 0] - xr, x_new[r, 1] - yr, x_new[r, 2] - zr,
+                              x_new[n1, 0] - xr, x_new[n1, 1] - yr, x_new[n1, 2] - zr,
+                              x_new[n2, 0] - xr, x_new[n2, 1] - yr, x_new[n2, 2] - zr,
+                              x_new[n3, 0] - xr, x_new[n3, 1] - yr, x_new[n3, 2] - zr)
 
 
 @njit(parallel=True, cache=True)
 def swept_volumes_3d(faces, face_nodes, x_lag, x_new, out):
     """out[i] = swept_volume_3d of faces[i] (used for the inflow faces)."""
     for i in prange(faces.shape[0]):
-        p = np.empty((8, 3))
-        out[i] = swept_volume_3d(face_nodes, faces[i], x_lag, x_new, p)
+        out[i] = swept_volume_3d(face_nodes, faces[i], x_lag, x_new)
 
 
 @njit(cache=True, inline="always")

@@ -580,7 +580,9 @@ class AleSystem:
         # the velocity bound from per-element corner ranges (remap.finish_nodes) where mass crossed at least a
         # quarter of the elements: the ranges cost 2.5 ns per element, the corner scan they replace about 11 ns
         # per bounded node (240^2, 1 thread: finish 6.7 -> 9-11 ns per cell at rest, 25 -> 14 in a vortex)
-        use_ranges = 4 * int(np.count_nonzero(ranged)) >= len(ranged)
+        # hex8: where mass crossed at least 1/32 of the elements (a bounded node's scan reads 8 elements x 8 corners
+        # x 3 components, the ranges cost about 10 ns per element)
+        use_ranges = (4 if self.dim == 2 else 32) * int(np.count_nonzero(ranged)) >= len(ranged)
         self._k_finish(mnode, pnode, knode, self.m_floor, self.v_lag, self.conn, topo["node_elem_ptr"],
                        topo["node_elem_idx"], self.bc_type, self.bc_normal, self.velocity, self._impulse, dissip,
                        self._vrange, use_ranges)

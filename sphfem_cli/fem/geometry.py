@@ -110,25 +110,15 @@ def hex8_gradient_rows(x, b):
     return volume
 
 
-@njit(cache=True)
-def hex8_gradient(x, b):
-    """Mean gradient b (3, 8) = (1/V) dV/dx_I of a hex8 with corners x (8, 3); returns V (b is zero unless V > 0).
+@njit(cache=True, inline="always")
+def hex8_dv(x0, y0, z0, x1, y1, z1, x2, y2, z2, x3, y3, z3, x4, y4, z4, x5, y5, z5, x6, y6, z6, x7, y7, z7):
+    """dV/dx_I of a hex8 from its corners as scalars: (dV/dx_0 .. dV/dx_7, dV/dy_0 .. dV/dy_7, dV/dz_0 .. dV/dz_7).
 
-    dV/dx_I = (1/12) sum over the rows (I, j, k, s) of ``HEX_DV`` of s (y_j z_k - y_k z_j), and cyclically
-    (x -> y -> z) for dV/dy_I, dV/dz_I, written out row by row in table order (W = 1/12, s W c added
-    as +- W c): the same operations in the same order as ``hex8_gradient_rows``, so the same bits, with
-    no table look-up or indexed load in the loop (the table loop cost about 390 ns a call, this one
-    see benchmarks/fem_passes.py). V = sum_I x_I dV/dx_I.
+    The body of ``hex8_gradient`` (its docstring: the rows of ``HEX_DV`` written out in table order), on scalars
+    so that a loop over elements can hold it (the ALE hex8 force kernel's geometry pass,
+    ``ale.hex_lanes.hex_geometry_block``): the same operations, the same bits.
     """
     W = 1.0 / 12.0
-    x0, y0, z0 = x[0, 0], x[0, 1], x[0, 2]
-    x1, y1, z1 = x[1, 0], x[1, 1], x[1, 2]
-    x2, y2, z2 = x[2, 0], x[2, 1], x[2, 2]
-    x3, y3, z3 = x[3, 0], x[3, 1], x[3, 2]
-    x4, y4, z4 = x[4, 0], x[4, 1], x[4, 2]
-    x5, y5, z5 = x[5, 0], x[5, 1], x[5, 2]
-    x6, y6, z6 = x[6, 0], x[6, 1], x[6, 2]
-    x7, y7, z7 = x[7, 0], x[7, 1], x[7, 2]
     bx0 = (0.0 - W * (y1 * z2 - y2 * z1) - W * (y1 * z3 - y3 * z1) + W * (y1 * z4 - y4 * z1)
            + W * (y1 * z5 - y5 * z1) - W * (y2 * z3 - y3 * z2) - W * (y3 * z4 - y4 * z3)
            - W * (y3 * z7 - y7 * z3) - W * (y4 * z5 - y5 * z4) + W * (y4 * z7 - y7 * z4))
@@ -201,6 +191,31 @@ def hex8_gradient(x, b):
     bz7 = (0.0 - W * (x0 * y3 - x3 * y0) + W * (x0 * y4 - x4 * y0) + W * (x2 * y3 - x3 * y2)
            - W * (x2 * y6 - x6 * y2) + W * (x3 * y4 - x4 * y3) - W * (x3 * y6 - x6 * y3)
            + W * (x4 * y5 - x5 * y4) + W * (x4 * y6 - x6 * y4) + W * (x5 * y6 - x6 * y5))
+    return (bx0, bx1, bx2, bx3, bx4, bx5, bx6, bx7, by0, by1, by2, by3, by4, by5, by6, by7,
+            bz0, bz1, bz2, bz3, bz4, bz5, bz6, bz7)
+
+
+@njit(cache=True)
+def hex8_gradient(x, b):
+    """Mean gradient b (3, 8) = (1/V) dV/dx_I of a hex8 with corners x (8, 3); returns V (b is zero unless V > 0).
+
+    dV/dx_I = (1/12) sum over the rows (I, j, k, s) of ``HEX_DV`` of s (y_j z_k - y_k z_j), and cyclically
+    (x -> y -> z) for dV/dy_I, dV/dz_I, written out row by row in table order (W = 1/12, s W c added
+    as +- W c): the same operations in the same order as ``hex8_gradient_rows``, so the same bits, with
+    no table look-up or indexed load in the loop (the table loop cost about 390 ns a call, this one
+    see benchmarks/fem_passes.py). V = sum_I x_I dV/dx_I.
+    """
+    x0, y0, z0 = x[0, 0], x[0, 1], x[0, 2]
+    x1, y1, z1 = x[1, 0], x[1, 1], x[1, 2]
+    x2, y2, z2 = x[2, 0], x[2, 1], x[2, 2]
+    x3, y3, z3 = x[3, 0], x[3, 1], x[3, 2]
+    x4, y4, z4 = x[4, 0], x[4, 1], x[4, 2]
+    x5, y5, z5 = x[5, 0], x[5, 1], x[5, 2]
+    x6, y6, z6 = x[6, 0], x[6, 1], x[6, 2]
+    x7, y7, z7 = x[7, 0], x[7, 1], x[7, 2]
+    (bx0, bx1, bx2, bx3, bx4, bx5, bx6, bx7, by0, by1, by2, by3, by4, by5, by6, by7,
+     bz0, bz1, bz2, bz3, bz4, bz5, bz6, bz7) = hex8_dv(x0, y0, z0, x1, y1, z1, x2, y2, z2, x3, y3, z3,
+                                                        x4, y4, z4, x5, y5, z5, x6, y6, z6, x7, y7, z7)
     volume = (0.0 + x0 * bx0 + x1 * bx1 + x2 * bx2 + x3 * bx3
               + x4 * bx4 + x5 * bx5 + x6 * bx6 + x7 * bx7)
     inv = 1.0 / volume if volume > 0.0 else 0.0  # inverted, collapsed or non-finite: the caller stops
@@ -311,6 +326,35 @@ def hex8_volume(p):
         j = HEX_DV[r, 1]
         k = HEX_DV[r, 2]
         v += HEX_DV[r, 3] * p[i, 0] * (p[j, 1] * p[k, 2] - p[k, 1] * p[j, 2])
+    return v / 12.0
+
+
+@njit(cache=True, inline="always")
+def hex8_volume_origin(x1, y1, z1, x2, y2, z2, x3, y3, z3, x4, y4, z4, x5, y5, z5, x6, y6, z6, x7, y7, z7):
+    """``hex8_volume`` of corners relative to corner 0 (x_0 = 0; the others' coordinates as scalars), written out.
+
+    The 45 rows of ``HEX_DV`` that name neither I = 0 nor a corner 0 in their product, in table order: each of
+    the other 27 rows gives exactly +-0 when x_0 = 0 (finite coordinates), and a running sum from +0.0 is
+    unchanged by a signed zero (x + -0 = x; an exact cancellation gives +0), so the same bits as ``hex8_volume``
+    with p[0] = 0, without the table look-ups and the indexed loads (the ALE face sweep, the hex8
+    Lagrangian volume and the initial volumes call it once per face or element). s x_I c is written
+    +- x_I c: the product with s = +-1 is exact. V = (1/12) sum_rows s x_I (y_j z_k - y_k z_j).
+    """
+    v = (0.0 - x1 * (y2 * z3 - y3 * z2) + x1 * (y2 * z5 - y5 * z2) + x1 * (y2 * z6 - y6 * z2)
+         - x1 * (y4 * z5 - y5 * z4) - x1 * (y5 * z6 - y6 * z5) + x2 * (y1 * z3 - y3 * z1)
+         - x2 * (y1 * z5 - y5 * z1) - x2 * (y1 * z6 - y6 * z1) + x2 * (y3 * z6 - y6 * z3)
+         + x2 * (y3 * z7 - y7 * z3) - x2 * (y5 * z6 - y6 * z5) - x2 * (y6 * z7 - y7 * z6)
+         - x3 * (y1 * z2 - y2 * z1) - x3 * (y2 * z6 - y6 * z2) - x3 * (y2 * z7 - y7 * z2)
+         + x3 * (y4 * z7 - y7 * z4) - x3 * (y6 * z7 - y7 * z6) + x4 * (y1 * z5 - y5 * z1)
+         - x4 * (y3 * z7 - y7 * z3) + x4 * (y5 * z6 - y6 * z5) + x4 * (y5 * z7 - y7 * z5)
+         + x4 * (y6 * z7 - y7 * z6) + x5 * (y1 * z2 - y2 * z1) - x5 * (y1 * z4 - y4 * z1)
+         + x5 * (y1 * z6 - y6 * z1) + x5 * (y2 * z6 - y6 * z2) - x5 * (y4 * z6 - y6 * z4)
+         - x5 * (y4 * z7 - y7 * z4) + x5 * (y6 * z7 - y7 * z6) + x6 * (y1 * z2 - y2 * z1)
+         - x6 * (y1 * z5 - y5 * z1) + x6 * (y2 * z3 - y3 * z2) - x6 * (y2 * z5 - y5 * z2)
+         + x6 * (y2 * z7 - y7 * z2) + x6 * (y3 * z7 - y7 * z3) + x6 * (y4 * z5 - y5 * z4)
+         - x6 * (y4 * z7 - y7 * z4) - x6 * (y5 * z7 - y7 * z5) + x7 * (y2 * z3 - y3 * z2)
+         - x7 * (y2 * z6 - y6 * z2) + x7 * (y3 * z4 - y4 * z3) - x7 * (y3 * z6 - y6 * z3)
+         + x7 * (y4 * z5 - y5 * z4) + x7 * (y4 * z6 - y6 * z4) + x7 * (y5 * z6 - y6 * z5))
     return v / 12.0
 
 

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from sphfem_cli.fem.geometry import (HEX_DV, HEX_FACES, hex8_gradient, hex8_gradient_faces, hex8_gradient_rows,
-                                     quad4_gradient)
+                                     hex8_volume, hex8_volume_origin, quad4_gradient)
 from sphfem_cli.fem.kernels import rotate_stress
 
 HEX_SIGNS = np.array([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
@@ -126,3 +126,14 @@ def test_rotate_stress_is_the_cayley_rotation():
         got = np.array([[s[0], s[3], s[5]], [s[3], s[1], s[4]], [s[5], s[4], s[2]]])
         assert np.allclose(got, expected, atol=1e-13)
         assert np.allclose(r @ r.T, np.eye(3), atol=1e-13)
+
+
+def test_hex8_volume_origin_is_hex8_volume_bit_for_bit():
+    """The written-out volume of corners relative to corner 0: the bits of the table form (hex8_volume)."""
+    rng = np.random.default_rng(11)
+    for i in range(500):
+        x = distorted_hex(rng) * rng.uniform(1e-3, 1e3) + rng.uniform(-5, 5, size=3)
+        if i % 5 == 0:  # a swept hexahedron: the top a small move of the bottom (the ALE face sweep)
+            x[4:] = x[:4] + rng.uniform(-1e-3, 1e-3, size=(4, 3)) * (i % 2)
+        p = x - x[0]
+        assert hex8_volume_origin(*p[1:].ravel()) == hex8_volume(p)
