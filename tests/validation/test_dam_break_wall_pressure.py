@@ -7,9 +7,11 @@ probe filter, output/filters.py) and compared in T = t sqrt(g/H), P = p/(rho g H
 - first impact time: the first T at which the filtered P exceeds 0.1;
 - load plateau: the mean filtered P over T in [3.5, 5.5] (after the impact, before the plunging
   wave returns to the wall at T ~ 6);
-- the filtered impact peak is reported only for sensors 2 and 3: at sensor 1 (3 mm) the weakly
-  compressible water-hammer spike (rho c0 u ~ 35 rho g H raw) survives any filter that keeps the
-  impact's rise, so its peak says nothing about the experiment's.
+- the filtered impact peak is not compared: it is the weakly compressible water's water-hammer spike
+  (rho c0 u, about 35 rho g H raw at sensor 1), which the filter does not remove and which converges
+  neither in the artificial sound speed nor in the spacing (sensor 2's filtered peak P at H/dx 40 with the
+  shock switch: 8.4 / 7.9 / 10.3 / 13.9 at c0 30 / 40 / 60 / 120; at c0 40, H/dx 40 / 60: 7.9 / 3.9;
+  the measured record's 1.9; docs/studies/dam_break_wall_pressure.md). It is printed, not asserted.
 
 The figures measured with the deck and the tolerances are in the deck's header (`Measured:`).
 """
@@ -55,9 +57,9 @@ def test_dam_break_wall_pressure_against_lobovsky_2014(tmp_path):
         assert np.allclose(filtered[:, 1], low_pass(raw[:, 0], raw[:, 1], "butterworth", cutoff=CUTOFF, order=2))
         sim = metrics(raw[:, 0] / T_SCALE, raw[:, 1] / P_SCALE)
         exp = metrics(measured[:, 0], measured[:, k])
+        print(f"sensor {k}: impact T {sim['impact']:.3f} / {exp['impact']:.3f}, plateau P {sim['plateau']:.3f} / "
+              f"{exp['plateau']:.3f}, filtered peak P {sim['peak']:.2f} / {exp['peak']:.2f} (not compared)")
         assert abs(sim["impact"] - exp["impact"]) <= IMPACT_TOL, (k, sim, exp)
         assert sim["plateau"] == pytest.approx(exp["plateau"], rel=PLATEAU_TOL), (k, sim, exp)
-        if k in (2, 3):
-            assert sim["peak"] == pytest.approx(exp["peak"], rel=0.5), (k, sim, exp)
     glstat = np.genfromtxt(out / "histories" / "glstat.csv", delimiter=",", names=True)
     assert np.all(np.abs(glstat["energy_ratio"][glstat["time"] > 0.01] - 1.0) < 0.01)
