@@ -56,9 +56,10 @@ from .dual import G_KIN, G_MASS, G_MOM, apply_dual_fluxes, dual_fluxes, node_vel
 from .energy import CLOSURE_EQUAL_STRAIN, CLOSURE_RELAX, element_volumes_3d, lagrange_energy, lagrange_energy_3d
 from .lagrange import (BC_FIXED, BC_FREE, BC_LINE, BC_SLIP, BC_VELOCITY, RHO_CAVITATED, RHO_VOID, apply_bc,
                        lagrange_forces, lagrange_forces_3d, material_state, nodal_update, nodal_update_3d, quad_area)
-from .remap import (IFACE_DONOR, IFACE_SLIC, SLIC_JUMP, add_column_sums, apply_face_fluxes, face_fluxes,
-                    finish_remap_elements, finish_remap_nodes, finish_remap_nodes_3d, nodal_mass,
-                    remap_nodal_state, swept_volume_3d, swept_volumes_3d, van_leer)
+from .remap import (IFACE_DONOR, IFACE_SLIC, SLIC_JUMP, apply_face_fluxes, face_fluxes, swept_volume_3d,
+                    swept_volumes_3d, van_leer)
+from .remap_nodes import (add_column_sums, finish_remap_elements, finish_remap_nodes, finish_remap_nodes_3d,
+                          nodal_mass, remap_nodal_state)
 
 __all__ = [
     "BC_FIXED", "BC_FREE", "BC_LINE", "BC_SLIP", "BC_VELOCITY", "CLOSURE_EQUAL_STRAIN", "CLOSURE_RELAX",

@@ -192,7 +192,7 @@ class AleSystem:
         self._knode = np.zeros(n_nodes)
         self._dissip = np.zeros(n_nodes)
         self._x_lag = np.zeros((n_nodes, dim))
-        self._vrange = np.zeros((n_elem, 2, dim))  # the elements' corner velocity ranges (remap.finish_nodes)
+        self._vrange = np.zeros((n_elem, 2, dim))  # the elements' corner velocity ranges (remap_nodes.finish_nodes)
         self._ranged = np.zeros(n_elem, dtype=np.bool_)  # mass crossed the element in a sweep of this remap
         # body acceleration on the nodal masses, and the forces of couplings to structures
         # (contact.coupling): set f_couple before each step; its impulse is couple_dt * f_couple
@@ -577,7 +577,7 @@ class AleSystem:
                                 topo["node_elem_idx"], any_open, self._g, self._b, self._moving, mnode, pnode, knode)
             np.logical_or(ranged, self._moving, out=ranged)  # the velocity bound's element ranges: where mass crossed
         dissip = self._dissip
-        # the velocity bound from per-element corner ranges (remap.finish_nodes) where mass crossed at least a
+        # the velocity bound from per-element corner ranges (remap_nodes.finish_nodes) where mass crossed at least a
         # quarter of the elements: the ranges cost 2.5 ns per element, the corner scan they replace about 11 ns
         # per bounded node (240^2, 1 thread: finish 6.7 -> 9-11 ns per cell at rest, 25 -> 14 in a vortex)
         # hex8: where mass crossed at least 1/32 of the elements (a bounded node's scan reads 8 elements x 8 corners
