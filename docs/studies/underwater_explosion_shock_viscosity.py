@@ -26,7 +26,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 from sphfem_cli.sph import lattice, scenes  # noqa: E402
-from sphfem_cli.sph.system import SphOptions, SphSystem, material_table  # noqa: E402
+from sphfem_cli.sph.options import SphOptions, material_table  # noqa: E402
+from sphfem_cli.sph.system import SphSystem  # noqa: E402
 from sphfem_cli.sph.walls import box_walls  # noqa: E402
 from tests.verification.spherical_blast_reference import setup_from_deck, water_hugoniot  # noqa: E402
 from tests.verification.test_sph_axisymmetric_explosive import WATER  # noqa: E402

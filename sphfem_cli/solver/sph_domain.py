@@ -9,7 +9,8 @@ import numpy as np
 from ..model.build import Model
 from ..model.sensors import probe_sensor_points, sensor_mean
 from ..model.options import ControlOptions, SphDomainOptions
-from ..sph.system import SphOptions, SphSystem, WallParticles
+from ..sph.options import SphOptions, WallParticles
+from ..sph.system import SphSystem
 from ..sph.walls import box_walls
 from .domain import Domain, Energies, stable_or_nan
 from .guards import RunStopped

@@ -12,7 +12,8 @@ from pydantic import TypeAdapter
 
 from ..deck.schema.materials import EquationOfState, Material
 from . import lattice
-from .system import SphOptions, SphSystem, material_table
+from .options import SphOptions, material_table
+from .system import SphSystem
 from .walls import box_walls
 
 _MAT = TypeAdapter(Material)

@@ -115,7 +115,8 @@ def test_detonation_front_in_an_ale_strip_arrives_at_r_over_d():
 def test_detonation_front_on_a_line_of_sph_particles():
     """SPH particles on a line (1D), lit at x = 0: the burn fraction of each particle rises from 0
     at t_L = x / D; its pressure becomes positive within one step of x / D and not before."""
-    from sphfem_cli.sph.system import SphOptions, SphSystem
+    from sphfem_cli.sph.options import SphOptions
+    from sphfem_cli.sph.system import SphSystem
 
     row = tnt_row()
     dx = 1e-3

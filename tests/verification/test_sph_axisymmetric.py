@@ -31,7 +31,8 @@ import numpy as np
 import pytest
 
 from sphfem_cli.sph import lattice, scenes
-from sphfem_cli.sph.system import SphOptions, SphSystem
+from sphfem_cli.sph.options import SphOptions
+from sphfem_cli.sph.system import SphSystem
 from sphfem_cli.sph.walls import box_walls
 
 G, H, R = 9.81, 1.0, 0.5

@@ -39,7 +39,8 @@ from pydantic import TypeAdapter
 from sphfem_cli import api
 from sphfem_cli.deck.schema.materials import EquationOfState, Material
 from sphfem_cli.sph import lattice, scenes
-from sphfem_cli.sph.system import SphOptions, SphSystem, material_table
+from sphfem_cli.sph.options import SphOptions, material_table
+from sphfem_cli.sph.system import SphSystem
 from sphfem_cli.sph.walls import box_walls
 
 _M, _E = TypeAdapter(Material), TypeAdapter(EquationOfState)

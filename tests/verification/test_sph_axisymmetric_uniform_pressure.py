@@ -21,7 +21,8 @@ import numpy as np
 
 from sphfem_cli.sph import lattice, scenes
 from sphfem_cli.sph.kernel_functions import CUBIC_SPLINE, kernel_f
-from sphfem_cli.sph.system import SphOptions, SphSystem
+from sphfem_cli.sph.options import SphOptions
+from sphfem_cli.sph.system import SphSystem
 
 
 def test_uniform_pressure_reduces_to_the_plane_sum():

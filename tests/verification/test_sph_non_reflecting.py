@@ -26,7 +26,8 @@ import pytest
 
 from sphfem_cli.sph import lattice
 from sphfem_cli.sph.scenes import water
-from sphfem_cli.sph.system import SphOptions, SphSystem
+from sphfem_cli.sph.options import SphOptions
+from sphfem_cli.sph.system import SphSystem
 from sphfem_cli.sph.walls import box_walls
 
 C, RHO, GAMMA = 1480.0, 1000.0, 7.0

@@ -36,7 +36,8 @@ import numpy as np
 import pytest
 
 from sphfem_cli.sph import lattice, scenes
-from sphfem_cli.sph.system import SphOptions, SphSystem, material_table
+from sphfem_cli.sph.options import SphOptions, material_table
+from sphfem_cli.sph.system import SphSystem
 from sphfem_cli.sph.walls import box_walls
 from tests.verification.spherical_blast_reference import setup_from_deck, water_hugoniot
 from tests.verification.test_sph_axisymmetric_explosive import WATER
