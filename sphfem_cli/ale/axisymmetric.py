@@ -5,8 +5,8 @@ about the axis; every volume, mass, force and energy is for the full 2 pi. The p
 ``energy.lagrange_energy`` and ``remap.face_fluxes`` take the ring geometry (``ring_geometry``)
 when called with ``ring`` True (one compiled form serves plane and r-z; the branch is per element or
 face); the forces have their own kernel here, ``lagrange_forces_rz`` (the flagged plane kernel
-measured slower; both take their shared parts from ``lagrange``), compiled, with ``ring_volumes``, only
-for an axisymmetric mesh.
+measured slower; both take their shared parts from ``lagrange`` and ``force_lanes``), compiled, with
+``ring_volumes`` and ``ring_block``, only for an axisymmetric mesh.
 
 Formulation: volume-weighted, with the exact ring volume of the straight-sided quad
 (Green's theorem over its four edges, i -> j = i + 1)
