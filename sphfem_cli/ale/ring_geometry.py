@@ -1,4 +1,5 @@
-"""The ring (r-z) geometry of a quad4: exact ring volume and its gradient (formulas: ``ale.axisymmetric``).
+"""The ring (r-z) geometry of a quad4: its exact ring volume (formulas: ``ale.axisymmetric``, whose ``ring_block``
+also writes its gradient).
 
 Inline helpers only (nothing here compiles on its own): the plane quad4 kernels call them under their
 ``ring`` flag (``energy.lagrange_energy``, ``remap.face_fluxes``) and ``axisymmetric`` in its ring
@@ -21,17 +22,3 @@ def ring_volume(r0, z0, r1, z1, r2, z2, r3, z3):
     s += (r2 + r3) * (r2 * z3 - r3 * z2)
     s += (r3 + r0) * (r3 * z0 - r0 * z3)
     return PI_3 * s
-
-
-@njit(cache=True, inline="always")
-def ring_gradient(x, g):
-    """dV/dx_a (2, 4) of the ring volume of the quad with corners x (4, 2) (``ale.axisymmetric``); returns V."""
-    for a in range(4):
-        nxt = (a + 1) % 4
-        prv = (a + 3) % 4
-        ra, za = x[a, 0], x[a, 1]
-        rn, zn = x[nxt, 0], x[nxt, 1]
-        rp, zp = x[prv, 0], x[prv, 1]
-        g[0, a] = PI_3 * (2.0 * ra * (zn - zp) + rn * (zn - za) + rp * (za - zp))
-        g[1, a] = PI_3 * (rp - rn) * (rp + ra + rn)
-    return ring_volume(x[0, 0], x[0, 1], x[1, 0], x[1, 1], x[2, 0], x[2, 1], x[3, 0], x[3, 1])

@@ -74,11 +74,11 @@ from numba import njit, prange
 
 from .expansion import renormalised_divergence
 from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_f, kernel_sigma
-from .search import cell_range, neighbour_list
+from .search import cell_range
 from .switch import pair_coefficients
-from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GI_NX,
+from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_OX, GF_OY, GI_NX,
                     GI_NY, KIND_FLUID, KIND_GHOST, KIND_WALL, SF_ALPHA, SF_BETA, SF_BETA_PER_ALPHA, SF_DELTA, SF_EPS, SF_GX, SF_GY, SF_XSPH,
-                    SI_DELTA_HYDROSTATIC, SI_KERNEL, SI_CONTINUITY, CONTINUITY_MASS)
+                    SI_DELTA_HYDROSTATIC, SI_KERNEL, SI_CONTINUITY, CONTINUITY_MASS, N_LANES)
 
 TWO_PI = 2.0 * math.pi
 INV_TWO_PI = 1.0 / TWO_PI
@@ -107,8 +107,14 @@ def axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i,
 
     ``sd[D_VZ, k]`` of a ghost slot holds its source particle's radius r_j (``SphSystem`` writes it
     into the ghost velocities' third column, unused in 2D); of a particle it is 0 and r_j = x_j.
-    The loop is the plane code's before its row scan (``rates._fluid_rates``): per particle a branch-free neighbour list,
-    padded with the sentinel slot, summed by ``_pair_sums`` (which LLVM vectorises). Plain Python
+    The loop is the plane code's row scan (``rates._fluid_rates``): per particle each row of cells within
+    reach is one contiguous slot range whose candidates ``_row_sums`` sums without branches and without a
+    neighbour list (a candidate that is no neighbour adds exactly 0); the row sums are added in row order.
+    (Until December 2026 a branch-free neighbour list, ``search.neighbour_list``: the same neighbours and
+    terms, summed in another grouping, so results moved at round-off: `sphfem regress` of the six r-z SPH decks
+    within 2.2e-6 of the stored references; the rates fell from 310 to 270 ns per particle-step and
+    benchmarks/sph_axisymmetric_cost.py's ratio to the plane step from 1.45 to 1.26, docs/studies/
+    axisymmetric_acceptance.md.) Plain Python
     that picks the kernel's, the term set's and the switch's specialisation (as ``rates.fluid_rates``).
     ``conv[i]`` = -(div v)_i = sum_j A_j v_ij . grad_i W_ij - v_r,i / r_i (mass form: the first sum with
     rho_j A_j, over rho_i), the continuity equation's estimate without delta-SPH, the shock switch's source;
@@ -125,16 +131,16 @@ def axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i,
 
 _SHAPES = {1: np.empty(0), 2: np.empty((0, 0))}
 _BLOCK = 32
-_PAD = 4
-_PLANE = np.empty((0, 0))  # the dimension of the meridian plane, 2, for search.neighbour_list
 _FMV = {"nsz", "arcp", "reassoc"}  # for the neighbour sums only (as rates._FMV)
 
 
 @njit(cache=True, fastmath=_FM, forceinline=True, error_model="numpy")
-def _pair_terms(j, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
+def _pair_terms(j, k, e, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
                 gx, gy, dhydro, mform, ashape, salpha, ai, bpa):
-    """The terms of neighbour slot ``j`` in the sums of ``_pair_sums`` (module docstring); exactly 0 for a
-    wall point or the sentinel. Always inlined, without "reassoc" (see ``rates._pair_terms``). ``ashape.ndim``
+    """The terms of candidate slot ``j`` (unsigned) in the sums of ``_row_sums`` (module docstring); exactly 0 for
+    a wall point and for a candidate that is no neighbour of slot ``k``: j == k, j >= e (past the row's
+    candidates) or |x_k - x_j|^2 >= (h_k + h_j)^2 (the test of ``search.neighbour_list``); its arithmetic, inf or
+    NaN at j == k, is selected away, not multiplied (as ``rates._pair_terms``). Always inlined, without "reassoc" (see ``rates._pair_terms``). ``ashape.ndim``
     2: the shock switch's alpha_ij = (``ai`` + ``salpha[j]``)/2, beta_ij = ``bpa`` alpha_ij; 1: ``alpha``,
     ``beta`` (``salpha`` not read)."""
     wend = kshape.ndim == 2
@@ -142,8 +148,10 @@ def _pair_terms(j, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi
     xj = sx[0, j]
     dx = xi - xj
     dy = yi - sx[1, j]
-    hij = 0.5 * (hi + sx[3, j])
+    hs = hi + sx[3, j]
+    hij = 0.5 * hs
     r2 = dx * dx + dy * dy
+    ok = (r2 < hs * hs) & (j != k) & (j < e)
     r = math.sqrt(r2)
     a = 1.0 / (hij * r)
     inv = r * a  # 1/h_ij
@@ -195,21 +203,30 @@ def _pair_terms(j, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi
     diff = same * hij * cij * psi * f * area
     wr = norm * th * area * rhoj / rij if full else 0.0
     cw = area * rhoj if mform else area  # continuity weight: rho_j A_j (mass form) or A_j (volume form)
-    return ct * wgx, ct * wgy, work, cw * vdotg, -area * f * dx * dx, -area * f * dx * dy, diff, wr * du, wr * dv
+    z = 0.0
+    return (ct * wgx if ok else z, ct * wgy if ok else z, work if ok else z, cw * vdotg if ok else z,
+            -area * f * dx * dx if ok else z, -area * f * dx * dy if ok else z, diff if ok else z,
+            wr * du if ok else z, wr * dv if ok else z)
 
 
-@njit(cache=True, fastmath=_FMV, error_model="numpy")
-def _pair_sums(nbj, cnt, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
-               gx, gy, dhydro, mform, ashape, salpha, ai, bpa):
-    """Branch-free sums over ``nbj[:cnt]`` of ``_pair_terms``: (ax, ay, work, cont, kappa_r, kappa_z, diff, sxu,
-    sxv)."""
+@njit(cache=True, fastmath=_FMV, forceinline=True, error_model="numpy")
+def _row_sums(s, e, k, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mati, alpha, beta, eps,
+              gx, gy, dhydro, mform, ashape, salpha, ai, bpa):
+    """Branch-free sums of ``_pair_terms`` over the candidate slots ``s .. e - 1`` (one row of cells) of slot
+    ``k``: (ax, ay, work, cont, kappa_r, kappa_z, diff, sxu, sxv). As ``rates._row_sums``: the slots are read
+    in whole chunks of ``N_LANES`` (into the sentinel columns past the points), contiguously from the rows of
+    ``sx`` and ``sd``, so that LLVM vectorises the loop with plain loads and no remainder; a candidate that is
+    no neighbour adds exactly 0. Always inlined (at the LLVM level) into the parfor loop of
+    ``_axisymmetric_rates``."""
     full = tshape.ndim == 1
     fmati = float(mati)
     ax = ay = work = cont = kap = kapz = diff = sxu = sxv = 0.0
-    for t in range(cnt):
-        tx, ty, tw, tc, tk, tkz, td, tu, tv = _pair_terms(nbj[t], sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi,
-                                                     rhoi, ci, qi, fmati, alpha, beta, eps, gx, gy, dhydro, mform,
-                                                     ashape, salpha, ai, bpa)
+    lanes = np.uint64(N_LANES)
+    end = s + (e - s + lanes - np.uint64(1)) // lanes * lanes
+    for j in range(s, end):
+        tx, ty, tw, tc, tk, tkz, td, tu, tv = _pair_terms(j, k, e, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi,
+                                                          rhoi, ci, qi, fmati, alpha, beta, eps, gx, gy, dhydro, mform,
+                                                          ashape, salpha, ai, bpa)
         ax -= tx
         ay -= ty
         work += tw
@@ -236,32 +253,41 @@ def _axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i
     bpa = settings_f[SF_BETA_PER_ALPHA]
     delta, exsph = settings_f[SF_DELTA], settings_f[SF_XSPH]
     gx, gy = settings_f[SF_GX], settings_f[SF_GY]
-    hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
+    cell = grid_f[GF_CELL]
     ox, oy = grid_f[GF_OX], grid_f[GF_OY]
     inv_cell = 1.0 / cell
     sig = kernel_sigma(kernel, 2)
     npts = cell_start[-1]
     for b in prange((npts + _BLOCK - 1) // _BLOCK):
-        nbj = np.empty(512, dtype=np.uint64)
         for k in range(b * _BLOCK, min(npts, (b + 1) * _BLOCK)):
             mki = int(sd[D_MK, k])
             if (mki & 3) != KIND_FLUID:
                 continue
             xi, yi, hi = sx[0, k], sx[1, k], sx[3, k]
-            # every 2 h_kj is below sreach[k] (search.search_reach)
-            cnt, npad = neighbour_list(nbj, k, xi, yi, 0.0, hi, sreach[k], sx, cell_start, (ox, oy, 0.0), inv_cell,
-                                       (nx, ny, 1), _PLANE, _PAD)
-            if cnt < 0:  # the list is too short for the candidates: a longer one, and again
-                nbj = np.empty(-2 * cnt, dtype=np.uint64)
-                cnt, npad = neighbour_list(nbj, k, xi, yi, 0.0, hi, sreach[k], sx, cell_start, (ox, oy, 0.0),
-                                           inv_cell, (nx, ny, 1), _PLANE, _PAD)
+            reach = sreach[k]  # every 2 h_kj is below sreach[k] (search.search_reach)
+            x0, x1 = cell_range(xi, reach, ox, inv_cell, nx)
+            y0, y1 = cell_range(yi, reach, oy, inv_cell, ny)
+            ku = np.uint64(k)
             ui, vi = sd[D_VX, k], sd[D_VY, k]
             rhoi, pri, ci = sd[D_RHO, k], sd[D_PR, k], sd[D_C, k]  # pri = p_i / rho_i^2
             qi = pri * INV_TWO_PI / xi  # Q_i = p_i / (2 pi r_i rho_i^2)
             ai = salpha[k] if ashape.ndim == 2 else alpha
-            ax, ay, work, cont, kap, kapz, diff, sxu, sxv = _pair_sums(
-                nbj, npad, sx, sd, kshape, tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mki >> 2,
-                alpha, beta, eps, gx, gy, dhydro, mform, ashape, salpha, ai, bpa)
+            ax = ay = work = cont = kap = kapz = diff = sxu = sxv = 0.0
+            for cy in range(y0, y1 + 1):  # the rows of cells within reach, each one contiguous slot range
+                base = cy * nx
+                r0, r1, r2, r3, r4, r5, r6, r7, r8 = _row_sums(
+                    np.uint64(cell_start[base + x0]), np.uint64(cell_start[base + x1 + 1]), ku, sx, sd, kshape,
+                    tshape, sig, xi, yi, hi, ui, vi, rhoi, ci, qi, mki >> 2, alpha, beta, eps, gx, gy, dhydro, mform,
+                    ashape, salpha, ai, bpa)
+                ax += r0
+                ay += r1
+                work += r2
+                cont += r3
+                kap += r4
+                kapz += r5
+                diff += r6
+                sxu += r7
+                sxv += r8
             i = perm[k]
             hoop = pri * rhoi / xi  # p_i / (rho_i r_i), times kappa_i = sum_j A_j (x_j - r_i) grad_i W_ij
             acc[i, 0] = ax + hoop * kap

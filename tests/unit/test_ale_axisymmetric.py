@@ -46,22 +46,39 @@ def test_fill_fractions_of_a_ring_are_shares_of_its_volume():
     assert by_volume == pytest.approx(exact, rel=0.05)
 
 
+def _ring_block(x, v=None):
+    """``ring_block`` on one quad with corners x (4, 2) (velocities v, 0 if None): its gradient (2, 4), ring volume
+    and divergence; the plane gradient rows of st left 0 (only |b|^2 reads them)."""
+    from sphfem_cli.ale.force_lanes import _CX_U, _CX_W, _CX_X, _CX_Y, _ST_BLOCK, _ST_ROWS
+
+    v = np.zeros((4, 2)) if v is None else v
+    cx = np.zeros(16 * _ST_BLOCK)
+    for row, column in ((_CX_X, x[:, 0]), (_CX_Y, x[:, 1]), (_CX_U, v[:, 0]), (_CX_W, v[:, 1])):
+        cx[(row + np.arange(4)) * _ST_BLOCK] = column
+    rg = np.zeros(A._RG_ROWS * _ST_BLOCK)
+    A.ring_block(1, cx, np.zeros(_ST_ROWS * _ST_BLOCK), rg)
+    g = rg[(A._RG_G + np.arange(8)) * _ST_BLOCK].reshape(2, 4)
+    return g, rg[A._RG_VOL * _ST_BLOCK], rg[A._RG_TRACE * _ST_BLOCK]
+
+
 def test_ring_gradient_is_the_derivative_of_the_ring_volume():
-    """dV/dx_a of ring_gradient against central differences (h = 1e-6; observed 3e-10 absolute)."""
+    """dV/dx_a of the force kernel's ring pass (``ring_block``) against central differences of the ring volume
+    (h = 1e-6; observed 3e-10 absolute), and its divergence sum_a v_a . dV/dx_a / V for a rigid axial translation
+    (0) and a uniform radial expansion v_r = a r (dV/dt / V = 2a: exact, the ring's hoop rate included)."""
     rng = np.random.default_rng(0)
     x = np.array([[0.1, 0.0], [1.0, 0.1], [1.2, 0.9], [0.0, 1.0]]) + 0.05 * rng.random((4, 2))
-    g = np.zeros((2, 4))
-    vol = A.ring_gradient(x, g)
-    scratch = np.zeros((2, 4))
+    g, vol, _ = _ring_block(x)
     fd = np.zeros((2, 4))
     for a in range(4):
         for k in range(2):
             xp, xm = x.copy(), x.copy()
             xp[a, k] += 1e-6
             xm[a, k] -= 1e-6
-            fd[k, a] = (A.ring_gradient(xp, scratch) - A.ring_gradient(xm, scratch)) / 2e-6
+            fd[k, a] = (_ring_volumes(xp, np.array([[0, 1, 2, 3]]))[0] - _ring_volumes(xm, np.array([[0, 1, 2, 3]]))[0]) / 2e-6
     np.testing.assert_allclose(g, fd, atol=1e-8)
     assert vol == pytest.approx(_ring_volumes(x, np.array([[0, 1, 2, 3]]))[0], rel=1e-15)
+    assert abs(_ring_block(x, np.tile([0.0, 3.0], (4, 1)))[2]) < 1e-14
+    assert _ring_block(x, np.column_stack([0.7 * x[:, 0], np.zeros(4)]))[2] == pytest.approx(1.4, rel=1e-12)
     assert abs(g[1].sum()) < 1e-14 * abs(g[1]).max()  # a translation along the axis keeps V
 
 

@@ -136,7 +136,8 @@ def noh_rz(n: int, t_end: float = 0.6, side: float = 1.0, axisymmetric: bool = T
     cold gas, at rest sound speed 0, hears only by the flow: R > side - t).
 
     Returns centroid radii R, mixture density, the exact density, meridian areas, ring (or plane)
-    volumes and the step count.
+    volumes, the step count, the centroids (E, 2) and the specific internal energy (exact: u0^2 / 2 = 0.5
+    behind the shock, 0 ahead of it).
     """
     mesh = box_mesh([0.0, 0.0], [side, side], divisions=[n, n])
     x, conn = mesh.nodes.copy(), mesh.elements
@@ -159,7 +160,7 @@ def noh_rz(n: int, t_end: float = 0.6, side: float = 1.0, axisymmetric: bool = T
     p = ale.x[conn]
     area = 0.5 * ((p[:, 2, 0] - p[:, 0, 0]) * (p[:, 3, 1] - p[:, 1, 1]) - (p[:, 2, 1] - p[:, 0, 1]) * (p[:, 3, 0] - p[:, 1, 0]))
     return dict(radius=rc, density=ale.mixture_density(), exact=exact, area=area, volume=ale.vol_m.sum(axis=1),
-                steps=ale.n_steps)
+                steps=ale.n_steps, centroid=c, energy=ale.ener_m.sum(axis=1) / ale.mass_m.sum(axis=1))
 
 
 def noh_l1(case: dict, r_min: float = 0.1, r_max: float = 0.4, weight: str = "area") -> float:

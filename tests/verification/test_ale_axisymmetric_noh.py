@@ -48,3 +48,41 @@ def test_noh_rz_converges_on_three_meshes():
     assert errors[0] > errors[1] > errors[2]
     assert math.log2(errors[1] / errors[2]) >= 0.5
     assert plateau > 0.6 * 64.0
+
+
+def _bands(case, h):
+    """(axis, off) masks: the two element columns next to the axis, and the elements more than 45 deg off it."""
+    r, z = case["centroid"][:, 0], case["centroid"][:, 1]
+    return r < 2.0 * h, np.arctan2(r, z) > 0.25 * math.pi
+
+
+def test_no_spurious_heating_on_the_axis():
+    """Issue 15: no spurious heating on the axis. Noh's sphere on 160^2 (about 5 s CPU): behind the shock the
+    exact specific internal energy is u0^2/2 = 0.5 everywhere; ahead of it 0 (cold gas, p = 0: compression does
+    no work). The elements next to the axis (two columns) against those more than 45 deg off it, at the same
+    spherical radius. Measured: plateau (0.08 < R < 0.17) e = 0.526 on the axis, 0.561 off it (ratio 0.938;
+    0.877 / 0.910 / 0.938 / 0.948 on 40^2 / 80^2 / 160^2 / 320^2, both tending to 0.5: 0.494 / 0.521 at 320^2);
+    inflow (0.25 < R < 0.45) e = 0.0051 on the axis, 0.0046 off it (the bulk viscosity's heating of the
+    converging flow, falling about 4 x per refinement: 0.0715 / 0.0051 / 0.0013 on the axis at 80^2 / 160^2 /
+    320^2). Asserted: the axis no hotter than off it by more than 5 % in the plateau, within 10 % of 0.5, and
+    its inflow heating under 2 % of 0.5.
+
+    Found on the way, not a heating: the inflow next to the axis is denser than the exact (1 + t/R)^2, by
+    +8.8 % at 160^2 and +8.9 % at 320^2 (8.40, 8.42 against 7.72, 7.73; off the axis 7.46, 7.44 against 7.45), a
+    layer of the two columns next to the axis that does not shrink relative to them with refinement: the
+    volume-weighted ring forces' known weakness in spherical flow on the axis (ale/axisymmetric.py docstring,
+    why the area-weighted form keeps spherical symmetry better). Asserted below 15 % (a guard, not a goal)."""
+    n = 160
+    case = noh_rz(n)
+    axis, off = _bands(case, 1.0 / n)
+    e, rad = case["energy"], case["radius"]
+    plateau = (rad > 0.08) & (rad < 0.17)
+    inflow = (rad > 0.25) & (rad < 0.45)
+    e_axis, e_off = e[plateau & axis].mean(), e[plateau & off].mean()
+    rho_axis = case["density"][inflow & axis].mean() / case["exact"][inflow & axis].mean()
+    print(f"plateau e axis {e_axis:.4f} off {e_off:.4f}; inflow e axis {e[inflow & axis].mean():.4f} "
+          f"off {e[inflow & off].mean():.4f}; inflow density on the axis / exact {rho_axis:.4f}")
+    assert e_axis < 1.05 * e_off
+    assert abs(e_axis / 0.5 - 1.0) < 0.1
+    assert e[inflow & axis].mean() < 0.02 * 0.5
+    assert rho_axis < 1.15

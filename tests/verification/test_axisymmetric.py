@@ -105,6 +105,7 @@ def test_thin_rod_bar_wave_speed(sim_from_deck):
     t1 = crossing_times(t, np.array(v1), 0.5, rising=True)[0]
     t2 = crossing_times(t, np.array(v2), 0.5, rising=True)[0]
     speed = 0.5 * cases.ROD_LENGTH / (t2 - t1)
+    print(f"front speed / sqrt(E/rho) - 1 = {speed / cases.C0 - 1.0:+.4f}, / P-wave speed - 1 = {speed / cases.CP - 1.0:+.4f}")
     assert abs(speed / cases.C0 - 1.0) < 0.02, (speed, cases.C0, cases.CP)
 
 
