@@ -196,8 +196,7 @@ def test_deck_particles_carry_ring_masses():
                    "particle near the implosion's centre reaches a negative density at step 84 (t = 0.306; rho -0.30, "
                    "e 1164, moving out at 3.9 m/s), its h becomes NaN and the step collapses ('no usable time step' "
                    "at t = 0.365). At f106440, which added this test, the run completes (327 steps) but a particle's "
-                   "density is already non-positive at step 132; the mass form's hoop term -rho_i v_r/r is additive, "
-                   "so one step can take rho below zero where v_r dt > r. The mass form stays Python-API only.")
+                   "density is already non-positive at step 132. Cause not found; the mass form stays Python-API only.")
 def test_noh_sphere_converges_with_the_mass_form():
     """Noh's sphere with the mass form of the continuity equation (drho_i/dt = sum_j rho_j A_j v_ij.grad W
     - rho_i v_r/r, sph/axisymmetric.py), dx = 0.04, 0.02, 0.01, t = 0.6. Measured (one thread, load ~7):
