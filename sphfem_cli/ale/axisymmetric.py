@@ -54,8 +54,8 @@ from numba import njit, prange
 
 from ..fem.geometry import QUAD_GAMMA
 from .force_lanes import (_CX_U, _CX_W, _CX_X, _CX_Y, _ST_AREA, _ST_B, _ST_BLOCK, _ST_C, _ST_GX, _ST_HQ, _ST_LONG2, _ST_M,
-                          _ST_P, _ST_ROWS, _ST_VMAX2, gas_block, gather_block, geometry_block, one_gas)
-from .lagrange import N_CHUNKS, RHO_VOID, _mixture_pressure, chunk_range, viscosity_and_step
+                          _ST_P, _ST_ROWS, _ST_VMAX2, gather_block, geometry_block, one_gas)
+from .lagrange import N_CHUNKS, chunk_range, state_block, viscosity_and_step
 from .ring_geometry import PI_3, ring_volume
 
 TWO_PI = 2.0 * math.pi
@@ -147,8 +147,8 @@ def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
     n_chunks = min(n_elem, N_CHUNKS)
     gas, gm1, gpinf = one_gas(mat_eos, mat_q, mat_rho0)
     # one gas: the (E, 1) state as flat (E,) views for gas_block (as lagrange.lagrange_forces)
-    vol1, mass1, ener1, lag1 = vol_m.reshape(-1), mass_m.reshape(-1), ener_m.reshape(-1), e_lag.reshape(-1)
-    pres1, bulk1, pscale1 = pres_m.reshape(-1), bulk_m.reshape(-1), pscale.reshape(-1)
+    flat = (vol_m.reshape(-1), mass_m.reshape(-1), ener_m.reshape(-1), e_lag.reshape(-1), pres_m.reshape(-1),
+            bulk_m.reshape(-1), pscale.reshape(-1))
     B = _ST_BLOCK
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, n_elem, n_chunks)
@@ -158,18 +158,8 @@ def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
         rg = np.empty(_RG_ROWS * B)
         for block in range(start, stop, B):
             nb = min(B, stop - block)
-            if gas:
-                end = block + nb
-                gas_block(nb, vol1[block:end], mass1[block:end], ener1[block:end], lag1[block:end], gm1, gpinf,
-                          mat_rho0[0], phi_eps, RHO_VOID, pscale1[block:end], pressure_cutoff, pres1[block:end],
-                          bulk1[block:end], st[_ST_P], st[_ST_C], st[_ST_M])
-            else:
-                for i in range(nb):
-                    p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
-                                                           mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
-                    st[_ST_P, i] = p_mix
-                    st[_ST_C, i] = c_max
-                    st[_ST_M, i] = mtot
+            state_block(block, nb, gas, gm1, gpinf, flat, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0,
+                        phi_eps, pscale, pressure_cutoff, pres_m, bulk_m, st[_ST_P], st[_ST_C], st[_ST_M])
             gather_block(conn, block, nb, x, v, cx)
             geometry_block(nb, cx, st_flat)
             ring_block(nb, cx, st_flat, rg)

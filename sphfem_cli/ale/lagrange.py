@@ -110,6 +110,29 @@ def _mixture_pressure(e, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0,
 
 
 @njit(cache=True, inline="always")
+def state_block(block, nb, gas, gm1, gpinf, flat, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, phi_eps,
+                pscale, pressure_cutoff, pres_m, bulk_m, st_p, st_c, st_m):
+    """The material-state pass of the force kernels over elements block .. block + nb - 1: each element's mixture
+    pressure, sound speed and mass into st_p, st_c, st_m [0, nb), and pres_m, bulk_m. Where the mesh holds one ideal
+    or stiffened gas (``gas``, ``force_lanes.one_gas``) ``force_lanes.gas_block`` on the block's slices of ``flat``
+    (the (E, 1) state as flat (E,) views: vol, mass, ener, e_lag, pres, bulk, pscale), else
+    ``_mixture_pressure`` element by element."""
+    if gas:
+        vol1, mass1, ener1, lag1, pres1, bulk1, pscale1 = flat
+        end = block + nb
+        gas_block(nb, vol1[block:end], mass1[block:end], ener1[block:end], lag1[block:end], gm1, gpinf,
+                  mat_rho0[0], phi_eps, RHO_VOID, pscale1[block:end], pressure_cutoff, pres1[block:end],
+                  bulk1[block:end], st_p, st_c, st_m)
+    else:
+        for i in range(nb):
+            p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
+                                                   mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
+            st_p[i] = p_mix
+            st_c[i] = c_max
+            st_m[i] = mtot
+
+
+@njit(cache=True, inline="always")
 def _quad_char_length(x, area):
     """``fem.geometry.quad4_char_length`` (area over the longest edge) with one square root: the
     longest edge is the root of the largest squared length (the rounded root is monotone, so the
@@ -247,8 +270,8 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, ma
     n_chunks = min(n_elem, N_CHUNKS)
     gas, gm1, gpinf = one_gas(mat_eos, mat_q, mat_rho0)
     # one gas: the (E, 1) state as flat (E,) views for gas_block
-    vol1, mass1, ener1, lag1 = vol_m.reshape(-1), mass_m.reshape(-1), ener_m.reshape(-1), e_lag.reshape(-1)
-    pres1, bulk1, pscale1 = pres_m.reshape(-1), bulk_m.reshape(-1), pscale.reshape(-1)
+    flat = (vol_m.reshape(-1), mass_m.reshape(-1), ener_m.reshape(-1), e_lag.reshape(-1), pres_m.reshape(-1),
+            bulk_m.reshape(-1), pscale.reshape(-1))
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, n_elem, n_chunks)
         # three passes over each block of the run, through its rows of st (the block's elements along each
@@ -259,18 +282,8 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, ma
         cx = np.empty(16 * _ST_BLOCK)
         for block in range(start, stop, _ST_BLOCK):
             nb = min(_ST_BLOCK, stop - block)
-            if gas:  # one ideal or stiffened gas: the same state, vectorised (ale/force_lanes.py)
-                end = block + nb
-                gas_block(nb, vol1[block:end], mass1[block:end], ener1[block:end], lag1[block:end], gm1, gpinf,
-                          mat_rho0[0], phi_eps, RHO_VOID, pscale1[block:end], pressure_cutoff, pres1[block:end],
-                          bulk1[block:end], st[_ST_P], st[_ST_C], st[_ST_M])
-            else:
-                for i in range(nb):
-                    p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
-                                                           mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
-                    st[_ST_P, i] = p_mix
-                    st[_ST_C, i] = c_max
-                    st[_ST_M, i] = mtot
+            state_block(block, nb, gas, gm1, gpinf, flat, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0,
+                        phi_eps, pscale, pressure_cutoff, pres_m, bulk_m, st[_ST_P], st[_ST_C], st[_ST_M])
             gather_block(conn, block, nb, x, v, cx)
             geometry_block(nb, cx, st_flat)
             viscosity_block(nb, st[_ST_P], st[_ST_C], st[_ST_M], st[_ST_AREA], st[_ST_TRACE], st[_ST_VMAX2],
@@ -320,8 +333,8 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
     n_elem = conn.shape[0]
     n_chunks = min(n_elem, N_CHUNKS)
     gas, gm1, gpinf = one_gas(mat_eos, mat_q, mat_rho0)
-    vol1, mass1, ener1, lag1 = vol_m.reshape(-1), mass_m.reshape(-1), ener_m.reshape(-1), e_lag.reshape(-1)
-    pres1, bulk1, pscale1 = pres_m.reshape(-1), bulk_m.reshape(-1), pscale.reshape(-1)
+    flat = (vol_m.reshape(-1), mass_m.reshape(-1), ener_m.reshape(-1), e_lag.reshape(-1), pres_m.reshape(-1),
+            bulk_m.reshape(-1), pscale.reshape(-1))
     B = _HX_BLOCK
     for chunk in prange(n_chunks):
         start, stop = chunk_range(chunk, n_elem, n_chunks)
@@ -333,18 +346,9 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
         for block in range(start, stop, B):
             nb = min(B, stop - block)
             end = block + nb
-            if gas:  # one ideal or stiffened gas (force_lanes.gas_block, vectorised)
-                gas_block(nb, vol1[block:end], mass1[block:end], ener1[block:end], lag1[block:end], gm1, gpinf,
-                          mat_rho0[0], phi_eps, RHO_VOID, pscale1[block:end], pressure_cutoff, pres1[block:end],
-                          bulk1[block:end], st[_HX_P * B:(_HX_P + 1) * B], st[_HX_C * B:(_HX_C + 1) * B],
-                          st[_HX_M * B:(_HX_M + 1) * B])
-            else:
-                for i in range(nb):
-                    p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
-                                                           mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
-                    st[_HX_P * B + i] = p_mix
-                    st[_HX_C * B + i] = c_max
-                    st[_HX_M * B + i] = mtot
+            state_block(block, nb, gas, gm1, gpinf, flat, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0,
+                        phi_eps, pscale, pressure_cutoff, pres_m, bulk_m, st[_HX_P * B:(_HX_P + 1) * B],
+                        st[_HX_C * B:(_HX_C + 1) * B], st[_HX_M * B:(_HX_M + 1) * B])
             gather_hex_block(conn, block, nb, x, v, cx)
             hex_geometry_block(nb, cx, st)
             hex_viscosity_block(nb, st, q1, q2, q_elem[block:end], dt_elem[block:end])
