@@ -32,6 +32,10 @@ at a tenth of drive and ambient pressure, all alpha 0: "cd0" contact damping 0, 
 switch {alpha_max 1, decay 0.1}; "hr15" the cubic spline at h/dx 1.5, "wc2a01c01" Wendland C2 at h/dx 2 at a tenth;
 "sb0hr15" boundary particles at h/dx 1.5, "hr15dp" / "hr15d05" h/dx 1.5 with the delta-plus form / delta 0.05, "d02" /
 "d01" the deck's kernel with delta 0.02 / 0.01 ("d05" and these also as a01c01 twins).
+The convex-corner candidates (section "Convex corners"), each with its "...a01c01" twin: "sbc" the sb0 deck with
+sph_boundary's corner_particles: once; "tt" / "ttc0" the av0 deck (penalty contact) with contact/truncation.py's
+corner correction at each particle's pressure / at the water's ambient C0, run through
+structure_in_water_corner_run.py (energy guard off for these: the correction's work is negative contact energy).
 `--corner-figure` draws the water's speed round the plate's end
 (structure_in_water_corner_flow.png) from cd0_r4_gap, cd0a01c01_r4_gap and ale_2.5_gap.
 Every variant records the x force of the contact / coupling on three bands of each face of the plate
@@ -63,19 +67,37 @@ SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0
                 "sb0hr15": {"smoothing_ratio": 1.5},
                 "hr15dp": {"smoothing_ratio": 1.5, "density_diffusion_form": "delta_plus"},
                 "hr15d05": {"smoothing_ratio": 1.5, "density_diffusion": 0.05},
-                "d02": {"density_diffusion": 0.02}, "d01": {"density_diffusion": 0.01},
+                "d02": {"density_diffusion": 0.02}, "d01": {"density_diffusion": 0.01}, "sbc": {}, "tt": {}, "ttc0": {},
                 "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
-CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3}}
-SPH_BOUNDARY = {"sb", "sb0", "sb0hr15"}  # boundary particles carried by the plate instead of the penalty contact
+CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
+           }
+# the deck's contact with contact/truncation.py's corner correction (section "Convex corners"), run through
+# structure_in_water_corner_run.py: "tt" with each particle's pressure, "ttc0" with the water's ambient C0 (1 MPa;
+# 0.1 MPa in the a01c01 twin)
+CORNER_CORRECTION = {"tt": "particle", "ttc0": "ambient"}
+SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc"}  # boundary particles carried by the plate instead of the penalty contact
+# issue 12's convex-corner candidates (section "Convex corners"): "sbc" the sb0 deck with the corner squares counted
+# once (sph_boundary corner_particles: once)
+BOUNDARY_OPTIONS = {"sbc": {"corner_particles": "once"}}
+# the energy guard off: at a tenth the corners-once run stopped at 0.70 ms on the guard against negative contact
+# energy (the boundary's share of the pair work -0.021 J, 10 % of the energy in play) with the energy ratio 1.0005
+# and the tangential-only form of "tt" stopped at step 100 (34 us) on the same guard (contact -0.078 J of 0.40 J in
+# play, energy ratio 1.0014): the corner correction's work is booked as contact energy and is negative
+ENERGY_GUARD_OFF = {"sbca01c01", "tt", "tta01c01", "ttc0", "ttc0a01c01"}
 AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
 LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: linear water, no kernel)
 # the drive's velocity scaled (2 -> 0.2 m/s: the linear limit); "a01c01" / "a03c03" scale the ambient pressure with it
 AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1}
 # the twins "<kind>a01c01" of these SPH kinds: the same change at a tenth of the drive and of the ambient pressure
-for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15", "sb0hr15", "hr15dp", "hr15d05", "d05", "d02", "d01"):
+for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15", "sb0hr15", "hr15dp", "hr15d05", "d05", "d02", "d01",
+              "sbc", "tt", "ttc0"):
     _twin = _kind + "a01c01"
     SPH_VARIANTS[_twin] = SPH_VARIANTS[_kind]
+    if _kind in BOUNDARY_OPTIONS:
+        BOUNDARY_OPTIONS[_twin] = BOUNDARY_OPTIONS[_kind]
+    if _kind in CORNER_CORRECTION:
+        CORNER_CORRECTION[_twin] = CORNER_CORRECTION[_kind]
     if _kind in CONTACT:
         CONTACT[_twin] = CONTACT[_kind]
     if _kind in SPH_BOUNDARY:
@@ -140,6 +162,8 @@ def variant(name: str) -> Path:
         if kind in AV_ALPHA:
             d["sections"]["sph"]["artificial_viscosity"]["alpha"] = AV_ALPHA[kind]
         d["sections"]["sph"].update(SPH_VARIANTS.get(kind, {}))
+        if kind in ENERGY_GUARD_OFF:
+            d["control"]["energy_band"] = None
         if kind == "xs05":  # XSPH moves particles by a velocity the contact's work is not booked against
             d["control"]["energy_band"] = None
         if kind == "ts":  # half the deck's time step (timestep_scale 0.9 -> 0.45)
@@ -149,7 +173,8 @@ def variant(name: str) -> Path:
         for contact in d["contacts"]:
             contact.update(CONTACT.get(kind, {}))
         if kind in SPH_BOUNDARY:  # boundary particles carried by the plate instead of the penalty contact
-            d["couplings"] = [{"type": "sph_boundary", "structure": "plate", "fluid": c["nodes"]} for c in d["contacts"]]
+            d["couplings"] = [{"type": "sph_boundary", "structure": "plate", "fluid": c["nodes"],
+                               **BOUNDARY_OPTIONS.get(kind, {})} for c in d["contacts"]]
             d["contacts"] = []
     WORK.mkdir(exist_ok=True)
     path = WORK / f"{name}.yaml"
@@ -160,7 +185,14 @@ def variant(name: str) -> Path:
 def run(name: str) -> None:
     deck = variant(name)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    subprocess.run(["sphfem", "run", str(deck), "-o", str(WORK / name), "-q", "--overwrite", "--threads", "1"],
+    kind = name.split("_")[0]
+    command = ["sphfem"]
+    if kind in CORNER_CORRECTION:
+        pressure = CORNER_CORRECTION[kind]
+        if pressure == "ambient":
+            pressure = str(yaml.safe_load(open(deck))["equations_of_state"]["water"]["c0"])
+        command = [sys.executable, str(ROOT / "docs/studies/structure_in_water_corner_run.py"), pressure]
+    subprocess.run([*command, "run", str(deck), "-o", str(WORK / name), "-q", "--overwrite", "--threads", "1"],
                    check=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime

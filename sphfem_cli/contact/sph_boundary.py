@@ -13,7 +13,9 @@ of n is not in v_w), its
 pressure is extrapolated from the fluid on its face's side (``sph.structure_walls.wall_state``,
 Adami et al. 2012 with g - a_w), and the pair terms with that fluid are added to the particles'
 rates (``wall_pairs``): the forces to ``f_ext``, the continuity and energy terms to ``drho`` and
-``de``. The reaction on each boundary particle goes to its face's nodes with weights 1 - s and s,
+``de``. With ``corner_particles: once`` a particle that coincides with particles of other faces (behind a convex
+corner, where two faces' layers overlap) counts 1 / k for a fluid point that sees k of them
+(``structure_walls``). The reaction on each boundary particle goes to its face's nodes with weights 1 - s and s,
 so fluid + structure momentum is conserved to round-off.
 
 Energy: the fluid's internal-energy gain from the wall pairs, q = sum_i m_i de_i (``wall_pairs``), is
@@ -69,6 +71,7 @@ class SphBoundaryCoupling:
         self.seg = np.asarray(seg, dtype=np.int64)
         self.s = np.asarray(s, dtype=np.float64)
         self.depth = np.asarray(depth, dtype=np.float64)
+        self.twins = self._coincident(x0) if spec.corner_particles == "once" else np.full((len(self.seg), 1), -1)
         self.ws = np.zeros((len(self.seg), sw.NW))
         self.ws[:, sw.W_M] = mass
         self.ws[:, sw.W_H] = ratio * dx
@@ -83,6 +86,22 @@ class SphBoundaryCoupling:
         self._v_start = None
         x0 = np.asarray(model.coordinates, dtype=np.float64)
         self.place(x0, np.zeros_like(x0), np.zeros_like(x0))
+
+    def _coincident(self, x0: np.ndarray) -> np.ndarray:
+        """(Nw, K) int64: for every particle the particles of other faces within dx / 4 of it at the start (the
+        squares where two faces' layers overlap behind a convex corner), -1 padded; K >= 1."""
+        ia, ib = self.faces[self.seg, 0], self.faces[self.seg, 1]
+        t = x0[ib] - x0[ia]
+        normal = np.stack([t[:, 1], -t[:, 0]], axis=1) / np.linalg.norm(t, axis=1)[:, None]
+        s = self.s[:, None]
+        pos = (1.0 - s) * x0[ia] + s * x0[ib] - self.depth[:, None] * normal
+        from scipy.spatial import cKDTree
+        near = cKDTree(pos).query_ball_point(pos, 0.25 * self.spacing) if len(pos) else []
+        others = [[o for o in near[w] if self.seg[o] != self.seg[w]] for w in range(len(pos))]
+        twins = np.full((len(pos), max([1, *map(len, others)])), -1, dtype=np.int64)
+        for w, row in enumerate(others):
+            twins[w, : len(row)] = sorted(row)
+        return twins
 
     # ------------------------------------------------------------------ particles from nodes
 
@@ -138,7 +157,7 @@ class SphBoundaryCoupling:
             args = (pts["sx"], pts["sd"], mine)
             sw.wall_state(self.ws, self.material, *args, pts["cell_start"], ps.settings_f, ps.settings_i,
                           pts["grid_f"], pts["grid_i"], ps.params)
-            self._power = sw.wall_pairs(self.ws, self.slip, *args, pts["perm"], pts["cell_start"], ps.settings_f,
+            self._power = sw.wall_pairs(self.ws, self.twins, self.slip, *args, pts["perm"], pts["cell_start"], ps.settings_f,
                                         ps.settings_i, pts["grid_f"], pts["grid_i"], self.f_fluid, ps.drho, ps.de,
                                         self.f_wall)
         ps.f_ext += self.f_fluid

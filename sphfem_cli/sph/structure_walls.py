@@ -10,6 +10,14 @@ projection on the face) sees only fluid particles f with (x_f - x_fw) . n_w > 0,
 than the kernel support carries on each face the pressure of the water on that face, and the
 layers of one face may lie beyond the other face.
 
+Convex corners: where two faces meet at a convex vertex their layers overlap in a square behind the corner,
+so a fluid point in both faces' half-planes (the quadrant diagonal to the corner) would see that square twice:
+on a lattice at h/dx 1.2 its kernel sum sum_j V_j grad W_ij is then 0.099 / dx per axis towards the corner
+(0 where the solid is counted once), and a uniform pressure pushes it out of the corner as hard as the truncated
+kernel pushes it in without any wall (F_i = -(2 p / rho) m_i sum_j V_j grad W_ij). ``twins[w]`` lists the
+particles of other faces that coincide with w (``contact/sph_boundary.py`` finds them); a fluid point that sees
+k of a group weighs each by 1 / k, so the corner's solid counts once (``twins`` all -1: every particle counts).
+
 Equations: docs/theory/coupling.md ("SPH boundary particles on a structure").
 """
 from __future__ import annotations
@@ -106,8 +114,8 @@ def wall_state(ws, mat, sx, sd, mine, cell_start, settings_f, settings_i, grid_f
 
 
 @njit(cache=True, fastmath=False, error_model="numpy")
-def wall_pairs(ws, slip, sx, sd, mine, perm, cell_start, settings_f, settings_i, grid_f, grid_i, f_fluid, drho, de,
-               f_wall):
+def wall_pairs(ws, twins, slip, sx, sd, mine, perm, cell_start, settings_f, settings_i, grid_f, grid_i, f_fluid, drho,
+               de, f_wall):
     """The pair terms between every boundary particle w and the fluid on its face's side.
 
     For fluid point i within 2 h_iw on w's face's side, of the coupled part (``mine[slot]``) (grad_i W_iw = F_iw (x_i - x_w), v_iw = v_i - v_w, Pi_iw the
@@ -119,7 +127,8 @@ def wall_pairs(ws, slip, sx, sd, mine, perm, cell_start, settings_f, settings_i,
       de_i    += 1/2 m_w (p_i/rho_i^2 + p_w/rho_w^2 + Pi_iw) v_iw . grad_i W_iw
 
     (the fluid's half of the pair work, as for fixed dummy walls in ``fluid_rates``), and the
-    reaction -F_i on the boundary particle (added to f_wall[w]), so the pair forces cancel. Serial
+    reaction -F_i on the boundary particle (added to f_wall[w]), so the pair forces cancel. m_w is
+    weighed by 1 / k where i sees k of w's coincident group (w and its ``twins[w]``; 1 without twins). Serial
     over the boundary particles: each fluid row is written by every particle near it.
 
     Returns the fluid's internal power sum_i m_i (its de increments), the energy table's share.
@@ -157,6 +166,12 @@ def wall_pairs(ws, slip, sx, sd, mine, perm, cell_start, settings_f, settings_i,
                     r2 = dx * dx + dy * dy + dz * dz
                     if r2 >= 4.0 * hij * hij or r2 == 0.0:
                         continue
+                    seen = 1
+                    for t in range(twins.shape[1]):  # coincident particles of other faces that i also sees
+                        o = twins[w, t]
+                        if o >= 0 and _on_side(ws, o, sx[0, k], sx[1, k], sx[2, k]):
+                            seen += 1
+                    mwk = mw / seen
                     f = kernel_f(kernel, dim, math.sqrt(r2), hij)
                     gx, gy, gz = f * dx, f * dy, f * dz
                     du, dv, dw = sd[D_VX, k] - uw, sd[D_VY, k] - vw, sd[D_VZ, k] - ww
@@ -176,7 +191,7 @@ def wall_pairs(ws, slip, sx, sd, mine, perm, cell_start, settings_f, settings_i,
                     s = sd[D_PR, k] + sw + pi_iw
                     i = perm[k]
                     mi = sd[D_VOL, k] * rhoi
-                    c = mi * mw * s
+                    c = mi * mwk * s
                     f_fluid[i, 0] -= c * gx
                     fx += c * gx
                     if dim > 1:
@@ -185,8 +200,8 @@ def wall_pairs(ws, slip, sx, sd, mine, perm, cell_start, settings_f, settings_i,
                     if dim > 2:
                         f_fluid[i, 2] -= c * gz
                         fz += c * gz
-                    drho[i] += (mw if mform else rhoi * volw) * vdotg
-                    dei = 0.5 * mw * s * vdotg
+                    drho[i] += (mwk if mform else rhoi * volw / seen) * vdotg
+                    dei = 0.5 * mwk * s * vdotg
                     de[i] += dei
                     power += mi * dei
         f_wall[w, 0] += fx

@@ -101,6 +101,14 @@ class SphBoundary(DeckModel):
         "(g - a_w) . sum rho_f r_wf W) / sum W. Off by default: on the paper's section 4.1 plate (4 x 60 "
         "elements, dx 5 mm) the nodes' step-to-step accelerations made the run blow up within 23 steps; "
         "off, a_w = 0 and only gravity enters."))
+    corner_particles: Literal["per_face", "once"] = Field("per_face", description=(
+        "Behind a convex corner the layers of the two faces overlap (a square of layers x layers particles that "
+        "coincide). per_face: every particle counts for the fluid on its face's side, so the fluid diagonal to the "
+        "corner, on both sides, sees the square twice and a uniform pressure pushes it out of the corner. once: "
+        "a fluid point that sees k coincident particles (within dx / 4 at the start) weighs each by 1 / k, so "
+        "the kernel sum with the boundary is complete there too (a uniform pressure exerts no net force on a "
+        "lattice). Default per_face (measured on the paper's section 4.1 plate: "
+        "docs/studies/structure_in_water.md, \"Convex corners\")."))
 
 
 Contact = Annotated[Union[NodesToSurface], Field(discriminator="type")]
