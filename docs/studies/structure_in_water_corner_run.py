@@ -1,4 +1,4 @@
-"""`sphfem` with contact/truncation.py's corner correction on every SPH-slave nodes_to_surface contact (issue 12,
+"""`sphfem` with structure_in_water_corner_truncation.py's corner correction on every SPH-slave nodes_to_surface contact (issue 12,
 docs/studies/structure_in_water.md, "Convex corners"; used by structure_in_water_gap.py's kinds tt and ttc0).
 
     python docs/studies/structure_in_water_corner_run.py PRESSURE run DECK -o OUT ...
@@ -13,7 +13,7 @@ import sys
 import numpy as np
 
 from sphfem_cli.contact import system as contact_system
-from sphfem_cli.contact.truncation import add_corner_correction
+from structure_in_water_corner_truncation import add_corner_correction  # beside this script
 from sphfem_cli.sph.slots import SI_KERNEL
 
 PRESSURE = None if sys.argv[1] == "particle" else float(sys.argv[1])

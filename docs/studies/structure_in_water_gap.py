@@ -33,7 +33,7 @@ switch {alpha_max 1, decay 0.1}; "hr15" the cubic spline at h/dx 1.5, "wc2a01c01
 "sb0hr15" boundary particles at h/dx 1.5, "hr15dp" / "hr15d05" h/dx 1.5 with the delta-plus form / delta 0.05, "d02" /
 "d01" the deck's kernel with delta 0.02 / 0.01 ("d05" and these also as a01c01 twins).
 The convex-corner candidates (section "Convex corners"), each with its "...a01c01" twin: "sbc" the sb0 deck with
-sph_boundary's corner_particles: once; "tt" / "ttc0" the av0 deck (penalty contact) with contact/truncation.py's
+sph_boundary's corner_particles: once; "tt" / "ttc0" the av0 deck (penalty contact) with structure_in_water_corner_truncation.py's
 corner correction at each particle's pressure / at the water's ambient C0, run through
 structure_in_water_corner_run.py (energy guard off for these: the correction's work is negative contact energy).
 `--corner-figure` draws the water's speed round the plate's end
@@ -72,7 +72,7 @@ SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
 CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
            }
-# the deck's contact with contact/truncation.py's corner correction (section "Convex corners"), run through
+# the deck's contact with structure_in_water_corner_truncation.py's corner correction (section "Convex corners"), run through
 # structure_in_water_corner_run.py: "tt" with each particle's pressure, "ttc0" with the water's ambient C0 (1 MPa;
 # 0.1 MPa in the a01c01 twin)
 CORNER_CORRECTION = {"tt": "particle", "ttc0": "ambient"}

@@ -1,4 +1,4 @@
-"""contact/truncation.py: the truncated kernel's uniform-pressure force at a structure's corners made a flat face's.
+"""docs/studies/structure_in_water_corner_truncation.py (issue 12, measured, not adopted): the truncated kernel's uniform-pressure force at a structure's corners made a flat face's.
 
 A 10 x 40 mm rectangle (four convex corners) in a lattice of water (dx 2.5 mm, cubic spline h/dx 1.2) at a uniform
 1 MPa:
@@ -11,9 +11,19 @@ A 10 x 40 mm rectangle (four convex corners) in a lattice of water (dx 2.5 mm, c
 """
 from __future__ import annotations
 
+import importlib.util
+from pathlib import Path
+
 import numpy as np
 
-from sphfem_cli.contact.truncation import _GAUSS_W, _GAUSS_X, corner_correction, flat_integral, surface_integral
+_SPEC = importlib.util.spec_from_file_location(
+    "structure_in_water_corner_truncation",
+    Path(__file__).resolve().parents[2] / "docs" / "studies" / "structure_in_water_corner_truncation.py")
+truncation = importlib.util.module_from_spec(_SPEC)
+_SPEC.loader.exec_module(truncation)
+_GAUSS_W, _GAUSS_X = truncation._GAUSS_W, truncation._GAUSS_X
+corner_correction, flat_integral, surface_integral = (truncation.corner_correction, truncation.flat_integral,
+                                                      truncation.surface_integral)
 from sphfem_cli.sph.kernel_functions import CUBIC_SPLINE, kernel_f
 
 DX, RHO, P = 0.0025, 1000.0, 1.0e6
@@ -103,7 +113,7 @@ def test_free_plate_momentum_with_the_correction(tmp_path, monkeypatch):
     the particles and their reactions on the plate's nodes conserve fluid + plate momentum to round-off (the plate
     is free, no walls, no gravity) over 30 steps, and it acted."""
     from sphfem_cli.contact import system as contact_system
-    from sphfem_cli.contact.truncation import add_corner_correction
+    add_corner_correction = truncation.add_corner_correction
     from sphfem_cli.driver import load_model
     from sphfem_cli.solver.explicit import Simulation
     from sphfem_cli.sph.slots import SI_KERNEL

@@ -1,4 +1,5 @@
-"""The truncated kernel's uniform-pressure force at a structure's corners, made that of a flat face (2D).
+"""Study code (issue 12, docs/studies/structure_in_water.md "Convex corners"; not in the package): the truncated kernel's
+uniform-pressure force at a structure's corners, made that of a flat face (2D).
 
 Measuring code for issue 12 (no deck option: measured to put energy into the model, see below), applied to an
 SPH-slave penalty contact by docs/studies/structure_in_water_corner_run.py. SPH's symmetric pressure
@@ -42,7 +43,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..sph.kernel_functions import kernel_w
+from sphfem_cli.sph.kernel_functions import kernel_w
 
 
 @njit(cache=True)
