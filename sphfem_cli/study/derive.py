@@ -386,7 +386,8 @@ def _boundaries(out: dict, info: AleInfo, section: str, dx: float) -> None:
     out["boundaries"] = kept
     if transmit:
         # Deactivate particles leaving through transmitting sides; elsewhere leave room for the walls, and
-        # beyond a non_reflecting side (which moves with the water and deletes nothing) the tank's own extent
+        # beyond a non_reflecting side, which moves with the water by its displacement there and deletes
+        # nothing, the tank's own extent (a bound that only a runaway particle reaches)
         nonref = {s for sides, _ in open_sides for s in sides}
         dlo, dhi = list(lo), list(hi)
         for side, (axis, which) in _FACES.items():
