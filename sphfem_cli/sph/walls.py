@@ -3,8 +3,8 @@ no-slip friction of the ghosts and the wall-function shear of slip walls.
 
 Ghosts (``count_ghosts``, ``fill_ghosts``, ``make_ghosts``): one image of a particle per valid
 subset of the planes it is near, mirrored about a wall's plane (Marrone et al. 2011, fixed ghost
-particles), offset by twice its initial distance across a non-reflecting open side (``sph/open_sides.py``). Dummy walls
-(``wall_pressure``): Adami et al. (2012). ``ghost_friction``: the no-slip correction of the
+particles), offset by twice its initial distance across a non-reflecting open side
+(``sph/open_sides.py``). Dummy walls (``wall_pressure``): Adami et al. (2012). ``ghost_friction``: the no-slip correction of the
 artificial viscosity. ``wall_shear``: the log-law wall shear on the first particle layer of a
 ``wall_function`` wall. Point layout and cell search: ``sph/search.py``; equations:
 docs/theory/sph.md ("Boundaries").
