@@ -1,8 +1,23 @@
-"""Non-reflecting open sides of an SPH fluid: the state of their ghost particles and the work they do.
+"""Non-reflecting open sides of an SPH fluid: where their ghost images lie, their state and the work they do.
 
-An open side is a plane x[axis] = position (``walls.Wall`` with condition "non_reflecting"). Its
-ghosts are the mirror images of the particles within the kernel support of it (``walls.make_ghosts``,
-the machinery of the ghost walls, corner images included), with
+An open side is a plane x[axis] = position (``walls.Wall`` with condition "non_reflecting", side s = +1
+when the fluid lies above). Its ghosts are images of the particles that start within the kernel support
+of it (``walls.make_ghosts``, the machinery of the ghost walls, corner images included), placed so that
+they move with their particle:
+
+      x_g = x_i - 2 s d0_i e_axis,      d0_i = s (x_i(0) - position)
+
+d0_i the particle's distance from the side at t = 0 (``initial_distances``; kept per particle, reordered
+and checkpointed with it). At t = 0 that is the mirror image about the plane; afterwards the image keeps
+its offset from its particle, so the layer of images is a rigid copy of the boundary layer of fluid,
+moving with it: the side moves with the water, and no particle crosses it or is deleted. (An image
+mirrored about the fixed plane would not: a particle streaming out closes on its own image, 2 d apart,
+although the image carries the particle's velocity; the lattice across the side is then no continuation
+of the fluid's, the symmetric pressure sum no longer cancels a uniform pressure there, and a strong
+wave comes back: +17.5 % of a 30 MPa plane pulse at 400 particles per metre, growing with the
+resolution, against -5.6 % with these images; docs/studies/underwater_explosion.md "3a.".) At a corner
+of an open side and a wall the image is mirrored across the wall and offset across the side; at a
+corner of two open sides it is offset across both. The images carry
 
 * the velocity of their source particle, copied (not mirrored: ``walls.fill_ghosts``), a
   zero-gradient extrapolation of the velocity through the side;
@@ -19,19 +34,25 @@ the machinery of the ghost walls, corner images included), with
   of Lysmer & Kuhlemeyer (1969), p' = rho c u_n; with it the first-order condition of Bayliss &
   Turkel (1980) for the outgoing spherical / cylindrical wave, as on the ALE solver's
   ``non_reflecting`` sides (docs/theory/ale.md). The density of the ghost is rho_i + (p_g - p_i)/c_i^2.
+  Which ghosts are open is told by the subset of planes each is the image across (``gsub``), not by
+  where it lies.
 
 Why it does not reflect (docs/theory/sph.md, "Non-reflecting open sides"): in linear acoustics on
 a uniform lattice the SPH momentum and continuity sums apply the same difference operator to p and
 u, so the incoming characteristic p' - Z u_n obeys a closed equation; ghosts on which it is 0
 (the condition above) feed none into the fluid, whatever the outgoing one does there. The buffer of
 ghosts is the characteristic buffer of Lastiwka, Basa & Quinlan (2009, IJNMF 61:709), with the
-incoming Riemann invariant taken from the far field and the velocity extrapolated from the fluid.
+incoming Riemann invariant taken from the far field and the velocity extrapolated from the fluid;
+here the buffer's particles are the images of a fixed set of fluid particles instead of particles
+created and deleted.
 
-Particles crossing an open side leave the fluid (``SphSystem`` deactivates them: the side bounds
-the domain). No particle enters: where the fluid flows inwards it recedes from the side, and its
-images then lie 2 d from it (d the gap), so a gap of more than a fraction of the spacing
-makes the side progressively a free surface (in decks/underwater_explosion_sph.yaml the mean gap
-stays 1.0-1.6 mm, dx 2.5 mm, to 1.3 ms; docs/theory/sph.md).
+What bounds the fluid: nothing at an open side; it drifts with the water's displacement there (in
+decks/underwater_explosion_sph.yaml about 12-15 mm by 1.3 ms, dx 2.5 mm). A section's ``domain``
+still deactivates particles outside it. For that reason an open side suits waves and transients, not
+a steady current through it: its layer of images would be carried away with the current (an outlet or
+inlet needs buffer layers whose particles are created and deleted, Lastiwka et al. 2009, Tafuni et al.
+2018; not modelled). Where the water recedes from a side the image layer follows it (the side never
+turns into a free surface).
 """
 from __future__ import annotations
 
@@ -48,39 +69,40 @@ from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF
 
 
 @njit(cache=True)
-def open_ghost_state(x, p, rho, c, p_far, impulse, gpos, gvel, gsrc, gdp, gdr, planes, k_wave, gravity,
+def open_ghost_state(x, p, rho, c, p_far, impulse, gpos, gvel, gsrc, gsub, gdp, gdr, planes, k_wave, gravity,
                      pressure_cutoff, is_open):
-    """Pressure and density offsets (``gdp``, ``gdr``) of the ghosts beyond an open side (module docstring).
+    """Pressure and density offsets (``gdp``, ``gdr``) of the ghosts across an open side (module docstring).
 
     ``planes`` (nw, 7): axis, position, side (+1 fluid above), condition code, source point (3, NaN for
-    none: plane waves); the ghost g of particle i = gsrc[g] is an open ghost when it lies beyond a plane
-    of code ``PLANE_OPEN`` (with a source when one of those planes has one). ``k_wave``: k of the
-    Bayliss-Turkel term. The ghost pressure is held at ``pressure_cutoff`` or above, as the fluid's.
-    Writes ``is_open[g]``.
+    none: plane waves); the ghost g of particle i = gsrc[g] is an open ghost when the subset of planes it
+    is the image across (``gsub[g]``, bit w for plane w: ``walls.fill_ghosts``) holds a plane of code
+    ``PLANE_OPEN`` (with a source when one of those planes has one). Where the image lies does not decide
+    it: the side moves with the water, and an image may lie on the fluid's side of the side's plane at
+    t = 0. ``k_wave``: k of the Bayliss-Turkel term. The ghost pressure is held at ``pressure_cutoff`` or
+    above, as the fluid's. Writes ``is_open[g]``.
     """
     dim = x.shape[1]
     for g in range(gsrc.shape[0]):
         n0 = n1 = n2 = 0.0
-        beyond = False
+        across = False
         spherical = False
         s0 = s1 = s2 = 0.0
         for w in range(planes.shape[0]):
-            if planes[w, 3] != PLANE_OPEN:
+            if planes[w, 3] != PLANE_OPEN or not (gsub[g] >> w) & 1:
                 continue
             ax = int(planes[w, 0])
-            if planes[w, 2] * (gpos[g, ax] - planes[w, 1]) < 0.0:
-                beyond = True  # outward normal: -side along the axis
-                if not math.isnan(planes[w, 4]):
-                    spherical = True
-                    s0, s1, s2 = planes[w, 4], planes[w, 5], planes[w, 6]
-                if ax == 0:
-                    n0 -= planes[w, 2]
-                elif ax == 1:
-                    n1 -= planes[w, 2]
-                else:
-                    n2 -= planes[w, 2]
-        is_open[g] = beyond
-        if not beyond:
+            across = True  # outward normal: -side along the axis
+            if not math.isnan(planes[w, 4]):
+                spherical = True
+                s0, s1, s2 = planes[w, 4], planes[w, 5], planes[w, 6]
+            if ax == 0:
+                n0 -= planes[w, 2]
+            elif ax == 1:
+                n1 -= planes[w, 2]
+            else:
+                n2 -= planes[w, 2]
+        is_open[g] = across
+        if not across:
             continue
         i = gsrc[g]
         pf = p_far[i]
@@ -188,18 +210,20 @@ def ghost_planes(walls, dim: int) -> np.ndarray:
     return np.array(rows, dtype=np.float64).reshape(-1, 7)
 
 
-def domain_bounds(domain, open_planes: np.ndarray, dim: int) -> tuple[np.ndarray, np.ndarray, bool]:
-    """(lo, hi, used) of the box outside which particles are deactivated: ``domain`` ((lo, hi) or None)
-    cut by the open sides (a particle crossing one leaves), unbounded where neither bounds it."""
-    if domain is None and not len(open_planes):
-        return np.zeros(dim), np.zeros(dim), False
-    if domain is not None:
-        lo, hi = (np.array(b, dtype=np.float64).reshape(dim) for b in domain)
-    else:
-        lo, hi = np.full(dim, -np.inf), np.full(dim, np.inf)
-    for ax, pos, side in open_planes[:, :3]:
-        if side > 0:
-            lo[int(ax)] = max(lo[int(ax)], pos)
-        else:
-            hi[int(ax)] = min(hi[int(ax)], pos)
-    return lo, hi, True
+def initial_distances(x: np.ndarray, planes: np.ndarray) -> np.ndarray:
+    """d0 (N, nw): each particle's distance side_w (x[axis_w] - position_w) from each ghost plane at t = 0,
+    the offset of its images across the open sides (module docstring); (N, 0) when no plane is open (the
+    walls' images do not need it). A particle that starts beyond an open side is refused (ValueError):
+    its image would lie on the fluid's side."""
+    open_rows = planes[:, 3] == PLANE_OPEN
+    if not open_rows.any():
+        return np.zeros((len(x), 0))
+    d0 = np.empty((len(x), len(planes)))
+    for w, (ax, pos, side) in enumerate(planes[:, :3]):
+        d0[:, w] = side * (x[:, int(ax)] - pos)
+    outside = (d0[:, open_rows] < 0.0).any(axis=1)
+    if outside.any():
+        i = int(np.flatnonzero(outside)[0])
+        raise ValueError(f"{int(outside.sum())} particles start beyond a non_reflecting side (the first at "
+                         f"{x[i].tolist()}): an open side's images need the fluid on its inner side")
+    return d0

@@ -123,7 +123,7 @@ class SphSystem:
             g = np.asarray(opt.gravity, dtype=np.float64).reshape(-1)
             self.gravity[: len(g)] = g
         # ghost planes (walls.make_ghosts; open_sides.ghost_planes); self.walls: the walls among them, which
-        # mirror back the particles that cross them; the open sides bound the domain
+        # mirror back the particles that cross them; the open sides move with the water and delete nothing
         self._planes = open_sides.ghost_planes(opt.walls, dim)
         is_open = self._planes[:, 3] == sl.PLANE_OPEN
         self.walls = np.ascontiguousarray(self._planes[~is_open, :4])
@@ -135,9 +135,15 @@ class SphSystem:
         for s in range(1, nsub):
             axes = [int(self._planes[w, 0]) for w in range(len(self._planes)) if s >> w & 1]
             self._valid[s] = len(axes) == len(set(axes))
-        self._dom_lo, self._dom_hi, self._use_domain = open_sides.domain_bounds(opt.domain, self._open_planes, dim)
-        # open sides: each particle's far pressure (its pressure at the first evaluation) and the impulse
-        # int (p - p_far) dt of the Bayliss-Turkel term (sph.open_sides); the power of their ghosts
+        # the domain box (particles leaving it are deactivated): the section's, if any
+        self._use_domain = opt.domain is not None
+        self._dom_lo, self._dom_hi = ((np.array(b, dtype=np.float64).reshape(dim) for b in opt.domain)
+                                      if self._use_domain else (np.zeros(dim), np.zeros(dim)))
+        # open sides: each particle's distance from each ghost plane at t = 0 (N, planes; read for the open
+        # sides only, whose images it places: sph.open_sides; (N, 0) without open sides), its far pressure
+        # (its pressure at the first evaluation) and the impulse int (p - p_far) dt of the Bayliss-Turkel
+        # term; the power of their ghosts
+        self.open_d0 = open_sides.initial_distances(self.x, self._planes)
         self.p_far = np.zeros(n)
         self.impulse = np.zeros(n)
         self.open_power = np.zeros(n)
@@ -163,7 +169,7 @@ class SphSystem:
 
         self._wall_hmax = float(self.wall_h.max()) if len(self.wall_h) else 0.0
         self._no_ghosts = (np.zeros((0, 3)), np.zeros((0, 3)), np.zeros((0, 3)), np.zeros(0, dtype=np.int64),
-                           np.zeros(0), np.zeros(0))
+                           np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0))
         self._no_flips = np.ones((1, 3))
         self._no_stress = np.zeros((1, 6))
         self.viscous = bool(np.any(self.params[:, ms.P_VISCOSITY] > 0.0) or opt.dilatational_viscosity > 0.0)
@@ -285,8 +291,8 @@ class SphSystem:
         if np.array_equal(order, np.arange(self.n)):
             return
         for name in ("x", "v", "v_half", "m", "rho", "rho_half", "e", "e_half", "mat", "active", "ids",
-                     "h", "p", "c", "acc", "drho", "de", "xsph", "f_ext", "p_far", "impulse", "open_power",
-                     "alpha", "alpha_half", "dalpha", "conv"):
+                     "h", "p", "c", "acc", "drho", "de", "xsph", "f_ext", "p_far", "impulse", "open_d0",
+                     "open_power", "alpha", "alpha_half", "dalpha", "conv"):
             arr = getattr(self, name)
             arr[...] = arr[order]  # in place: references held by callers stay valid
 
@@ -302,15 +308,15 @@ class SphSystem:
         if len(self.wall_h):
             hmax = max(hmax, self._wall_hmax)
         if len(self._planes):
-            gpos, gvel, gflip, gsrc, gdp, gdr = walls.make_ghosts(
-                self.x, self.v, self.rho, self.c, self.active, self._planes, self._valid, 2.0 * hmax, self.gravity,
-                bool(opt.ghost_hydrostatic))
+            gpos, gvel, gflip, gsrc, gsub, gdp, gdr = walls.make_ghosts(
+                self.x, self.v, self.rho, self.c, self.open_d0, self.active, self._planes, self._valid, 2.0 * hmax,
+                self.gravity, bool(opt.ghost_hydrostatic))
         else:
-            gpos, gvel, gflip, gsrc, gdp, gdr = self._no_ghosts
+            gpos, gvel, gflip, gsrc, gsub, gdp, gdr = self._no_ghosts
         ghost_open = np.zeros(len(gsrc), dtype=np.bool_)
         if len(self._open_planes):
             open_sides.open_ghost_state(self.x, self.p, self.rho, self.c, self.p_far, self.impulse, gpos, gvel, gsrc,
-                                        gdp, gdr, self._planes, self._k_wave, self.gravity,
+                                        gsub, gdp, gdr, self._planes, self._k_wave, self.gravity,
                                         float(opt.pressure_cutoff), ghost_open)
         if self.axisymmetric:  # the ghosts' source radius, read by sph.axisymmetric (third column unused in 2D)
             gvel[:, 2] = self.x[gsrc, 0]

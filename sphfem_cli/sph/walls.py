@@ -1,9 +1,10 @@
 """SPH walls: ghost (mirror) particles of planar walls, the pressure of dummy wall particles, the
 no-slip friction of the ghosts and the wall-function shear of slip walls.
 
-Ghosts (``count_ghosts``, ``fill_ghosts``, ``make_ghosts``): one mirror image of a particle per
-valid subset of the walls it is near (Marrone et al. 2011, fixed ghost particles). Dummy walls
-(``wall_pressure``): Adami et al. (2012). ``ghost_friction``: the no-slip correction of the
+Ghosts (``count_ghosts``, ``fill_ghosts``, ``make_ghosts``): one image of a particle per valid
+subset of the planes it is near, mirrored about a wall's plane (Marrone et al. 2011, fixed ghost
+particles), offset by twice its initial distance across a non-reflecting open side
+(``sph/open_sides.py``). Dummy walls (``wall_pressure``): Adami et al. (2012). ``ghost_friction``: the no-slip correction of the
 artificial viscosity. ``wall_shear``: the log-law wall shear on the first particle layer of a
 ``wall_function`` wall. Point layout and cell search: ``sph/search.py``; equations:
 docs/theory/sph.md ("Boundaries").
@@ -37,9 +38,10 @@ class Wall:
     -1 when it lies below (a right wall, a ceiling). ``condition``: "slip" mirrors the normal
     velocity only; "no_slip" reverses the whole velocity (wall at rest); "wall_function" has slip
     ghosts and the smooth-wall law's shear on the first particle layer (``walls.wall_shear``);
-    "non_reflecting" is no wall but an open side: particles crossing it leave the fluid, its ghosts
-    carry the impedance condition's pressure (``sph.open_sides``), for waves from ``source`` (a point,
-    the centre of a spherical / cylindrical wave) or, without one, plane waves at normal incidence.
+    "non_reflecting" is no wall but an open side: its ghosts are images that move with their particles
+    (the side moves with the water; no particle is deleted) and carry the impedance condition's pressure
+    (``sph.open_sides``), for waves from ``source`` (a point, the centre of a spherical / cylindrical
+    wave) or, without one, plane waves at normal incidence.
     """
 
     axis: int
@@ -75,28 +77,35 @@ def box_walls(lo: Sequence[float], hi: Sequence[float], sides: Sequence[str], co
 
 
 @njit(cache=True)
-def _near_mask(x, i, walls, reach):
+def _near_mask(x, d0, i, walls, reach):
+    """Bit w set when particle i is near plane w: its distance 0 <= d < reach, d the distance now for a
+    wall, the distance at t = 0 (``d0[i, w]``) for an open side (its image layer is the particles that
+    started within reach of it: ``sph/open_sides.py``)."""
     mask = 0
     for w in range(walls.shape[0]):
-        d = walls[w, 2] * (x[i, int(walls[w, 0])] - walls[w, 1])
+        if walls[w, 3] == PLANE_OPEN:
+            d = d0[i, w]
+        else:
+            d = walls[w, 2] * (x[i, int(walls[w, 0])] - walls[w, 1])
         if 0.0 <= d < reach:
             mask |= 1 << w
     return mask
 
 
 @njit(cache=True)
-def count_ghosts(x, active, walls, valid, reach, counts):
-    """Number of mirror images of each particle: one per valid subset of the walls it is near.
+def count_ghosts(x, d0, active, walls, valid, reach, counts):
+    """Number of images of each particle: one per valid subset of the planes it is near (``_near_mask``).
 
-    ``walls`` (nw, 4): axis, position, side (+1 fluid where x[axis] > position, -1 below),
+    ``walls`` (nw, 4 or more): axis, position, side (+1 fluid where x[axis] > position, -1 below),
     condition code (``PLANE_SLIP``, ``PLANE_NO_SLIP``, ``PLANE_OPEN``: a non-reflecting open side,
-    ``sph/open_sides.py``). ``valid[s]`` is true for wall subsets ``s`` (bit masks) with at most one wall
-    per axis (a corner image is the mirror through both walls of the corner).
+    ``sph/open_sides.py``). ``d0`` (N, nw): each particle's distance from each plane at t = 0, read for
+    the open sides only (with none, (N, 0)). ``valid[s]`` is true for plane subsets ``s`` (bit masks)
+    with at most one plane per axis (a corner image is the image across both planes of the corner).
     """
     for i in range(x.shape[0]):
         cnt = 0
         if active[i]:
-            mask = _near_mask(x, i, walls, reach)
+            mask = _near_mask(x, d0, i, walls, reach)
             if mask != 0:
                 for s in range(1, valid.shape[0]):
                     if valid[s] and (s & mask) == s:
@@ -105,11 +114,16 @@ def count_ghosts(x, active, walls, valid, reach, counts):
 
 
 @njit(cache=True)
-def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hydrostatic, gpos, gvel, gflip, gsrc,
-                gdp, gdr):
-    """Ghost positions, velocities, viscous flips, source particles and pressure offsets (see ``count_ghosts``).
+def fill_ghosts(x, v, rho, c, d0, active, walls, valid, reach, offsets, gravity, hydrostatic, gpos, gvel, gflip,
+                gsrc, gsub, gdp, gdr):
+    """Ghost positions, velocities, viscous flips, source particles, plane subsets (``gsub``, the bit mask
+    of the planes the image lies across) and pressure offsets (see ``count_ghosts``).
 
-    Position mirrored through each wall of the subset. Velocity: the free-slip mirror (normal
+    Position: across a wall the mirror image about its plane, x_ax -> 2 x_w - x_ax; across an open
+    side (code ``PLANE_OPEN``) the particle's own position offset by twice its distance from the side
+    at t = 0, x_ax -> x_ax - 2 side d0_iw (``sph/open_sides.py``: the image moves with its particle;
+    a corner of an open side and a wall is mirrored across the wall and offset across the side; the
+    two act on different axes, so the order does not matter). Velocity: the free-slip mirror (normal
     component reversed) on every wall, slip or no-slip: that is the velocity the continuity,
     pressure and delta-SPH terms see, so a wall is impermeable without being a source of volume.
     Through an open side (code ``PLANE_OPEN``) the velocity is copied, not mirrored (zero-gradient
@@ -126,7 +140,7 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
         k = offsets[i]
         if offsets[i + 1] == k:
             continue
-        mask = _near_mask(x, i, walls, reach)
+        mask = _near_mask(x, d0, i, walls, reach)
         x0 = x[i, 0]
         x1 = x[i, 1] if dim > 1 else 0.0
         x2 = x[i, 2] if dim > 2 else 0.0
@@ -141,18 +155,26 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
             for w in range(walls.shape[0]):
                 if s & (1 << w):
                     ax = int(walls[w, 0])
-                    pos2 = 2.0 * walls[w, 1]
                     noslip = walls[w, 3] == PLANE_NO_SLIP
-                    flip = -1.0 if walls[w, 3] != PLANE_OPEN else 1.0
-                    if ax == 0:
-                        p0 = pos2 - p0
-                        u0 = flip * u0
-                    elif ax == 1:
-                        p1 = pos2 - p1
-                        u1 = flip * u1
-                    else:
-                        p2 = pos2 - p2
-                        u2 = flip * u2
+                    if walls[w, 3] == PLANE_OPEN:  # offset by 2 d0 outwards, velocity copied
+                        shift = -2.0 * walls[w, 2] * d0[i, w]
+                        if ax == 0:
+                            p0 += shift
+                        elif ax == 1:
+                            p1 += shift
+                        else:
+                            p2 += shift
+                    else:  # mirrored about the plane, normal velocity reversed
+                        pos2 = 2.0 * walls[w, 1]
+                        if ax == 0:
+                            p0 = pos2 - p0
+                            u0 = -u0
+                        elif ax == 1:
+                            p1 = pos2 - p1
+                            u1 = -u1
+                        else:
+                            p2 = pos2 - p2
+                            u2 = -u2
                     if noslip:
                         f0 = f0 if ax == 0 else -f0
                         f1 = f1 if ax == 1 else -f1
@@ -161,6 +183,7 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
             gvel[k, 0], gvel[k, 1], gvel[k, 2] = u0, u1, u2
             gflip[k, 0], gflip[k, 1], gflip[k, 2] = f0, f1, f2
             gsrc[k] = i
+            gsub[k] = s
             if hydrostatic:
                 dp = rho[i] * (gravity[0] * (p0 - x0) + gravity[1] * (p1 - x1) + gravity[2] * (p2 - x2))
                 gdp[k] = dp
@@ -172,8 +195,9 @@ def fill_ghosts(x, v, rho, c, active, walls, valid, reach, offsets, gravity, hyd
 
 
 @njit(cache=True)
-def make_ghosts(x, v, rho, c, active, walls, valid, reach, gravity, hydrostatic):
-    """Ghost particles of the planar walls: ``(gpos, gvel, gflip, gsrc, gdp, gdr)`` (see ``fill_ghosts``)."""
+def make_ghosts(x, v, rho, c, d0, active, walls, valid, reach, gravity, hydrostatic):
+    """Ghost particles of the planar walls and open sides: ``(gpos, gvel, gflip, gsrc, gsub, gdp, gdr)``
+    (see ``fill_ghosts``; ``d0`` as in ``count_ghosts``)."""
     n = x.shape[0]
     # the particles near a wall (few) are found first, wall by wall (loops over the particles
     # that LLVM vectorises; the test of _near_mask); their images are counted and filled for
@@ -182,9 +206,13 @@ def make_ghosts(x, v, rho, c, active, walls, valid, reach, gravity, hydrostatic)
     for w in range(walls.shape[0]):
         ax = int(walls[w, 0])
         pos, side = walls[w, 1], walls[w, 2]
-        for i in range(n):
-            d = side * (x[i, ax] - pos)
-            flag[i] |= (0.0 <= d) & (d < reach)
+        if walls[w, 3] == PLANE_OPEN:
+            for i in range(n):
+                flag[i] |= (0.0 <= d0[i, w]) & (d0[i, w] < reach)
+        else:
+            for i in range(n):
+                d = side * (x[i, ax] - pos)
+                flag[i] |= (0.0 <= d) & (d < reach)
     nnear = 0
     for i in range(n):
         nnear += flag[i] & active[i]
@@ -195,7 +223,8 @@ def make_ghosts(x, v, rho, c, active, walls, valid, reach, gravity, hydrostatic)
             sub[a] = i
             a += 1
     counts = np.empty(nnear, dtype=np.int64)
-    count_ghosts(x[sub], np.ones(nnear, dtype=np.bool_), walls, valid, reach, counts)
+    d0s = d0[sub]
+    count_ghosts(x[sub], d0s, np.ones(nnear, dtype=np.bool_), walls, valid, reach, counts)
     offsets = np.zeros(nnear + 1, dtype=np.int64)
     for a in range(nnear):
         offsets[a + 1] = offsets[a] + counts[a]
@@ -204,13 +233,14 @@ def make_ghosts(x, v, rho, c, active, walls, valid, reach, gravity, hydrostatic)
     gvel = np.empty((ng, 3))
     gflip = np.empty((ng, 3))
     gsrc = np.empty(ng, dtype=np.int64)
+    gsub = np.empty(ng, dtype=np.int64)
     gdp = np.empty(ng)
     gdr = np.empty(ng)
-    fill_ghosts(x[sub], v[sub], rho[sub], c[sub], np.ones(nnear, dtype=np.bool_), walls, valid, reach, offsets, gravity,
-                hydrostatic, gpos, gvel, gflip, gsrc, gdp, gdr)
+    fill_ghosts(x[sub], v[sub], rho[sub], c[sub], d0s, np.ones(nnear, dtype=np.bool_), walls, valid, reach, offsets,
+                gravity, hydrostatic, gpos, gvel, gflip, gsrc, gsub, gdp, gdr)
     for g in range(ng):
         gsrc[g] = sub[gsrc[g]]
-    return gpos, gvel, gflip, gsrc, gdp, gdr
+    return gpos, gvel, gflip, gsrc, gsub, gdp, gdr
 
 
 @njit(cache=True, parallel=True, fastmath=_FM, error_model="numpy")

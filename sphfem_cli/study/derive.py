@@ -385,16 +385,19 @@ def _boundaries(out: dict, info: AleInfo, section: str, dx: float) -> None:
         kept.append(side)
     out["boundaries"] = kept
     if transmit:
-        # Deactivate particles leaving through transmitting sides; elsewhere leave room for the walls
-        # (a non_reflecting side bounds the particles itself).
+        # Deactivate particles leaving through transmitting sides; elsewhere leave room for the walls, and
+        # beyond a non_reflecting side, which moves with the water by its displacement there and deletes
+        # nothing, the tank's own extent (a bound that only a runaway particle reaches)
+        nonref = {s for sides, _ in open_sides for s in sides}
         dlo, dhi = list(lo), list(hi)
         for side, (axis, which) in _FACES.items():
             if side in transmit:
                 continue
+            margin = hi[axis] - lo[axis] if side in nonref else 3 * dx
             if which == 0:
-                dlo[axis] -= 3 * dx
+                dlo[axis] -= margin
             else:
-                dhi[axis] += 3 * dx
+                dhi[axis] += margin
         out["sections"][section]["domain"] = {"min": dlo, "max": dhi}
 
 

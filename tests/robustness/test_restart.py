@@ -186,8 +186,9 @@ def test_restart_is_bit_identical(tmp_path, monkeypatch, kind, stop_step):
     travel in the checkpoint too); axi_ale and axi_sph are the same in r-z (rings, the axis);
     ale_3d_smoothed a moving hex8 mesh (the mesh mover's stencil and sliding sets are rebuilt, the
     mesh restored); ale_open non-reflecting sides with a source (their radiation impulses, by then
-    non-zero, travel in the checkpoint); sph_open its SPH twin (the particles' far pressures and impulses,
-    the radiated energy)."""
+    non-zero, travel in the checkpoint); sph_open its SPH twin (the particles' far pressures, impulses and
+    initial distances from the open sides, which place the sides' images, all permuted by the reorders; the
+    radiated energy; its open sides meet the slip walls at two corners)."""
     text = (FUZZ / f"{kind}.yaml").read_text() if kind.startswith("fsi") else INLINE.get(kind)
     deck = decks.write(tmp_path, kind, text)
     code, text = _run(deck, "-o", tmp_path / "whole")

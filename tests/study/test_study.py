@@ -140,7 +140,23 @@ def test_non_reflecting_sides_stay_non_reflecting():
     assert walls["non_reflecting"]["source"] == [0.5, 0.3]
     assert walls["non_reflecting"]["min"] == [0.0, 0.0] and walls["non_reflecting"]["max"] == [1.0, 0.6]
     assert walls["slip"]["sides"] == ["top"]
-    assert "domain" not in out["sections"]["sph"]  # the open sides bound the particles themselves
+    assert "domain" not in out["sections"]["sph"]  # no transmit side: nothing deletes particles
+    Deck.model_validate(out)
+
+
+def test_transmit_beside_non_reflecting_sides():
+    """With a transmit side the section gets a domain; beyond the non_reflecting sides, which move with the
+    water and delete nothing, it leaves the tank's own extent (1.0 x 0.6 here), beyond walls 3 spacings
+    (0.1 m at ratio 1)."""
+    bcs = [{"type": "ale_boundary", "part": "tank", "sides": ["left", "bottom"], "condition": "non_reflecting"},
+           {"type": "ale_boundary", "part": "tank", "sides": ["right"], "condition": "slip"},
+           {"type": "ale_boundary", "part": "tank", "sides": ["top"], "condition": "transmit"}]
+    data = _scene([{"material": "gas", "box": {"min": [0.0, 0.0], "max": [0.3, 0.3]}}], bcs)
+    out = derive.sph_variant(data, 1).data
+    domain = out["sections"]["sph"]["domain"]
+    assert domain["min"] == pytest.approx([-1.0, -0.6])  # the non_reflecting left and bottom
+    assert domain["max"][1] == pytest.approx(0.6)  # transmit top
+    assert domain["max"][0] == pytest.approx(1.3)  # slip right: 3 spacings of 0.1 m
     Deck.model_validate(out)
 
 

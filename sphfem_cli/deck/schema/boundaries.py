@@ -81,9 +81,10 @@ class WallBoundary(DeckModel):
     non-reflecting open sides.
 
     Ghosts carry the mirrored particle's density and pressure (the paper's method); "slip" mirrors
-    the normal velocity, "no_slip" the whole velocity. A "non_reflecting" side is open: particles
-    crossing it leave, and its ghosts carry the copied velocity and the impedance condition's pressure
-    (the ALE solver's `non_reflecting`, docs/theory/sph.md "Non-reflecting open sides").
+    the normal velocity, "no_slip" the whole velocity. A "non_reflecting" side is open: its ghosts are
+    images that move with their particles (the side moves with the water; nothing leaves through it)
+    and carry the copied velocity and the impedance condition's pressure (the ALE solver's
+    `non_reflecting`, docs/theory/sph.md "Non-reflecting open sides").
     """
 
     type: Literal["wall"] = Field(description="Boundary selector: SPH ghost-particle walls.")
@@ -96,11 +97,15 @@ class WallBoundary(DeckModel):
         "slip", description="Tangential condition: slip (mirror of the normal velocity), no_slip (the whole "
         "velocity mirrored: the artificial viscosity acts on the wall over the kernel support), wall_function "
         "(slip ghosts plus the smooth-wall law's shear rho u_tau^2 on the first particle layer, from the "
-        "material's viscosity; none for an inviscid one), non_reflecting (no wall: an open side; particles "
-        "crossing it leave the fluid, and its ghosts, the mirror images of the particles near it, carry their "
-        "velocity and the pressure p_far + rho c u_n, p_far the pressure the source particle started with plus "
-        "the hydrostatic increment: a plane acoustic wave leaves at normal incidence without reflection, "
-        "Lysmer & Kuhlemeyer 1969, as the ALE solver's non_reflecting sides; no particle enters). Default slip.")
+        "material's viscosity; none for an inviscid one), non_reflecting (no wall: an open side; its ghosts are "
+        "images of the particles that start within a kernel support of it, each at its particle's position plus "
+        "twice the particle's initial distance from the side, outwards, so that they move with their particles, "
+        "and carry their velocity and the pressure p_far + rho c u_n, p_far the pressure the source particle "
+        "started with plus the hydrostatic increment: a plane acoustic wave leaves at normal incidence without "
+        "reflection, Lysmer & Kuhlemeyer 1969, as the ALE solver's non_reflecting sides. The side moves with "
+        "the water: no particle leaves or enters through it, and the fluid may drift past the side's initial "
+        "plane by the water's displacement there; only the section's domain, if set, deletes particles. For "
+        "waves and transients, not a steady current through the side). Default slip.")
     source: Vector | None = Field(
         None, description="non_reflecting: the centre of the waves the side lets out (a charge's centre) [length]. "
         "With it the ghosts' pressure is p_far + rho c u_r - k (c / r) int (p - p_far) dt, r and u_r the distance "

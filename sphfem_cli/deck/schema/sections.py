@@ -137,7 +137,8 @@ class SphSection(DeckModel):
         None, description="Lowest pressure a particle may carry (cavitation) [pressure]. Default none."
     )
     domain: VolumeBox | None = Field(
-        None, description="{min, max}: particles leaving this box are deactivated and counted. Default none."
+        None, description="{min, max}: particles leaving this box are deactivated and counted (the only place "
+        "SPH particles are deleted: walls mirror them back, non_reflecting sides move with the water). Default none."
     )
 
 
