@@ -107,6 +107,7 @@ CASES = {
     "water_column": ("water_column_axisymmetric_sph", 14.0, None, {}, _water_column),
     # the wet cantilever at the resolution it shipped with before issue 18 (5 mm water, 4 x 48 plate): the
     # shipped one costs 665 CPU s per run (docs/studies/wet_cantilever.md); the comparison is of c0 and alpha
+    "wet_cantilever": ("wet_cantilever_sph", 100.0, None, {}, _wet_cantilever),
     "wet_cantilever_5mm": ("wet_cantilever_sph", 100.0, None,
                            {"parts.left.spacing": 0.005, "parts.right.spacing": 0.005,
                             "parts.plate.geometry.box.divisions": [4, 48]}, _wet_cantilever),
