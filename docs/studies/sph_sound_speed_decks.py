@@ -5,10 +5,10 @@ independent of c0? (figures in docs/studies/sph_sound_speed_decks.md).
     python docs/studies/sph_sound_speed_decks.py DECK@FACTOR@KIND [...]   # from the repository root
     python docs/studies/sph_sound_speed_decks.py --summary
 
-DECK is a key of CASES, FACTOR multiplies the deck's sound speed c0 (Tait ``sound_speed``; for the linear
-polynomial EOS C1 = rho0 c0^2 is multiplied by FACTOR^2), KIND is "fixed" (the deck's artificial viscosity,
-Monaghan's alpha, an effective kinematic viscosity alpha h c0 / 8 in 2D: Monaghan 2005, Rep. Prog. Phys. 68,
-1703, sec. 4.2, so it grows with c0) or "switch" (Morris & Monaghan 1997's switch as in
+DECK is a key of CASES, FACTOR multiplies the sound speed c0 the deck had before this study (CASES; Tait
+``sound_speed``; for the linear polynomial EOS C1 = rho0 c0^2 is multiplied by FACTOR^2), KIND is "fixed" (the
+fixed Monaghan alpha the deck had before this study, an effective kinematic viscosity alpha h c0 / 8 in 2D:
+Monaghan 2005, Rep. Prog. Phys. 68, 1703, sec. 4.2, so it grows with c0) or "switch" (Morris & Monaghan 1997's switch as in
 decks/dam_break_wall_pressure_sph.yaml: alpha_i between a floor 0.01 and 1, decay 0.1, beta 0;
 sphfem_cli/sph/switch.py). Each case runs on one thread (NUMBA_NUM_THREADS=1) into study_c0/<case>/ and appends
 one JSON line to study_c0/log.jsonl: CPU seconds of the child process, the 1-minute load average, the peak Mach
@@ -96,19 +96,20 @@ def _wet_cantilever(out: Path) -> dict:
     return {"frequency": round(r.frequency, 3), "zeta": round(r.zeta, 4), "periods": round(r.periods, 2)}
 
 
-# deck, base c0, the window run (None: the deck's end_time), overrides (path -> value) and the measures
+# deck, c0 and fixed alpha before this study (the "@1@fixed" case is the deck as it was), the window run (None: the
+# deck's end_time), overrides (path -> value) and the measures
 CASES = {
-    "dam_break_2d": ("dam_break_2d", 15.0, None, {}, _dam_break_2d),
+    "dam_break_2d": ("dam_break_2d", 15.0, 0.1, None, {}, _dam_break_2d),
     # a/dx = 40 (the deck: 20), the resolution of the validation test of the SPH scene (test_sph_dambreak.py)
-    "dam_break_2d_a40": ("dam_break_2d", 15.0, None, {"parts.column.spacing": 0.00143}, _dam_break_2d),
-    "elastic_gate": ("elastic_gate_sph", 20.0, 0.16, {}, _elastic_gate),
-    "dam_break_3d": ("dam_break_3d", 20.0, None, {}, _dam_break_3d),
-    "hydrostatic_plate": ("hydrostatic_plate_sph", 200.0, None, {}, _hydrostatic_plate),
-    "water_column": ("water_column_axisymmetric_sph", 14.0, None, {}, _water_column),
-    # the wet cantilever at the resolution it shipped with before issue 18 (5 mm water, 4 x 48 plate): the
-    # shipped one costs 665 CPU s per run (docs/studies/wet_cantilever.md); the comparison is of c0 and alpha
-    "wet_cantilever": ("wet_cantilever_sph", 100.0, None, {}, _wet_cantilever),
-    "wet_cantilever_5mm": ("wet_cantilever_sph", 100.0, None,
+    "dam_break_2d_a40": ("dam_break_2d", 15.0, 0.1, None, {"parts.column.spacing": 0.00143}, _dam_break_2d),
+    "elastic_gate": ("elastic_gate_sph", 20.0, 0.1, 0.16, {}, _elastic_gate),
+    "dam_break_3d": ("dam_break_3d", 20.0, 0.1, None, {}, _dam_break_3d),
+    "hydrostatic_plate": ("hydrostatic_plate_sph", 200.0, 0.1, None, {}, _hydrostatic_plate),
+    "water_column": ("water_column_axisymmetric_sph", 14.0, 0.02, None, {}, _water_column),
+    "wet_cantilever": ("wet_cantilever_sph", 100.0, 0.1, None, {}, _wet_cantilever),
+    # the wet cantilever at the resolution it shipped with before issue 18 (5 mm water, 4 x 48 plate; 1/5 of the
+    # shipped one's CPU time)
+    "wet_cantilever_5mm": ("wet_cantilever_sph", 100.0, 0.1, None,
                            {"parts.left.spacing": 0.005, "parts.right.spacing": 0.005,
                             "parts.plate.geometry.box.divisions": [4, 48]}, _wet_cantilever),
 }
@@ -123,15 +124,14 @@ def _set(d: dict, path: str, value) -> None:
 
 def variant(key: str, factor: float, kind: str) -> tuple[dict, float, float]:
     """The case's deck as a dict, its sound speed and its end time."""
-    name, c0, window, overrides, _ = CASES[key]
+    name, c0, alpha, window, overrides, _ = CASES[key]
     d = copy.deepcopy(yaml.safe_load((ROOT / "decks" / f"{name}.yaml").read_text()))
     eos = d["equations_of_state"]["water"]
     if eos["type"] == "tait":
         eos["sound_speed"] = c0 * factor
     else:  # linear polynomial: p = C1 (rho / rho0 - 1), C1 = rho0 c0^2
         eos["c1"] = float(eos["c1"]) * factor ** 2  # PyYAML reads "1.0e7" (no exponent sign) as a string
-    if kind == "switch":
-        d["sections"]["fluid"]["artificial_viscosity"] = dict(SWITCH)
+    d["sections"]["fluid"]["artificial_viscosity"] = dict(SWITCH) if kind == "switch" else {"alpha": alpha}
     for path, value in overrides.items():
         _set(d, path, value)
     end = window or d["control"]["end_time"]
@@ -179,7 +179,7 @@ def run(case: str) -> dict:
         row["error"] = (proc.stdout + proc.stderr)[-400:]
     else:
         mach, t = peak_mach(folder / "run" / "results.h5", c0, end / 100)
-        row.update(mach=round(mach, 4), mach_t=t, **CASES[key][4](folder / "run"))
+        row.update(mach=round(mach, 4), mach_t=t, **CASES[key][5](folder / "run"))
     with open(WORK / "log.jsonl", "a") as log:
         log.write(json.dumps(row) + "\n")
     return row
