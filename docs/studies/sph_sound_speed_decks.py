@@ -8,8 +8,8 @@ independent of c0? (figures in docs/studies/sph_sound_speed_decks.md).
 DECK is a key of CASES, FACTOR multiplies the sound speed c0 the deck had before this study (CASES; Tait
 ``sound_speed``; for the linear polynomial EOS C1 = rho0 c0^2 is multiplied by FACTOR^2), KIND is "fixed" (the
 fixed Monaghan alpha the deck had before this study, an effective kinematic viscosity alpha h c0 / 8 in 2D:
-Monaghan 2005, Rep. Prog. Phys. 68, 1703, sec. 4.2, so it grows with c0) or "switch" (Morris & Monaghan 1997's switch as in
-decks/dam_break_wall_pressure_sph.yaml: alpha_i between a floor 0.01 and 1, decay 0.1, beta 0;
+Monaghan 2005, Rep. Prog. Phys. 68, 1703, sec. 4.2, so it grows with c0) or "switch" (Morris & Monaghan
+1997's switch as in decks/dam_break_wall_pressure_sph.yaml: alpha_i between a floor 0.01 and 1, decay 0.1, beta 0;
 sphfem_cli/sph/switch.py). Each case runs on one thread (NUMBA_NUM_THREADS=1) into study_c0/<case>/ and appends
 one JSON line to study_c0/log.jsonl: CPU seconds of the child process, the 1-minute load average, the peak Mach
 number max|v|/c0 over the SPH particles of the field outputs (written every window/100 for this), and the
