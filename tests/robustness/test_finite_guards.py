@@ -150,7 +150,7 @@ def test_check_names_what_sets_the_step_with_its_unit(tmp_path):
     assert "set by element" in result.output and "of part 'beam'" in result.output
     assert "Young's modulus 2.1e+11 Pa" in result.output and "sound speed 6001 m/s" in result.output
     result = CliRunner().invoke(main, ["check", str(DECKS / "elastic_gate_sph.yaml")])
-    assert "material water: fluid, density 1000 kg/m^3, sound speed 20 m/s" in result.output
+    assert "material water: fluid, density 1000 kg/m^3, sound speed 40 m/s" in result.output
 
 
 def _cantilever(tmp_path, edit) -> Path:
