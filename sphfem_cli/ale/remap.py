@@ -217,7 +217,7 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
         dvm = np.empty(n_mat)
         g = np.empty(n_mat)
         used = np.empty(n_mat, dtype=np.bool_)
-        # the block's work rows (face_lanes.FL_*) and face numbers, allocated at the chunk's first flowing face
+        # the block's work rows (face_lanes.FL_*), face numbers and lane materials, allocated at its first flowing face
         wk = np.empty(0)
         lane_f = np.empty(0, dtype=np.int64)
         for block in range(start, stop, B):
@@ -225,7 +225,7 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
             if hexa:  # the block's swept volumes together (hex_lanes.hex_volume_block), after the flux rows of wk
                 if wk.shape[0] == 0:
                     wk = np.empty((FL_ROWS + _HV_ROWS) * B)
-                    lane_f = np.empty(B, dtype=np.int64)
+                    lane_f = np.empty(2 * B, dtype=np.int64)  # face numbers, then the lanes' material
                 for i in range(block, bend):
                     j = i - block
                     f = faces[i]
@@ -277,7 +277,7 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
                 if pm >= 0:
                     if wk.shape[0] == 0:
                         wk = np.empty(FL_ROWS * B)
-                        lane_f = np.empty(2 * B, dtype=np.int64)
+                        lane_f = np.empty(2 * B, dtype=np.int64)  # (as above)
                     lane_f[nb] = f
                     lane_f[B + nb] = pm
                     wk[FL_AMOUNT * B + nb] = abs(dv)
