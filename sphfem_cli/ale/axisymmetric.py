@@ -159,8 +159,7 @@ def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
         for block in range(start, stop, B):
             nb = min(B, stop - block)
             state_block(block, nb, gas, gm1, gpinf, flat, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0,
-                        phi_eps, pscale, pressure_cutoff, pres_m, bulk_m, st[_ST_P], st[_ST_C], st[_ST_M],
-                        st_flat[_ST_AREA * B:], B)  # (rows from _ST_AREA on: written after it)
+                        phi_eps, pscale, pressure_cutoff, pres_m, bulk_m, st[_ST_P], st[_ST_C], st[_ST_M])
             gather_block(conn, block, nb, x, v, cx)
             geometry_block(nb, cx, st_flat)
             ring_block(nb, cx, st_flat, rg)

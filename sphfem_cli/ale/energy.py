@@ -9,7 +9,7 @@ from numba import njit, prange
 
 from ..fem.geometry import hex8_volume_origin
 from .hex_lanes import _HV_BLOCK, _HV_ROWS, hex_volume_block
-from .lagrange import N_CHUNKS, chunk_range, pure_material, quad_area
+from .lagrange import N_CHUNKS, chunk_range, quad_area
 from .ring_geometry import ring_volume
 
 # closures
@@ -140,58 +140,6 @@ def one_material_closure(nb, w_blk, v_lag_blk, vol, mass, ener, e_lag, pres, phi
         vol[i] = v + dvm
 
 
-# rows of the pure-cell work of ``closure_block`` (flat, PC_ROWS rows of _BLOCK lanes): the lane's element in the
-# block and its material (small integers as floats), then ``one_material_closure``'s rows (work, Lagrangian volume, state)
-_PC_LANE, _PC_MAT, _PC_W, _PC_VLAG, _PC_VOL, _PC_MASS, _PC_ENER, _PC_LAG, _PC_PRES = 0, 1, 2, 3, 4, 5, 6, 7, 8
-PC_ROWS = 9
-
-
-@njit(cache=True, inline="always")
-def closure_block(block, nb, w_blk, v_blk, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta,
-                  phi_eps, pressed, dvm, dev, pw):
-    """``_closure_energy`` of the nb elements of a block of a multi-material mesh (w_blk, v_blk: their work and
-    Lagrangian volume): the pure cells (``lagrange.pure_material``), whatever their material, gathered into the
-    lanes of pw (PC_ROWS rows of _BLOCK) and closed together by ``one_material_closure`` (vectorised); in a pure
-    cell nothing relaxes and the general closure is the one-material one on its material's entries, bit for
-    bit (``pure_material``), its absent materials' e_lag set to 0 and volumes + 0.0 as there. The mixed cells
-    take ``_closure_energy`` element by element (issue 17)."""
-    B = _BLOCK
-    n_mat = vol_m.shape[1]
-    k = 0
-    for i in range(nb):
-        e = block + i
-        m = pure_material(e, vol_m, mass_m)
-        if m < 0:
-            _closure_energy(e, w_blk[i], v_blk[i], vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta,
-                            phi_eps, pressed, dvm, dev)
-            continue
-        pw[_PC_LANE * B + k] = i
-        pw[_PC_MAT * B + k] = m
-        pw[_PC_W * B + k] = w_blk[i]
-        pw[_PC_VLAG * B + k] = v_blk[i]
-        pw[_PC_VOL * B + k] = vol_m[e, m]
-        pw[_PC_MASS * B + k] = mass_m[e, m]
-        pw[_PC_ENER * B + k] = ener_m[e, m]
-        pw[_PC_PRES * B + k] = pres_m[e, m]
-        k += 1
-    if k == 0:
-        return
-    one_material_closure(k, pw[_PC_W * B:(_PC_W + 1) * B], pw[_PC_VLAG * B:(_PC_VLAG + 1) * B],
-                         pw[_PC_VOL * B:(_PC_VOL + 1) * B], pw[_PC_MASS * B:(_PC_MASS + 1) * B],
-                         pw[_PC_ENER * B:(_PC_ENER + 1) * B], pw[_PC_LAG * B:(_PC_LAG + 1) * B],
-                         pw[_PC_PRES * B:(_PC_PRES + 1) * B], phi_eps)
-    for j in range(k):
-        e = block + int(pw[_PC_LANE * B + j])
-        m = int(pw[_PC_MAT * B + j])
-        for kk in range(n_mat):
-            if kk != m:
-                e_lag[e, kk] = 0.0
-                vol_m[e, kk] += 0.0
-        vol_m[e, m] = pw[_PC_VOL * B + j]
-        ener_m[e, m] = pw[_PC_ENER * B + j]
-        e_lag[e, m] = pw[_PC_LAG * B + j]
-
-
 @njit(cache=True, inline="always")
 def _volume_origin(p):
     """``fem.geometry.hex8_volume_origin`` of the corners p (8, 3) relative to p[0] (= 0): the bits of hex8_volume(p)."""
@@ -238,8 +186,7 @@ def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_
     """The body of ``lagrange_energy`` (quad4, plane or ring) and ``lagrange_energy_3d`` (hex8): per element its
     work and Lagrangian volume (``quad_work_volume``; hex8: ``hex_work_corners``, then the block's volumes together,
     ``hex_lanes.hex_volume_block``; npe and dim literal constants of the caller, the other element's branch
-    pruned before typing), then the closure of the block: one material ``one_material_closure``, several
-    ``closure_block`` (the pure cells together, the mixed ones by ``_closure_energy``)."""
+    pruned before typing), then the closure (``_closure_energy``)."""
     n_elem = conn.shape[0]
     n_mat = vol_m.shape[1]
     n_chunks = min(n_elem, N_CHUNKS)
@@ -258,30 +205,34 @@ def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_
             hv = np.empty(_HV_ROWS * _BLOCK)
         else:
             hv = v_blk  # (unread: no allocation on quad4)
-        if one:
-            pw = v_blk  # (unread)
-        else:  # the pure cells' lanes (closure_block)
-            pw = np.empty(PC_ROWS * _BLOCK)
-        for block in range(start, stop, _BLOCK):
-            nb = min(_BLOCK, stop - block)
-            for i in range(nb):
-                e = block + i
+        if one or dim == 3:
+            for block in range(start, stop, _BLOCK):
+                nb = min(_BLOCK, stop - block)
+                for i in range(nb):
+                    e = block + i
+                    if dim == 3:
+                        w = hex_work_corners(e, x, v_old, v_new, dt, conn, f_elem, hv, i)
+                    else:
+                        w, v_lag = quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring)
+                        v_blk[i] = v_lag
+                    work_elem[e] = w
                 if dim == 3:
-                    w = hex_work_corners(e, x, v_old, v_new, dt, conn, f_elem, hv, i)
+                    hex_volume_block(nb, hv)
+                    v_blk[:nb] = hv[(_HV_ROWS - 1) * _BLOCK:(_HV_ROWS - 1) * _BLOCK + nb]
+                end = block + nb
+                if one:
+                    one_material_closure(nb, work_elem[block:end], v_blk, vol1[block:end], mass1[block:end],
+                                         ener1[block:end], lag1[block:end], pres1[block:end], phi_eps)
                 else:
-                    w, v_lag = quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring)
-                    v_blk[i] = v_lag
-                work_elem[e] = w
-            if dim == 3:
-                hex_volume_block(nb, hv)
-                v_blk[:nb] = hv[(_HV_ROWS - 1) * _BLOCK:(_HV_ROWS - 1) * _BLOCK + nb]
-            end = block + nb
-            if one:
-                one_material_closure(nb, work_elem[block:end], v_blk, vol1[block:end], mass1[block:end],
-                                     ener1[block:end], lag1[block:end], pres1[block:end], phi_eps)
-            else:
-                closure_block(block, nb, work_elem[block:end], v_blk, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m,
-                              closure, alpha, beta, phi_eps, pressed, dvm, dev, pw)
+                    for i in range(nb):
+                        _closure_energy(block + i, work_elem[block + i], v_blk[i], vol_m, mass_m, ener_m, e_lag, pres_m,
+                                        bulk_m, closure, alpha, beta, phi_eps, pressed, dvm, dev)
+            continue
+        for e in range(start, stop):
+            w, v_lag = quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring)
+            work_elem[e] = w
+            _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta, phi_eps,
+                            pressed, dvm, dev)
 
 
 # quad4 and hex8: one body (``energy_elements``, inline, the element's work and volume chosen by literal

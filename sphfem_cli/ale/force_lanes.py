@@ -49,28 +49,19 @@ _ST_BLOCK = 128  # elements per block: st of 22 x 128 doubles (22 kB) and the co
 _CX_X, _CX_Y, _CX_U, _CX_W = 0, 4, 8, 12
 
 
-@njit(cache=True, inline="always")
-def gas_material(mat_eos, mat_q, mat_rho0, m):
-    """(True, gamma - 1, gamma p_inf) when material m is an ideal or stiffened gas with rho0 > 0 (``gas_block``
-    computes its state); else (False, 0, 0)."""
-    if mat_rho0[m] <= 0.0:
-        return False, 0.0, 0.0
-    eos = mat_eos[m]
-    if eos == EOS_IDEAL_GAS:
-        return True, mat_q[m, Q_IG_GAMMA] - 1.0, 0.0
-    if eos == EOS_STIFFENED_GAS:
-        return True, mat_q[m, Q_SG_GAMMA] - 1.0, mat_q[m, Q_SG_GAMMA] * mat_q[m, Q_SG_PINF]
-    return False, 0.0, 0.0
-
-
 @njit(cache=True)
 def one_gas(mat_eos, mat_q, mat_rho0):
     """(True, gamma - 1, gamma p_inf) when the mesh holds one material, an ideal or stiffened gas with
-    rho0 > 0 (``gas_block`` applies, ``gas_material``); else (False, 0, 0). The ideal gas is the stiffened one at
+    rho0 > 0 (``gas_block`` applies); else (False, 0, 0). The ideal gas is the stiffened one at
     p_inf = 0: (gamma - 1) r E - 0.0 is (gamma - 1) r E to the bit."""
-    if mat_eos.shape[0] != 1:
+    if mat_eos.shape[0] != 1 or mat_rho0[0] <= 0.0:
         return False, 0.0, 0.0
-    return gas_material(mat_eos, mat_q, mat_rho0, 0)
+    eos = mat_eos[0]
+    if eos == EOS_IDEAL_GAS:
+        return True, mat_q[0, Q_IG_GAMMA] - 1.0, 0.0
+    if eos == EOS_STIFFENED_GAS:
+        return True, mat_q[0, Q_SG_GAMMA] - 1.0, mat_q[0, Q_SG_GAMMA] * mat_q[0, Q_SG_PINF]
+    return False, 0.0, 0.0
 
 
 @njit(cache=True, error_model="numpy")

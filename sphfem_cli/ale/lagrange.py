@@ -18,8 +18,8 @@ from numba import njit, prange
 from ..fem.geometry import QUAD_GAMMA, bulk_viscosity, quad4_gradient, stable_dt
 from ..materials.kernels import EOS_GRUNEISEN, eos_state
 from .force_lanes import (_ST_AREA, _ST_B, _ST_BLOCK, _ST_C, _ST_COEF, _ST_GX, _ST_HQ, _ST_LONG2, _ST_M, _ST_P, _ST_RHO,
-                          _ST_ROWS, _ST_S, _ST_TRACE, _ST_VMAX2, gas_block, gas_material, gather_block, geometry_block,
-                          one_gas, viscosity_block)
+                          _ST_ROWS, _ST_S, _ST_TRACE, _ST_VMAX2, gas_block, gather_block, geometry_block, one_gas,
+                          viscosity_block)
 from .hex_lanes import (_HC_ROWS, _HF_ROWS, _HX_BLOCK, _HX_C, _HX_COEF, _HX_HG, _HX_M, _HX_P, _HX_RHO, _HX_ROWS, _HX_VOL,
                         gather_hex_block, hex_force_block, hex_geometry_block, hex_viscosity_block)
 
@@ -110,94 +110,21 @@ def _mixture_pressure(e, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0,
 
 
 @njit(cache=True, inline="always")
-def pure_material(e, vol_m, mass_m):
-    """The material m that alone has volume or mass in element e (vol_m[e, k] == mass_m[e, k] == 0, either sign of
-    zero, for every k != m), with a positive volume: a pure cell of a multi-material mesh; -1 where two or more have
-    (a mixed cell), none, or m's volume is not positive (there an absent material's 0 would exceed phi_eps times
-    the element's volume and count as present in the closure).
-
-    In a pure cell of material m the general mixture and closure loops reduce to the one-material operations
-    on m's entries, bit for bit: every sum over the materials starts from 0.0 and adds exact zeros for the
-    others (x + 0 is x; 0.0 + -0.0 is 0.0 either way), and an absent material (volume 0, not above phi_eps of
-    the element) writes zeros (pressure, bulk modulus, e_lag) and takes no volume change (its volume + 0.0).
-    """
-    found = -1
-    for m in range(vol_m.shape[1]):
-        if vol_m[e, m] != 0.0 or mass_m[e, m] != 0.0:
-            if found >= 0:
-                return -1
-            found = m
-    return found if found >= 0 and vol_m[e, found] > 0.0 else -1
-
-
-# rows of the pure-cell work of ``state_block`` (a flat view pw of free rows of the force kernels' work array, W
-# lanes a row): lane material (-1: general path) and lane list as floats (small integers, exact), the gathered
-# state (``force_lanes.gas_block``'s inputs) and its outputs
-_PW_KIND, _PW_LANE, _PW_VOL, _PW_MASS, _PW_ENER, _PW_LAG, _PW_PSCALE = 0, 1, 2, 3, 4, 5, 6
-_PW_PRES, _PW_BULK, _PW_P, _PW_C, _PW_M = 7, 8, 9, 10, 11
-PW_ROWS = 12
-assert _ST_ROWS - _ST_AREA >= PW_ROWS and _HX_ROWS - _HX_VOL >= PW_ROWS  # pw: the rows from _ST_AREA, _HX_VOL on
-
-
-@njit(cache=True, inline="always")
 def state_block(block, nb, gas, gm1, gpinf, flat, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, phi_eps,
-                pscale, pressure_cutoff, pres_m, bulk_m, st_p, st_c, st_m, pw, W):
+                pscale, pressure_cutoff, pres_m, bulk_m, st_p, st_c, st_m):
     """The material-state pass of the force kernels over elements block .. block + nb - 1: each element's mixture
     pressure, sound speed and mass into st_p, st_c, st_m [0, nb), and pres_m, bulk_m. Where the mesh holds one ideal
     or stiffened gas (``gas``, ``force_lanes.one_gas``) ``force_lanes.gas_block`` on the block's slices of ``flat``
-    (the (E, 1) state as flat (E,) views: vol, mass, ener, e_lag, pres, bulk, pscale).
-
-    Several materials: the pure cells (``pure_material``) of a material that is an ideal or stiffened gas
-    (``force_lanes.gas_material``) are gathered, material by material, into the lanes of pw (PW_ROWS rows of W >= nb
-    lanes, scratch: the caller's free work rows) and go through ``gas_block`` together (vectorised: the bits of
-    ``_mixture_pressure`` on a pure cell, see ``pure_material``); the mixed cells and the pure cells of other
-    equations of state take ``_mixture_pressure`` element by element (issue 17)."""
+    (the (E, 1) state as flat (E,) views: vol, mass, ener, e_lag, pres, bulk, pscale), else
+    ``_mixture_pressure`` element by element."""
     if gas:
         vol1, mass1, ener1, lag1, pres1, bulk1, pscale1 = flat
         end = block + nb
         gas_block(nb, vol1[block:end], mass1[block:end], ener1[block:end], lag1[block:end], gm1, gpinf,
                   mat_rho0[0], phi_eps, RHO_VOID, pscale1[block:end], pressure_cutoff, pres1[block:end],
                   bulk1[block:end], st_p, st_c, st_m)
-        return
-    n_mat = vol_m.shape[1]
-    for i in range(nb):
-        pw[_PW_KIND * W + i] = pure_material(block + i, vol_m, mass_m)
-    for m in range(n_mat):
-        ok, gm1_m, gpinf_m = gas_material(mat_eos, mat_q, mat_rho0, m)
-        k = 0
+    else:
         for i in range(nb):
-            if pw[_PW_KIND * W + i] == m:
-                if not ok:
-                    pw[_PW_KIND * W + i] = -1.0
-                    continue
-                e = block + i
-                pw[_PW_LANE * W + k] = i
-                pw[_PW_VOL * W + k] = vol_m[e, m]
-                pw[_PW_MASS * W + k] = mass_m[e, m]
-                pw[_PW_ENER * W + k] = ener_m[e, m]
-                pw[_PW_LAG * W + k] = e_lag[e, m]
-                pw[_PW_PSCALE * W + k] = pscale[e, m]
-                k += 1
-        if k == 0:
-            continue
-        gas_block(k, pw[_PW_VOL * W:(_PW_VOL + 1) * W], pw[_PW_MASS * W:(_PW_MASS + 1) * W],
-                  pw[_PW_ENER * W:(_PW_ENER + 1) * W], pw[_PW_LAG * W:(_PW_LAG + 1) * W], gm1_m, gpinf_m, mat_rho0[m],
-                  phi_eps, RHO_VOID, pw[_PW_PSCALE * W:(_PW_PSCALE + 1) * W], pressure_cutoff,
-                  pw[_PW_PRES * W:(_PW_PRES + 1) * W], pw[_PW_BULK * W:(_PW_BULK + 1) * W],
-                  pw[_PW_P * W:(_PW_P + 1) * W], pw[_PW_C * W:(_PW_C + 1) * W], pw[_PW_M * W:(_PW_M + 1) * W])
-        for j in range(k):
-            i = int(pw[_PW_LANE * W + j])
-            e = block + i
-            for kk in range(n_mat):
-                pres_m[e, kk] = 0.0
-                bulk_m[e, kk] = 0.0
-            pres_m[e, m] = pw[_PW_PRES * W + j]
-            bulk_m[e, m] = pw[_PW_BULK * W + j]
-            st_p[i] = pw[_PW_P * W + j]
-            st_c[i] = pw[_PW_C * W + j]
-            st_m[i] = pw[_PW_M * W + j]
-    for i in range(nb):
-        if pw[_PW_KIND * W + i] < 0.0:
             p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
                                                    mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
             st_p[i] = p_mix
@@ -356,8 +283,7 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, ma
         for block in range(start, stop, _ST_BLOCK):
             nb = min(_ST_BLOCK, stop - block)
             state_block(block, nb, gas, gm1, gpinf, flat, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0,
-                        phi_eps, pscale, pressure_cutoff, pres_m, bulk_m, st[_ST_P], st[_ST_C], st[_ST_M],
-                        st_flat[_ST_AREA * _ST_BLOCK:], _ST_BLOCK)  # (rows from _ST_AREA on: written after it)
+                        phi_eps, pscale, pressure_cutoff, pres_m, bulk_m, st[_ST_P], st[_ST_C], st[_ST_M])
             gather_block(conn, block, nb, x, v, cx)
             geometry_block(nb, cx, st_flat)
             viscosity_block(nb, st[_ST_P], st[_ST_C], st[_ST_M], st[_ST_AREA], st[_ST_TRACE], st[_ST_VMAX2],
@@ -422,7 +348,7 @@ def lagrange_forces_3d(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
             end = block + nb
             state_block(block, nb, gas, gm1, gpinf, flat, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0,
                         phi_eps, pscale, pressure_cutoff, pres_m, bulk_m, st[_HX_P * B:(_HX_P + 1) * B],
-                        st[_HX_C * B:(_HX_C + 1) * B], st[_HX_M * B:(_HX_M + 1) * B], st[_HX_VOL * B:], B)
+                        st[_HX_C * B:(_HX_C + 1) * B], st[_HX_M * B:(_HX_M + 1) * B])
             gather_hex_block(conn, block, nb, x, v, cx)
             hex_geometry_block(nb, cx, st)
             hex_viscosity_block(nb, st, q1, q2, q_elem[block:end], dt_elem[block:end])

@@ -17,7 +17,7 @@ from .face_lanes import (FL_AMOUNT, FL_BLOCK, FL_EA, FL_ED, FL_EU, FL_HASFAR, FL
                          FL_ROWS, FL_SGN, FL_VA, FL_VD, FL_VU, face_block)
 from .hex_lanes import _HV_BLOCK, _HV_ROWS, hex_volume_block
 from .ring_geometry import ring_volume
-from .lagrange import N_CHUNKS, chunk_range, pure_material, quad_area
+from .lagrange import N_CHUNKS, chunk_range, quad_area
 
 
 assert FL_BLOCK == _HV_BLOCK  # the swept volumes of a block of faces go through hex_volume_block's rows
@@ -156,21 +156,6 @@ def _face_flux(f, amount, donor, acc, far, sgn, vol_m, mass_m, ener_m, order, if
         fener[f, m] = sgn * dener
 
 
-@njit(cache=True, inline="always")
-def pure_face(donor, acc, far, vol_m, mass_m):
-    """The material m in which the donor, the acceptor acc and the upwind element far (where far >= 0) of a face
-    are all pure cells (``lagrange.pure_material``), else -1. There ``_face_flux`` is the one-material flux of m
-    (``face_lanes.face_block`` on m's entries), bit for bit: the sums over the materials add exact zeros, SLIC
-    finds one material in the donor (no fraction jump: g_max - g_min = 0 < SLIC_JUMP) and takes the donor
-    fractions, and the absent materials' volume fluxes are 0 (their rows stay zero)."""
-    m = pure_material(donor, vol_m, mass_m)
-    if m < 0 or pure_material(acc, vol_m, mass_m) != m:
-        return -1
-    if far >= 0 and pure_material(far, vol_m, mass_m) != m:
-        return -1
-    return m
-
-
 @njit(parallel=True, cache=True)
 def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x_lag, x_new,
                 vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener, flow, ring):
@@ -189,12 +174,10 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
     values of rho_m and e_m (``_face_flux``). Boundary faces carry flux only when open
     (transmitting): the outside state is a copy of the inside element. Writes fvol, fmass, fener
     rows of the listed faces, and flow[f]: False where the face sweeps nothing (a closed boundary face, or
-    a swept volume of 0: its rows are zeros), for ``apply_face_fluxes``. The faces go in blocks of
-    ``face_lanes.FL_BLOCK``: the flowing faces' donor, acceptor and upwind states are copied into a work
-    array and their fluxes computed together by ``face_lanes.face_block`` (vectorised; the bits of
-    ``_face_flux``), on one material every face, on several the faces whose three elements are pure cells
-    of one material (``pure_face``, issue 17); inflow faces (donor outside) and the faces that touch a
-    mixed cell or two materials take ``_face_flux``.
+    a swept volume of 0: its rows are zeros), for ``apply_face_fluxes``. With one material the faces go in
+    blocks of ``face_lanes.FL_BLOCK``: the flowing faces' donor, acceptor and upwind states are copied
+    into a work array and their fluxes computed together by ``face_lanes.face_block`` (vectorised; the
+    bits of ``_face_flux``); inflow faces (donor outside) and multi-material meshes take ``_face_flux``.
     On a hex8 mesh the swept volumes of each block of faces are computed together first
     (``hex_lanes.hex_volume_block``, vectorised; the bits of ``swept_volume_3d``).
 
@@ -208,7 +191,7 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
     n_mat = vol_m.shape[1]
     hexa = face_nodes.shape[1] == 4
     n_chunks = min(nf, N_CHUNKS)
-    one = n_mat == 1  # one material: every flowing face in the blocks of face_lanes.face_block (else pure_face)
+    one = n_mat == 1  # one material: the fluxes of each block of faces together (face_lanes.face_block)
     second = order == 2
     B = FL_BLOCK
     SV = FL_ROWS * B  # hex8: the swept-volume rows in wk
@@ -217,7 +200,7 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
         dvm = np.empty(n_mat)
         g = np.empty(n_mat)
         used = np.empty(n_mat, dtype=np.bool_)
-        # the block's work rows (face_lanes.FL_*), face numbers and lane materials, allocated at its first flowing face
+        # the block's work rows (face_lanes.FL_*) and face numbers, allocated at the chunk's first flowing face
         wk = np.empty(0)
         lane_f = np.empty(0, dtype=np.int64)
         for block in range(start, stop, B):
@@ -225,7 +208,7 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
             if hexa:  # the block's swept volumes together (hex_lanes.hex_volume_block), after the flux rows of wk
                 if wk.shape[0] == 0:
                     wk = np.empty((FL_ROWS + _HV_ROWS) * B)
-                    lane_f = np.empty(2 * B, dtype=np.int64)  # face numbers, then the lanes' material
+                    lane_f = np.empty(B, dtype=np.int64)
                 for i in range(block, bend):
                     j = i - block
                     f = faces[i]
@@ -271,28 +254,25 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
                     acc = er
                     sgn = -1.0
                     far = elem_nbr[el, _opposite_face(face_local[f, 0], hexa)]
-                a = acc if acc >= 0 else donor  # outflow: zero gradient outside
-                # the lanes' material: 0 on one material; several: the faces between pure cells of one (pure_face)
-                pm = -1 if donor < 0 else (0 if one else pure_face(donor, a, far, vol_m, mass_m))
-                if pm >= 0:
+                if one and donor >= 0:
                     if wk.shape[0] == 0:
                         wk = np.empty(FL_ROWS * B)
-                        lane_f = np.empty(2 * B, dtype=np.int64)  # (as above)
+                        lane_f = np.empty(B, dtype=np.int64)
+                    a = acc if acc >= 0 else donor  # outflow: zero gradient outside
                     lane_f[nb] = f
-                    lane_f[B + nb] = pm
                     wk[FL_AMOUNT * B + nb] = abs(dv)
                     wk[FL_SGN * B + nb] = sgn
-                    wk[FL_VD * B + nb] = vol_m[donor, pm]
-                    wk[FL_MD * B + nb] = mass_m[donor, pm]
-                    wk[FL_ED * B + nb] = ener_m[donor, pm]
-                    wk[FL_VA * B + nb] = vol_m[a, pm]
-                    wk[FL_MA * B + nb] = mass_m[a, pm]
-                    wk[FL_EA * B + nb] = ener_m[a, pm]
+                    wk[FL_VD * B + nb] = vol_m[donor, 0]
+                    wk[FL_MD * B + nb] = mass_m[donor, 0]
+                    wk[FL_ED * B + nb] = ener_m[donor, 0]
+                    wk[FL_VA * B + nb] = vol_m[a, 0]
+                    wk[FL_MA * B + nb] = mass_m[a, 0]
+                    wk[FL_EA * B + nb] = ener_m[a, 0]
                     u = far if far >= 0 else donor  # (read only where far >= 0: FL_HASFAR)
                     wk[FL_HASFAR * B + nb] = 1.0 if far >= 0 else 0.0
-                    wk[FL_VU * B + nb] = vol_m[u, pm] if far >= 0 else 0.0
-                    wk[FL_MU * B + nb] = mass_m[u, pm]
-                    wk[FL_EU * B + nb] = ener_m[u, pm]
+                    wk[FL_VU * B + nb] = vol_m[u, 0] if far >= 0 else 0.0
+                    wk[FL_MU * B + nb] = mass_m[u, 0]
+                    wk[FL_EU * B + nb] = ener_m[u, 0]
                     nb += 1
                 else:
                     _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
@@ -306,10 +286,9 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
                            wk[FL_OV * B:(FL_OV + 1) * B], wk[FL_OM * B:(FL_OM + 1) * B], wk[FL_OE * B:(FL_OE + 1) * B])
                 for j in range(nb):
                     f = lane_f[j]
-                    pm = lane_f[B + j]
-                    fvol[f, pm] = wk[FL_OV * B + j]
-                    fmass[f, pm] = wk[FL_OM * B + j]
-                    fener[f, pm] = wk[FL_OE * B + j]
+                    fvol[f, 0] = wk[FL_OV * B + j]
+                    fmass[f, 0] = wk[FL_OM * B + j]
+                    fener[f, 0] = wk[FL_OE * B + j]
 
 
 @njit(cache=True, inline="always")

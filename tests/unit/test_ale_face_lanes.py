@@ -1,11 +1,9 @@
 """The one-material face fluxes (ale/face_lanes.py, blocks of faces together) give the scalar flux's bits.
 
 One gas takes ``face_lanes.face_block`` in ``remap.face_fluxes``; the same gas as the first of two
-materials, the second absent everywhere (volume fraction 0), takes the scalar ``remap._face_flux`` on the
-inflow faces (donor outside) and, since issue 17, ``face_block`` on the others (all their cells are pure
-cells of the first material, ``remap.pure_face``: there ``_face_flux``'s SLIC finds no interface, one
-material present: g_max - g_min = 0, and its sums over the second material add nothing; ``_face_flux``
-against the pure faces' lanes, face by face, on a water/air mesh: tests/unit/test_ale_pure_cells.py). The volume, mass and energy fluxes of every face must agree to the bit (assert_array_equal)
+materials, the second absent everywhere (volume fraction 0), takes the scalar ``remap._face_flux``, whose
+SLIC finds no interface (one material present: g_max - g_min = 0) and whose sums over the second material
+add nothing. The volume, mass and energy fluxes of every face must agree to the bit (assert_array_equal)
 at order 1 and 2, on a mesh whose Lagrangian position is displaced by up to about a cell (so that some
 faces sweep more than their donor holds), with a transmitting side (outflow and inflow faces), an empty
 element (no mass) and elements of negative internal energy (the cap dE <= E_d applies only where E_d > 0).

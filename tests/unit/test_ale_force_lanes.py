@@ -1,13 +1,10 @@
 """The plane ALE force kernel's vectorised passes (ale/force_lanes.py) give the general path's bits.
 
-One ideal or stiffened gas takes ``gas_block`` on the flat state; the same gas as the first of two materials,
-the second absent everywhere (volume fraction 0), makes every cell a pure cell (``lagrange.pure_material``),
-whose state ``state_block`` gathers into its lanes and passes through the same ``gas_block`` (issue 17; before,
-the general ``_mixture_pressure`` loop, whose sums over the second material add nothing: the general loop
-against the pure-cell lanes, element by element, is tests/unit/test_ale_pure_cells.py). The forces,
-pressures, bulk moduli, viscosity and stable step must agree to the bit (assert_array_equal), on a randomly
-perturbed mesh with random velocities (compression and expansion both present), voids and a pressure cut-off
-included.
+One ideal or stiffened gas takes ``gas_block``; the same gas as the first of two materials, the second
+absent everywhere (volume fraction 0), takes the general ``_mixture_pressure`` loop, whose sums over the
+second material add nothing: the forces, pressures, bulk moduli, viscosity and stable step must agree to
+the bit (assert_array_equal), on a randomly perturbed mesh with random velocities (compression and
+expansion both present), voids and a pressure cut-off included.
 """
 from __future__ import annotations
 
