@@ -1,6 +1,6 @@
 """ALE plane force kernel (``lagrange.lagrange_forces``): three of its passes over a block of elements
 written so that LLVM vectorises them (issue 17): the material state where the mesh holds one ideal or
-stiffened gas (``gas_block``), the geometry (``geometry_block``), and the bulk viscosity and stable step
+stiffened gas (``gas_block``) or two (``two_gas_block``, the (E, 2) state read in place), the geometry (``geometry_block``), and the bulk viscosity and stable step
 (``viscosity_block``).
 
 The force kernel goes over each block of elements in passes through a work array (see the comment
