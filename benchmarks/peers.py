@@ -1,6 +1,6 @@
 """sphfem against named peers, side by side (issue 17): one thread, interleaved pairs, CPU time.
 
-    python benchmarks/peers.py [--cases ale2d,ale2dflow,hex8,sph2d,dambreak] [--pairs 3] [--size 1.0]
+    python benchmarks/peers.py [--cases ale2d,ale2dflow,ale2dtwo,hex8,sph2d,dambreak] [--pairs 3] [--size 1.0]
 
 Cases (the ratio is sphfem's rate over the peer's, per cell-step / element-step / particle-step):
 
@@ -11,6 +11,9 @@ Cases (the ratio is sphfem's rate over the peer's, per cell-step / element-step 
   face and node of the remap moves from the first step, as every cell of CloverLeaf computes) against
   the same CloverLeaf_Serial run. The ``ale2d`` box is at rest but for its bump's wave, which the
   remap's skips of zero fluxes make cheap; ``ale2dflow`` is the cost of a flow that fills the mesh.
+* ``ale2dtwo``: the two-material box of the same size at rest (``build(n, True)``: water below a wavy line,
+  air above, SLIC; most cells pure, mixed ones along the line) against the same one-material CloverLeaf_Serial
+  run: issue 17's goal for two materials, 0.6 of CloverLeaf's one-material rate.
 * ``hex8``: sphfem's elastic hex8 cube (``fem_throughput.CUBE_DECK``, n^3 elements) against
   LULESH 2.0 serial (``-s n -i steps``), n = 30 at size 1.
 * ``sph2d``: sphfem's 2D dam break at about 90 000 particles (a/dx = 212) against the fused-step
@@ -112,11 +115,11 @@ CLOVER_IN = """*clover
 """
 
 
-def ale2d_case(n: int, steps: int, vortex: bool = False) -> Case:
+def ale2d_case(n: int, steps: int, vortex: bool = False, two: bool = False) -> Case:
     def ours() -> float:
         from ale_throughput import build
 
-        ale = build(n, False, vortex)
+        ale = build(n, two, vortex)
         for _ in range(2):
             ale.step(ale.stable_dt(0.5))
         c0 = time.process_time()
@@ -135,7 +138,7 @@ def ale2d_case(n: int, steps: int, vortex: bool = False) -> Case:
                 return child_cpu([str(exe)], Path(tmp), one_thread_env())[0]
         return n * n * (steps - 1) / loop_cpu(run, steps)
 
-    return Case("ale2dflow" if vortex else "ale2d", "cell-steps/s", f"{n}^2 cells, {steps} steps", ours, peer,
+    return Case("ale2dtwo" if two else "ale2dflow" if vortex else "ale2d", "cell-steps/s", f"{n}^2 cells, {steps} steps", ours, peer,
                 "CloverLeaf_Serial")
 
 
@@ -328,6 +331,7 @@ def make_cases(size: float, steps_scale: float) -> dict[str, Callable[[], Case]]
     s = lambda k: max(int(round(k * steps_scale)), 2)  # noqa: E731
     return {"ale2d": lambda: ale2d_case(n_ale, s(20)),
             "ale2dflow": lambda: ale2d_case(n_ale, s(20), vortex=True),
+            "ale2dtwo": lambda: ale2d_case(n_ale, s(20), two=True),
             "hex8": lambda: hex8_case(n_hex, s(200)),
             "sph2d": lambda: sph2d_case(ratio, s(20)),
             "dambreak": lambda: dambreak_case(ratio, s(20))}

@@ -1,6 +1,6 @@
 """ALE plane force kernel (``lagrange.lagrange_forces``): three of its passes over a block of elements
 written so that LLVM vectorises them (issue 17): the material state where the mesh holds one ideal or
-stiffened gas (``gas_block``), the geometry (``geometry_block``), and the bulk viscosity and stable step
+stiffened gas (``gas_block``) or two (``two_gas_block``, the (E, 2) state read in place), the geometry (``geometry_block``), and the bulk viscosity and stable step
 (``viscosity_block``).
 
 The force kernel goes over each block of elements in passes through a work array (see the comment
@@ -49,19 +49,28 @@ _ST_BLOCK = 128  # elements per block: st of 22 x 128 doubles (22 kB) and the co
 _CX_X, _CX_Y, _CX_U, _CX_W = 0, 4, 8, 12
 
 
+@njit(cache=True, inline="always")
+def gas_material(mat_eos, mat_q, mat_rho0, m):
+    """(True, gamma - 1, gamma p_inf) when material m is an ideal or stiffened gas with rho0 > 0 (``gas_block``
+    computes its state); else (False, 0, 0)."""
+    if mat_rho0[m] <= 0.0:
+        return False, 0.0, 0.0
+    eos = mat_eos[m]
+    if eos == EOS_IDEAL_GAS:
+        return True, mat_q[m, Q_IG_GAMMA] - 1.0, 0.0
+    if eos == EOS_STIFFENED_GAS:
+        return True, mat_q[m, Q_SG_GAMMA] - 1.0, mat_q[m, Q_SG_GAMMA] * mat_q[m, Q_SG_PINF]
+    return False, 0.0, 0.0
+
+
 @njit(cache=True)
 def one_gas(mat_eos, mat_q, mat_rho0):
     """(True, gamma - 1, gamma p_inf) when the mesh holds one material, an ideal or stiffened gas with
-    rho0 > 0 (``gas_block`` applies); else (False, 0, 0). The ideal gas is the stiffened one at
+    rho0 > 0 (``gas_block`` applies, ``gas_material``); else (False, 0, 0). The ideal gas is the stiffened one at
     p_inf = 0: (gamma - 1) r E - 0.0 is (gamma - 1) r E to the bit."""
-    if mat_eos.shape[0] != 1 or mat_rho0[0] <= 0.0:
+    if mat_eos.shape[0] != 1:
         return False, 0.0, 0.0
-    eos = mat_eos[0]
-    if eos == EOS_IDEAL_GAS:
-        return True, mat_q[0, Q_IG_GAMMA] - 1.0, 0.0
-    if eos == EOS_STIFFENED_GAS:
-        return True, mat_q[0, Q_SG_GAMMA] - 1.0, mat_q[0, Q_SG_GAMMA] * mat_q[0, Q_SG_PINF]
-    return False, 0.0, 0.0
+    return gas_material(mat_eos, mat_q, mat_rho0, 0)
 
 
 @njit(cache=True, error_model="numpy")
@@ -106,6 +115,66 @@ def gas_block(nb, vol_m, mass_m, ener_m, e_lag, gm1, gpinf, rho0, phi_eps, rho_v
         st_p[i] = p_in if present else 0.0
         m_in = m_in if present else 0.0
         st_c[i] = math.sqrt((mc2 if present else 0.0) / m_in) if m_in > 0.0 else 0.0
+        st_m[i] = mtot
+
+
+@njit(cache=True, inline="always")
+def _gas_in_mixture(vol, mass, ener, lag, ps, vtot, gm1, gpinf, rho0, phi_eps, rho_void, pressure_cutoff):
+    """One gas's part of ``lagrange._mixture_pressure`` in an element of total volume vtot, branch-free (as
+    ``gas_block``): (present, p, c, rho), p and c to be used only where present."""
+    present = vol > phi_eps * vtot and mass > rho_void * rho0 * vol
+    rho = mass / vol
+    r = rho / rho0
+    big_e = rho0 * (ener / mass + lag)
+    p = gm1 * r * big_e - gpinf
+    dpdmu = gm1 * big_e
+    dpde = gm1 * r
+    c2 = (dpdmu + p * dpde / (r * r)) / rho0
+    c = math.sqrt(c2) if c2 > 0.0 else 0.0
+    if rho <= 0.0:
+        p = 0.0
+        c = 0.0
+    p = max(p * ps, pressure_cutoff)
+    return present, p, c, rho
+
+
+@njit(cache=True, error_model="numpy")
+def two_gas_block(nb, vol2, mass2, ener2, lag2, pscale2, gm1_0, gpinf_0, rho0_0, gm1_1, gpinf_1, rho0_1, phi_eps,
+                  rho_void, pressure_cutoff, pres2, bulk2, st_p, st_c, st_m):
+    """``lagrange._mixture_pressure`` of the nb elements of a block where the mesh holds two materials, both ideal
+    or stiffened gases (``gas_material``), pure or mixed cells alike: the (E, 2) arrays come as the block's slices
+    of their flat views (element i's materials at 2 i and 2 i + 1: a constant stride, interleaved loads), and both
+    materials' states are computed for every element (``_gas_in_mixture``), the absent one's discarded by selects.
+
+    The general path's operations in its order: vtot = (0.0 + V_0) + V_1, M likewise; p_mix = (0.0 + [V_0 / vtot
+    p_0]) + [V_1 / vtot p_1], the bracket 0.0 where the material is absent (the general loop skips it: a sum started
+    at +0.0 is never -0.0, so adding +0.0 changes no bit); sum M c^2 and the present mass likewise; c_e =
+    sqrt(sum M c^2 / M_present), 0 without mass; pres, bulk = p, rho c c where present, else 0."""
+    for i in range(nb):
+        a = 2 * i
+        b = a + 1
+        v0 = vol2[a]
+        v1 = vol2[b]
+        m0 = mass2[a]
+        m1 = mass2[b]
+        vtot = 0.0 + v0 + v1
+        mtot = 0.0 + m0 + m1
+        in0, p0, c0, rho_0 = _gas_in_mixture(v0, m0, ener2[a], lag2[a], pscale2[a], vtot, gm1_0, gpinf_0, rho0_0,
+                                             phi_eps, rho_void, pressure_cutoff)
+        in1, p1, c1, rho_1 = _gas_in_mixture(v1, m1, ener2[b], lag2[b], pscale2[b], vtot, gm1_1, gpinf_1, rho0_1,
+                                             phi_eps, rho_void, pressure_cutoff)
+        pres2[a] = p0 if in0 else 0.0
+        bulk2[a] = rho_0 * c0 * c0 if in0 else 0.0
+        pres2[b] = p1 if in1 else 0.0
+        bulk2[b] = rho_1 * c1 * c1 if in1 else 0.0
+        p_mix = 0.0 + (v0 / vtot * p0 if in0 else 0.0)
+        p_mix = p_mix + (v1 / vtot * p1 if in1 else 0.0)
+        mc2 = 0.0 + (m0 * c0 * c0 if in0 else 0.0)
+        mc2 = mc2 + (m1 * c1 * c1 if in1 else 0.0)
+        m_in = 0.0 + (m0 if in0 else 0.0)
+        m_in = m_in + (m1 if in1 else 0.0)
+        st_p[i] = p_mix
+        st_c[i] = math.sqrt(mc2 / m_in) if m_in > 0.0 else 0.0
         st_m[i] = mtot
 
 

@@ -18,8 +18,8 @@ from numba import njit, prange
 from ..fem.geometry import QUAD_GAMMA, bulk_viscosity, quad4_gradient, stable_dt
 from ..materials.kernels import EOS_GRUNEISEN, eos_state
 from .force_lanes import (_ST_AREA, _ST_B, _ST_BLOCK, _ST_C, _ST_COEF, _ST_GX, _ST_HQ, _ST_LONG2, _ST_M, _ST_P, _ST_RHO,
-                          _ST_ROWS, _ST_S, _ST_TRACE, _ST_VMAX2, gas_block, gather_block, geometry_block, one_gas,
-                          viscosity_block)
+                          _ST_ROWS, _ST_S, _ST_TRACE, _ST_VMAX2, gas_block, gas_material, gather_block, geometry_block,
+                          one_gas, two_gas_block, viscosity_block)
 from .hex_lanes import (_HC_ROWS, _HF_ROWS, _HX_BLOCK, _HX_C, _HX_COEF, _HX_HG, _HX_M, _HX_P, _HX_RHO, _HX_ROWS, _HX_VOL,
                         gather_hex_block, hex_force_block, hex_geometry_block, hex_viscosity_block)
 
@@ -115,21 +115,34 @@ def state_block(block, nb, gas, gm1, gpinf, flat, vol_m, mass_m, ener_m, e_lag, 
     """The material-state pass of the force kernels over elements block .. block + nb - 1: each element's mixture
     pressure, sound speed and mass into st_p, st_c, st_m [0, nb), and pres_m, bulk_m. Where the mesh holds one ideal
     or stiffened gas (``gas``, ``force_lanes.one_gas``) ``force_lanes.gas_block`` on the block's slices of ``flat``
-    (the (E, 1) state as flat (E,) views: vol, mass, ener, e_lag, pres, bulk, pscale), else
-    ``_mixture_pressure`` element by element."""
+    (the (E, 1) state as flat (E,) views: vol, mass, ener, e_lag, pres, bulk, pscale); where it holds two, both
+    ideal or stiffened gases (``force_lanes.gas_material``), ``force_lanes.two_gas_block`` on the block's slices of
+    the same flat (2 E,) views, pure and mixed cells alike (issue 17); else ``_mixture_pressure`` element by
+    element."""
     if gas:
         vol1, mass1, ener1, lag1, pres1, bulk1, pscale1 = flat
         end = block + nb
         gas_block(nb, vol1[block:end], mass1[block:end], ener1[block:end], lag1[block:end], gm1, gpinf,
                   mat_rho0[0], phi_eps, RHO_VOID, pscale1[block:end], pressure_cutoff, pres1[block:end],
                   bulk1[block:end], st_p, st_c, st_m)
-    else:
-        for i in range(nb):
-            p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
-                                                   mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
-            st_p[i] = p_mix
-            st_c[i] = c_max
-            st_m[i] = mtot
+        return
+    if vol_m.shape[1] == 2:  # two gases: force_lanes.two_gas_block on the flat (2 E,) views
+        ok0, gm1_0, gpinf_0 = gas_material(mat_eos, mat_q, mat_rho0, 0)
+        ok1, gm1_1, gpinf_1 = gas_material(mat_eos, mat_q, mat_rho0, 1)
+        if ok0 and ok1:
+            vol1, mass1, ener1, lag1, pres1, bulk1, pscale1 = flat
+            a = 2 * block
+            z = 2 * (block + nb)
+            two_gas_block(nb, vol1[a:z], mass1[a:z], ener1[a:z], lag1[a:z], pscale1[a:z], gm1_0, gpinf_0, mat_rho0[0],
+                          gm1_1, gpinf_1, mat_rho0[1], phi_eps, RHO_VOID, pressure_cutoff, pres1[a:z], bulk1[a:z],
+                          st_p, st_c, st_m)
+            return
+    for i in range(nb):
+        p_mix, c_max, mtot = _mixture_pressure(block + i, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
+                                               mat_rho0, phi_eps, pscale, pressure_cutoff, pres_m, bulk_m)
+        st_p[i] = p_mix
+        st_c[i] = c_max
+        st_m[i] = mtot
 
 
 @njit(cache=True, inline="always")
@@ -247,6 +260,12 @@ def quad_hourglass(e, xe, ve, b, coef, f_elem):
 # (its module docstring). Bit-identical; per element, 480^2 one gas, 1 thread, min of 15 calls: state 15.5 ->
 # 4.7 ns, viscosity and step 14.8 -> 4.4 (the kernel 52.7 -> 32.8) before the geometry pass, which took the
 # kernel from 2.87 to 1.60 ms per call at 240^2 (benchmarks/ale_kernels.py, load 5.6-6.8).
+# Two materials, both ideal or stiffened gases (issue 17, the water/air box of benchmarks/ale_throughput.py): the
+# state pass force_lanes.two_gas_block reads the (E, 2) arrays in place and computes both gases and the mixture for
+# every cell with selects (bit-identical: hashes of the boxes and water_air_shock_tube); min / median ms per call,
+# 240^2, 1 thread, 3 rounds of 30 calls alternated with 75c5111 (benchmarks/ale_kernels.py, load 4.1-4.2): 2.481 /
+# 2.803 -> 1.883 / 2.039. Gathering the pure cells into gas_block's lanes instead (branch ale2mat a03f2cc) had been
+# slower than the scalar loop (2.576 -> 2.691): benchmarks/README.md.
 @njit(parallel=True, cache=True)
 def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, mat_rho0, q1, q2, qhg,
                     phi_eps, pscale, pressure_cutoff, f_elem, pres_m, bulk_m, q_elem, dt_elem):
