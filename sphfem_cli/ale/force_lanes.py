@@ -94,19 +94,8 @@ def gas_block(nb, vol_m, mass_m, ener_m, e_lag, gm1, gpinf, rho0, phi_eps, rho_v
         mass = mass_m[i]
         vtot = 0.0 + vol
         mtot = 0.0 + mass
-        present = vol > phi_eps * vtot and mass > rho_void * rho0 * vol
-        rho = mass / vol
-        r = rho / rho0
-        big_e = rho0 * (ener_m[i] / mass + e_lag[i])
-        p = gm1 * r * big_e - gpinf
-        dpdmu = gm1 * big_e
-        dpde = gm1 * r
-        c2 = (dpdmu + p * dpde / (r * r)) / rho0
-        c = math.sqrt(c2) if c2 > 0.0 else 0.0
-        if rho <= 0.0:
-            p = 0.0
-            c = 0.0
-        p = max(p * pscale[i], pressure_cutoff)
+        present, p, c, rho = _gas_in_mixture(vol, mass, ener_m[i], e_lag[i], pscale[i], vtot, gm1, gpinf, rho0,
+                                             phi_eps, rho_void, pressure_cutoff)
         p_in = 0.0 + vol / vtot * p
         mc2 = 0.0 + mass * c * c
         m_in = 0.0 + mass
