@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit, prange
 
 from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0

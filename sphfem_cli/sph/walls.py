@@ -23,11 +23,10 @@ from ..materials.slots import P_VISCOSITY, Q_E0
 from .eos import density_from_pressure, sound_speed
 from .kernel_functions import inv_pow, kernel_shape, kernel_f, kernel_sigma
 from .rates import _FM
-from .slots import PLANE_NO_SLIP, PLANE_OPEN
 from .search import cell_range
-from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ,
-                    GI_NX, GI_NY, GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, SF_ALPHA, SF_BETA, SF_BETA_PER_ALPHA,
-                    SF_EPS, SF_GX, SF_GY, SF_GZ, SF_PRESSURE_CUTOFF, SI_DIM, SI_KERNEL)
+from .slots import (D_C, D_MK, D_PR, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_OX, GF_OY, GF_OZ, GI_NX, GI_NY,
+                    GI_NZ, KIND_FLUID, KIND_GHOST, KIND_WALL, PLANE_NO_SLIP, PLANE_OPEN, SF_ALPHA, SF_BETA,
+                    SF_BETA_PER_ALPHA, SF_EPS, SF_GX, SF_GY, SF_GZ, SF_PRESSURE_CUTOFF, SI_DIM, SI_KERNEL)
 
 
 @dataclass(frozen=True)
@@ -253,7 +252,7 @@ def wall_pressure(sx, sd, cell_start, sreach, settings_f, settings_i, grid_f, gr
     """
     kernel, dim = settings_i[SI_KERNEL], settings_i[SI_DIM]
     nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
-    hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
+    cell = grid_f[GF_CELL]
     ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
     gx, gy, gz = settings_f[SF_GX], settings_f[SF_GY], settings_f[SF_GZ]
     pressure_cutoff = settings_f[SF_PRESSURE_CUTOFF]
@@ -335,7 +334,7 @@ def ghost_friction(sx, sd, svf, slots, perm, cell_start, sreach, settings_f, set
     alpha, beta, eps = settings_f[SF_ALPHA], settings_f[SF_BETA], settings_f[SF_EPS]
     bpa = settings_f[SF_BETA_PER_ALPHA]
     switched = salpha.shape[0] > 1
-    hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
+    cell = grid_f[GF_CELL]
     ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
     inv_cell = 1.0 / cell
     for t in prange(slots.shape[0]):
