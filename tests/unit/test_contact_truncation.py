@@ -11,20 +11,20 @@ A 10 x 40 mm rectangle (four convex corners) in a lattice of water (dx 2.5 mm, c
 """
 from __future__ import annotations
 
-import importlib.util
+import sys
 from pathlib import Path
 
 import numpy as np
 
-_SPEC = importlib.util.spec_from_file_location(
-    "structure_in_water_corner_truncation",
-    Path(__file__).resolve().parents[2] / "docs" / "studies" / "structure_in_water_corner_truncation.py")
-truncation = importlib.util.module_from_spec(_SPEC)
-_SPEC.loader.exec_module(truncation)
+from sphfem_cli.sph.kernel_functions import CUBIC_SPLINE, kernel_f
+
+# the study module imported by name from docs/studies (a module numba can find again when it loads its cached
+# kernels; one loaded from a file spec outside sys.modules is "<dynamic>" to numba and its cache cannot be reloaded)
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "docs" / "studies"))
+import structure_in_water_corner_truncation as truncation  # noqa: E402
 _GAUSS_W, _GAUSS_X = truncation._GAUSS_W, truncation._GAUSS_X
 corner_correction, flat_integral, surface_integral = (truncation.corner_correction, truncation.flat_integral,
                                                       truncation.surface_integral)
-from sphfem_cli.sph.kernel_functions import CUBIC_SPLINE, kernel_f
 
 DX, RHO, P = 0.0025, 1000.0, 1.0e6
 H = 1.2 * DX
