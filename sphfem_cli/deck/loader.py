@@ -50,7 +50,6 @@ import re
 import stat
 from collections.abc import Hashable
 from os import PathLike
-from pathlib import Path
 from typing import Any
 
 import yaml
@@ -186,8 +185,8 @@ class _Composer(Reader, Scanner, Parser, Composer, _Resolver):
         self.depth = 0
 
     def _stop(self, event: Any, message: str) -> DeckError:
-        mark = event.start_mark
-        return DeckError(message, file=self.file, line=mark.line + 1, col=mark.column + 1, path="yaml")
+        line, col = _mark_pos(event.start_mark)
+        return DeckError(message, file=self.file, line=line, col=col, path="yaml")
 
     def compose_node(self, parent: Node | None, index: Any) -> Node:
         event = self.peek_event()
@@ -209,8 +208,17 @@ class _Composer(Reader, Scanner, Parser, Composer, _Resolver):
             self.depth -= 1
 
 
+def _mark_pos(mark: Any) -> tuple[int, int]:
+    """1-based (line, col) of a PyYAML mark, lines counted at "\\n" only, as editors count them (PyYAML also
+    breaks lines at NEL U+0085 and at U+2028 / U+2029; the composer reads the whole text, so the mark's buffer
+    holds it)."""
+    if mark.buffer is not None:
+        return _line_col(mark.buffer, mark.index)
+    return mark.line + 1, mark.column + 1
+
+
 def _pos(node: Node) -> tuple[int, int]:
-    return node.start_mark.line + 1, node.start_mark.column + 1
+    return _mark_pos(node.start_mark)
 
 
 def _kind(value: Any) -> str:
@@ -347,10 +355,10 @@ def _syntax_error(exc: yaml.YAMLError, text: str, file: str) -> DeckError:
         message = exc.problem or exc.context or "invalid YAML"
         context = exc.context_mark
         if exc.context and exc.problem and context and mark and context.line != mark.line:
-            message = f"{exc.problem} ({exc.context} at line {context.line + 1})"
+            message = f"{exc.problem} ({exc.context} at line {_mark_pos(context)[0]})"
         if (exc.context or "").startswith("expected a single document"):
             message = "more than one YAML document ('---'); a deck is a single document"
-        line, col = (mark.line + 1, mark.column + 1) if mark else (1, 1)
+        line, col = _mark_pos(mark) if mark else (1, 1)
     elif isinstance(exc, yaml.reader.ReaderError):
         line, col = _line_col(text, exc.position)
         message = f"unacceptable character #x{exc.character:04x}: {exc.reason}"

@@ -348,6 +348,28 @@ def _dummy_wall_points(deck, default_spacing: float) -> tuple[np.ndarray | None,
     return np.vstack(points), dx
 
 
+def _check_open_sides(deck, model) -> None:
+    """A non_reflecting side needs every particle on its inner side at the start (its images are offset
+    outwards from their particles, sph/open_sides.py): a deck error (ModelError) otherwise."""
+    from ..deck.schema import WallBoundary
+    from ..deck.schema.boundaries import BOX_FACES
+    from .build import ModelError
+
+    x = model.particles.x
+    for i, bc in enumerate(deck.boundaries):
+        if not (isinstance(bc, WallBoundary) and bc.condition == "non_reflecting"):
+            continue
+        for s in bc.sides:
+            axis, which, side = BOX_FACES[s]
+            if axis >= x.shape[1]:
+                continue
+            beyond = side * (x[:, axis] - (bc.min, bc.max)[which][axis]) < 0.0
+            if beyond.any():
+                raise ModelError(f"boundaries.{i}.sides", f"{int(beyond.sum())} particles start beyond the "
+                                 f"non_reflecting side '{s}' (the first at {x[np.argmax(beyond)].tolist()}); "
+                                 "an open side needs the fluid on its inner side")
+
+
 def _sph_options(deck, model, detonations) -> SphDomainOptions:
     from ..deck.schema import Gravity, InitialVelocity as DeckVelocity, WallBoundary
 
@@ -358,6 +380,7 @@ def _sph_options(deck, model, detonations) -> SphDomainOptions:
         if isinstance(load, Gravity) and (load.parts is None or sph_names & set(load.parts)):
             gravity += np.array(load.acceleration)
     points, dx = _dummy_wall_points(deck, float(model.particles.spacing.min()))
+    _check_open_sides(deck, model)
     visc = section.artificial_viscosity
     return SphDomainOptions(
         kernel=section.kernel, smoothing_ratio=section.smoothing_ratio, alpha=visc.alpha, beta=visc.beta,

@@ -64,11 +64,11 @@ def box_walls(lo: Sequence[float], hi: Sequence[float], sides: Sequence[str], co
     """Walls on the named faces of the box [lo, hi]: 'left'/'right' (x), 'bottom'/'top' (y),
     'back'/'front' (z); in 2D 'bottom'/'top' are y, in 1D 'left'/'right' are x. ``source``:
     non_reflecting sides only (``Wall``)."""
-    faces = {"left": (0, 0, 1), "right": (0, 1, -1), "bottom": (1, 0, 1), "top": (1, 1, -1),
-             "back": (2, 0, 1), "front": (2, 1, -1)}
+    from ..deck.schema.boundaries import BOX_FACES
+
     out = []
     for s in sides:
-        axis, which, side = faces[s]
+        axis, which, side = BOX_FACES[s]
         out.append(Wall(axis, float((lo, hi)[which][axis]), side, condition,
                         None if source is None else tuple(float(v) for v in source)))
     return out

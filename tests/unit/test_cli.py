@@ -204,3 +204,20 @@ def test_effective_deck_of_an_axisymmetric_run_stays_axisymmetric(tmp_path):
     effective = yaml.safe_load((out / "deck.effective.yaml").read_text())
     assert effective["dimension"] == "axisymmetric"
     assert load_model(str(out / "deck.effective.yaml")).deck.axisymmetric
+
+
+def test_particles_beyond_an_open_side_are_a_deck_error(tmp_path):
+    """A non_reflecting SPH side with water outside it (found by the deck fuzzer: it was an internal error, exit 1):
+    the side's images are offset outwards from their particles (sph/open_sides.py), so the deck is refused with its
+    position."""
+    from pathlib import Path
+    text = (Path(__file__).parents[2] / "decks" / "dam_break_2d.yaml").read_text()
+    deck = tmp_path / "open.yaml"
+    walls = "sides: [left, right, bottom], condition: no_slip}"
+    assert walls in text
+    deck.write_text(text.replace(walls, "sides: [right, bottom], condition: no_slip}\n  - {type: wall, min: [0.01, 0.0], "
+                                        "max: [0.3432, 0.3432], sides: [left], condition: non_reflecting}"))
+    result = run_cli(["check", str(deck)])
+    assert result.exit_code == 65, result.output
+    assert re.match(rf"^{re.escape(str(deck))}:\d+:\d+: boundaries\.\d+\.sides: \d+ particles start beyond the "
+                    r"non_reflecting side 'left'", result.output), result.output

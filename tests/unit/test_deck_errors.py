@@ -588,3 +588,17 @@ def test_constants_the_kernels_cannot_square_are_deck_errors(tmp_path, old, new,
         return
     match = _one_deck_error(deck, cli_main)
     assert match["path"] == path and text in match["msg"], match[0]
+
+
+def test_lines_are_counted_at_newlines_only() -> None:
+    """PyYAML also breaks lines at NEL (U+0085) and U+2028 / U+2029; editors do not, so positions are counted
+    at "\\n" only. Found by the deck fuzzer: a key renamed to NEL inside an unclosed quote was reported on line 5
+    of a 4-line file."""
+    text = 'a: 1\nb: "x\x85y\n'
+    with pytest.raises(DeckError) as info:
+        loads(text, "t.yaml")
+    assert (info.value.line, info.value.col) == (text.count("\n") + 1, 1), str(info.value)  # the end of the text
+    _, positions = loads('a: "x\x85y"\nmaterials:\n  steel: {type: elastic}\n', "t.yaml")  # values after a NEL
+    assert positions.position_of(("materials", "steel")) == (3, 3)
+    _, positions = loads('a: "x\u2028y"\nz: [1, 2]\n', "t.yaml")
+    assert positions.position_of(("z",)) == (2, 1)

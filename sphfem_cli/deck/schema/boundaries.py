@@ -39,6 +39,9 @@ class Target(DeckModel):
 
 
 Direction = Literal["x", "y", "z"]
+# a wall boundary's sides: name -> (axis, 0 at its min / 1 at its max, +1 when the fluid lies above the plane)
+BOX_FACES = {"left": (0, 0, 1), "right": (0, 1, -1), "bottom": (1, 0, 1), "top": (1, 1, -1),
+             "back": (2, 0, 1), "front": (2, 1, -1)}
 
 
 class FixedBoundary(Target):
