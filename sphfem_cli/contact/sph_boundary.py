@@ -71,7 +71,6 @@ class SphBoundaryCoupling:
         self.seg = np.asarray(seg, dtype=np.int64)
         self.s = np.asarray(s, dtype=np.float64)
         self.depth = np.asarray(depth, dtype=np.float64)
-        self.twins = self._coincident(x0) if spec.corner_particles == "once" else np.full((len(self.seg), 1), -1)
         self.ws = np.zeros((len(self.seg), sw.NW))
         self.ws[:, sw.W_M] = mass
         self.ws[:, sw.W_H] = ratio * dx
@@ -86,15 +85,12 @@ class SphBoundaryCoupling:
         self._v_start = None
         x0 = np.asarray(model.coordinates, dtype=np.float64)
         self.place(x0, np.zeros_like(x0), np.zeros_like(x0))
+        self.twins = (self._coincident(self.particles()) if spec.corner_particles == "once"
+                      else np.full((len(self.seg), 1), -1, dtype=np.int64))
 
-    def _coincident(self, x0: np.ndarray) -> np.ndarray:
-        """(Nw, K) int64: for every particle the particles of other faces within dx / 4 of it at the start (the
-        squares where two faces' layers overlap behind a convex corner), -1 padded; K >= 1."""
-        ia, ib = self.faces[self.seg, 0], self.faces[self.seg, 1]
-        t = x0[ib] - x0[ia]
-        normal = np.stack([t[:, 1], -t[:, 0]], axis=1) / np.linalg.norm(t, axis=1)[:, None]
-        s = self.s[:, None]
-        pos = (1.0 - s) * x0[ia] + s * x0[ib] - self.depth[:, None] * normal
+    def _coincident(self, pos: np.ndarray) -> np.ndarray:
+        """(Nw, K) int64: for every particle (at ``pos``, the start) the particles of other faces within dx / 4
+        of it (the squares where two faces' layers overlap behind a convex corner), -1 padded; K >= 1."""
         from scipy.spatial import cKDTree
         near = cKDTree(pos).query_ball_point(pos, 0.25 * self.spacing) if len(pos) else []
         others = [[o for o in near[w] if self.seg[o] != self.seg[w]] for w in range(len(pos))]
