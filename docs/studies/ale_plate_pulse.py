@@ -20,7 +20,6 @@ the plate's velocity maximum, the reference's, their ratio, CPU seconds and the 
 from __future__ import annotations
 
 import argparse
-import copy
 import json
 import os
 import sys

@@ -11,7 +11,7 @@ from typing import Sequence
 import numpy as np
 
 from . import metrics
-from .units import label, unit_of
+from .units import label
 
 
 def _pyplot():

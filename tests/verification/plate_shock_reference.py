@@ -155,7 +155,7 @@ def column_plate(t_in, p_in, t_end, dx, length=0.15, eos="gruneisen", m=M_PLATE,
         dp = gruneisen_pressure(rho_ + dr, 0.0) - gruneisen_pressure(rho_, 0.0)
         return np.sqrt(np.maximum(dp / dr, 0.01 * c0 * c0))
 
-    nstep = 0
+    nstep, dt = 0, 0.0
     while t < t_end - 1e-15:
         nstep += 1
         if nstep > 2_000_000:

@@ -308,7 +308,7 @@ def test_axisymmetric_cylinder_launches_a_free_rigid_cylinder(sim_from_deck, sin
     }
     sim = sim_from_deck(deck)
     m = sim.model
-    rod, body = m.part_nodes("rod"), m.part_nodes("mass")
+    body = m.part_nodes("mass")
     r0 = m.coordinates[body, 0].copy()
     p0 = float((m.mass * sim.state.v[:, 1]).sum())
     radii = []

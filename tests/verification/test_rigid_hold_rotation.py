@@ -19,11 +19,11 @@ pytestmark = pytest.mark.usefixtures("single_thread")
 
 def deck(dim: int, hold: bool, rigid: bool = True) -> str:
     if dim == 2:
-        box, corner, g, push = "{min: [0, 0], max: [0.2, 0.1], divisions: [4, 2]}", "[0.2, 0.1]", "[0.0, -9.81]", "[50.0, 0.0]"
+        box, g, push = "{min: [0, 0], max: [0.2, 0.1], divisions: [4, 2]}", "[0.0, -9.81]", "[50.0, 0.0]"
         cmin, cmax = "[0.19, 0.09]", "[0.21, 0.11]"
     else:
         box = "{min: [0, 0, 0], max: [0.2, 0.1, 0.1], divisions: [4, 2, 2]}"
-        corner, g, push = "[0.2, 0.1, 0.1]", "[0.0, -9.81, 0.0]", "[50.0, 0.0, 0.0]"
+        g, push = "[0.0, -9.81, 0.0]", "[50.0, 0.0, 0.0]"
         cmin, cmax = "[0.19, 0.09, 0.09]", "[0.21, 0.11, 0.11]"
     mat = "steel" if rigid else "rubber"
     return f"""

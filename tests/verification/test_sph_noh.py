@@ -27,7 +27,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-import pytest
 
 from sphfem_cli.sph import scenes
 

@@ -427,7 +427,7 @@ def _check_references(deck: Deck) -> None:
         elif probe.part is not None and probe.part not in sph_parts:
             raise ValueError(f"@output.probes.{i}.part: '{probe.part}' is not an SPH part "
                              f"(SPH parts: {', '.join(sorted(sph_parts))}"
-                             + (f"; pressure and front probes may name the ALE part" if ale_parts else "") + ")")
+                             + ("; pressure and front probes may name the ALE part" if ale_parts else "") + ")")
         _check_filter(deck, probe.filter, f"output.probes.{i}.filter")
         if probe.name in names:
             raise ValueError(f"@output.probes.{i}.name: duplicate history name '{probe.name}'")
