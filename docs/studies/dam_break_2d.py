@@ -2,7 +2,7 @@
 the artificial sound speed c0 and of the shock switch's floor alpha, what peak Mach number does the run reach, and
 how does the front converge with the spacing (figures in docs/studies/dam_break_2d.md).
 
-    python docs/studies/dam_break_2d.py N@C0@FLOOR[@WALLS] [...]    # from any folder; runs go to study_dam_break_2d/
+    python docs/studies/dam_break_2d.py N@C0@FLOOR[@WALLS] [...]    # runs go to ./study_dam_break_2d/
     python docs/studies/dam_break_2d.py --summary                    # the log, and Celik's three-grid table
 
 A case is the shipped deck with a/dx = N (spacing a / N, a = 0.0572 m), the Tait sound speed C0 [m/s], the switch's
@@ -143,7 +143,8 @@ def summary() -> None:
                     c = three_grid([1.0 / m for m in trio], Z)
                     kind = "diverging" if c.diverging else ("monotone" if c.monotone else "oscillating")
                     print(f"  T {T}: Z {Z} ({kind}), order {c.order:.2f}, Richardson {c.extrapolated:.4f} "
-                          f"({100 * (c.extrapolated / Z_ref[i] - 1):+.1f} % vs exp), GCI fine {100 * c.gci_fine:.2f} %, "
+                          f"({100 * (c.extrapolated / Z_ref[i] - 1):+.1f} % vs exp), "
+                          f"GCI fine {100 * c.gci_fine:.2f} %, "
                           f"GCI medium {100 * c.gci_medium:.2f} %, range {100 * (max(Z) / min(Z) - 1):.2f} %")
 
 
