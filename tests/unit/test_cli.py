@@ -213,9 +213,9 @@ def test_particles_beyond_an_open_side_are_a_deck_error(tmp_path):
     from pathlib import Path
     text = (Path(__file__).parents[2] / "decks" / "dam_break_2d.yaml").read_text()
     deck = tmp_path / "open.yaml"
-    walls = "sides: [left, right, bottom], condition: no_slip}"
+    walls = "sides: [left, right, bottom], condition: wall_function}"
     assert walls in text
-    deck.write_text(text.replace(walls, "sides: [right, bottom], condition: no_slip}\n  - {type: wall, min: [0.01, 0.0], "
+    deck.write_text(text.replace(walls, "sides: [right, bottom], condition: wall_function}\n  - {type: wall, min: [0.01, 0.0], "
                                         "max: [0.3432, 0.3432], sides: [left], condition: non_reflecting}"))
     result = run_cli(["check", str(deck)])
     assert result.exit_code == 65, result.output
