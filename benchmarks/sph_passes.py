@@ -18,7 +18,10 @@ wrapping the kernel the orchestration (``sph/system.py``) calls, with the proces
 * ``time step``: ``integration.stable_time_step``;
 * ``leapfrog``: ``integration.advance_particles``;
 * ``reorder``: ``SphSystem._reorder`` (every ``reorder_every`` evaluations; averaged over all steps);
-* ``rest``: the step's CPU time minus the passes above (Python orchestration, small arrays).
+* ``rest``: the step's CPU time minus the passes above (Python orchestration, small arrays);
+* ``probe (step)`` (with ``--probe``): the whole step of the fused-step probe
+  (``../shared/bench/roofline_sph.py``, ``peers.py``'s ``sph2d`` peer: its cell build and rates on its
+  own lattice of about the same count), timed after each size's sphfem run in the same repetition.
 
 The load average (``os.getloadavg``) is printed before and after: on a shared machine the CPU
 time of a pass includes cache and memory-bandwidth contention from the other processes.
@@ -149,6 +152,8 @@ def main() -> None:
     ap.add_argument("--sizes", default="71,212,500", help="a/dx of each case")
     ap.add_argument("--steps", type=int, default=None, help="timed steps per size (default 4e6 / particles, >= 3)")
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--probe", action="store_true",
+                    help="also time the fused-step probe (peers.py's sph2d peer) at each size, interleaved")
     args = ap.parse_args()
 
     import numba
@@ -159,11 +164,16 @@ def main() -> None:
     sizes = [int(s) for s in args.sizes.split(",")]
     timer = PassTimer()
     systems = {}
+    probes = {}
     for s in sizes:
         ps = scenes.dam_break(a=1.0, dx=1.0 / s, dim=2)
         for _ in range(3):
             ps.advance(0.9)
         systems[s] = ps
+        if args.probe:  # the probe's lattice of 2 nside^2 ~ ps.n points (peers.sph2d_case), compiled here
+            from peers import sph2d_case
+
+            probes[s] = sph2d_case(s, args.steps or max(3, int(4e6 / ps.n))).peer
     load0 = os.getloadavg()
     res = {s: [] for s in sizes}
     for _ in range(args.repeat):
@@ -171,11 +181,13 @@ def main() -> None:
             ps = systems[s]
             steps = args.steps or max(3, int(4e6 / ps.n))
             res[s].append(run_once(ps, steps, timer))
+            if args.probe:
+                res[s][-1]["probe (step)"] = 1e9 / probes[s]()
     load1 = os.getloadavg()
     timer.restore()
     print(f"numba {numba.__version__}, 1 thread, load average {load0[0]:.1f} -> {load1[0]:.1f}; "
           f"ns per particle-step, min / median of {args.repeat} interleaved repetitions (CPU time)")
-    keys = PASSES + ("rest", "total", "  binning")
+    keys = PASSES + ("rest", "total", "  binning") + (("probe (step)",) if args.probe else ())
     print(f"{'pass':12s}" + "".join(f"{f'{systems[s].n} particles':>22s}" for s in sizes))
     for k in keys:
         row = f"{k:12s}"

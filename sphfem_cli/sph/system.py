@@ -208,7 +208,9 @@ class SphSystem:
         self.wall_crossings = 0
         self.external_work = 0.0
         self._dt_prev = 0.0
-        self._dt_work = np.empty((3, n))  # scratch of integration.stable_time_step and advance_particles
+        # scratch of integration.stable_time_step and advance_particles (2D); zeroed, not empty: a checkpoint
+        # holds it, and uninitialised memory made two checkpoints of the same 3D run differ
+        self._dt_work = np.zeros((3, n))
         self._evaluations = 0
         self._rates_valid = False
         self._sorted = None  # last evaluation's point set (layout in the sph/search.py docstring)
