@@ -32,7 +32,6 @@ Order / GCI: sphfem_cli.study.metrics.three_grid with h = 1 / n, Fs 1.25. One th
 """
 from __future__ import annotations
 
-import csv
 import math
 import sys
 import time
@@ -41,7 +40,8 @@ from pathlib import Path
 import numpy as np
 
 from sphfem_cli import api
-from sphfem_cli.study.metrics import describe, three_grid
+from sphfem_cli.solver.solid_domain import von_mises as solid_von_mises
+from sphfem_cli.study.metrics import describe, history_columns, three_grid
 
 ROOT = Path(__file__).resolve().parents[2]
 DECK = ROOT / "decks/structure_in_water_sph.yaml"
@@ -67,17 +67,9 @@ def overrides(n: int, soft_scale: float, end_time: float | None = None) -> dict:
     return out
 
 
-def read(path: Path) -> dict[str, np.ndarray]:
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
-
-
 def von_mises(s: dict[str, np.ndarray]) -> np.ndarray:
-    """sqrt(1/2 ((sxx - syy)^2 + (syy - szz)^2 + (szz - sxx)^2) + 3 (sxy^2 + syz^2 + szx^2))."""
-    xx, yy, zz = s["stress_xx"], s["stress_yy"], s["stress_zz"]
-    shear = s["stress_xy"] ** 2 + s["stress_yz"] ** 2 + s["stress_zx"] ** 2
-    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2) + 3.0 * shear)
+    """The von Mises stress of the history's stress columns (``solver.solid_domain.von_mises``)."""
+    return solid_von_mises(np.column_stack([s[f"stress_{c}"] for c in ("xx", "yy", "zz", "xy", "yz", "zx")]))
 
 
 def level(n: int, soft_scale: float, end_time: float | None = None, tag: str = "") -> dict:
@@ -90,11 +82,11 @@ def level(n: int, soft_scale: float, end_time: float | None = None, tag: str = "
     if res.status != "completed":
         return out
     h = folder / "histories"
-    mid = read(h / "mid.csv")
+    mid = history_columns(h / "mid.csv")
     comps = ("stress_xx", "stress_yy", "stress_zz", "stress_xy", "stress_yz", "stress_zx")
-    tables = [read(h / f"clamp{i}.csv") for i in range(len(clamp_points(n)))]
+    tables = [history_columns(h / f"clamp{i}.csv") for i in range(len(clamp_points(n)))]
     mean = {c: np.mean([t[c] for t in tables], axis=0) for c in comps}
-    g = read(h / "glstat.csv")
+    g = history_columns(h / "glstat.csv")
     out.update({
         "u_peak_mm": 1e3 * float(np.max(np.hypot(mid["displacement_x"], mid["displacement_y"]))),
         "t_u_peak_ms": 1e3 * float(mid["time"][np.argmax(np.hypot(mid["displacement_x"], mid["displacement_y"]))]),

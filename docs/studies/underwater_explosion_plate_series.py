@@ -27,7 +27,6 @@ the steps) were not run: they do not fit the session. No figure of this series i
 """
 from __future__ import annotations
 
-import csv
 import math
 import time
 from pathlib import Path
@@ -35,7 +34,8 @@ from pathlib import Path
 import numpy as np
 
 from sphfem_cli import api
-from sphfem_cli.study.metrics import describe, three_grid
+from sphfem_cli.solver.solid_domain import von_mises as solid_von_mises
+from sphfem_cli.study.metrics import describe, history_columns, three_grid
 
 ROOT = Path(__file__).resolve().parents[2]
 DECK = ROOT / "decks/underwater_explosion_ale.yaml"
@@ -67,16 +67,9 @@ def overrides(nx: int, ny: int) -> dict:
             "output.interval": 2.0e-4, "output.histories": hist}
 
 
-def read(path: Path) -> dict[str, np.ndarray]:
-    with open(path) as f:
-        rows = list(csv.DictReader(f))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
-
-
 def von_mises(s: dict[str, np.ndarray]) -> np.ndarray:
-    xx, yy, zz = s["stress_xx"], s["stress_yy"], s["stress_zz"]
-    shear = s["stress_xy"] ** 2 + s["stress_yz"] ** 2 + s["stress_zx"] ** 2
-    return np.sqrt(0.5 * ((xx - yy) ** 2 + (yy - zz) ** 2 + (zz - xx) ** 2) + 3.0 * shear)
+    """The von Mises stress of the history's stress columns (``solver.solid_domain.von_mises``)."""
+    return solid_von_mises(np.column_stack([s[f"stress_{c}"] for c in ("xx", "yy", "zz", "xy", "yz", "zx")]))
 
 
 def level(nx: int, ny: int) -> dict:
@@ -86,9 +79,9 @@ def level(nx: int, ny: int) -> dict:
     cpu = time.process_time() - cpu
     assert res.completed, res.message
     h = folder / "histories"
-    c = read(h / "centre.csv")
+    c = history_columns(h / "centre.csv")
     comps = ("stress_xx", "stress_yy", "stress_zz", "stress_xy", "stress_yz", "stress_zx")
-    tables = [read(h / f"s{k}.csv") for k in range(len(region_points(nx, ny)))]
+    tables = [history_columns(h / f"s{k}.csv") for k in range(len(region_points(nx, ny)))]
     vm = von_mises({k: np.mean([t[k] for t in tables], axis=0) for k in comps})
     t = c["time"]
     return {"plate": f"{nx} x {ny}", "steps": res.steps, "cpu": round(cpu, 1),

@@ -43,6 +43,12 @@ def read_history(path: Path) -> tuple[list[str], np.ndarray]:
     return columns, data
 
 
+def history_columns(path: Path) -> dict[str, np.ndarray]:
+    """A history CSV as {column name: values}."""
+    columns, data = read_history(path)
+    return {c: data[:, i] for i, c in enumerate(columns)}
+
+
 def quantity_series(histories: Path, quantity: str) -> tuple[np.ndarray, np.ndarray]:
     """(t, q) of ``TABLE.COLUMN`` from a run's histories folder."""
     table, _, column = quantity.partition(".")
