@@ -20,12 +20,9 @@ import h5py
 import numpy as np
 
 from sphfem_cli import api
-from sphfem_cli.study.metrics import history_columns
 
-ROOT = Path(__file__).resolve().parents[2]
-A, G = 0.0572, 9.81
-T_REF = np.array([0.832, 1.219, 1.997, 2.547])
-Z_REF = np.array([1.217, 1.474, 2.292, 2.995])
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from dam_break_2d import ROOT, front, reference  # noqa: E402  (the SPH twin's study: the compared times and Z)
 
 
 def peak_speed(h5: Path) -> float:
@@ -49,10 +46,9 @@ def run(c0: float) -> None:
     api.run(ROOT / "decks" / "dam_break_ale.yaml", out, {"equations_of_state.water.c1": 1000.0 * c0 * c0,
                                                          "output.interval": 0.0016}, threads=1, overwrite=True)
     cpu = time.process_time() - cpu
-    h = history_columns(out / "histories" / "front.csv")
-    front = [c for c in h if c != "time"][0]
-    Z = np.interp(T_REF, h["time"] * np.sqrt(2 * G / A), h[front] / A)
-    print(f"c0 {c0:g}: Z {np.round(Z, 3).tolist()} err % {np.round(100 * (Z / Z_REF - 1), 1).tolist()} "
+    Z = np.array(front(out))
+    _, z_ref = reference()
+    print(f"c0 {c0:g}: Z {np.round(Z, 3).tolist()} err % {np.round(100 * (Z / z_ref - 1), 1).tolist()} "
           f"peak Mach {peak_speed(out / 'results.h5') / c0:.3f} cpu {cpu:.1f} s load {os.getloadavg()[0]:.1f}", flush=True)
 
 
