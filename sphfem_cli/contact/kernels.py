@@ -139,14 +139,16 @@ def _project_3d(p, xm, face, w, normal):
 
 
 @njit(cache=True, parallel=True)
-def point_forces(xp, vp, mp, slave, thickness, xm, vm, faces, seg_k, seg_depth, point_k, ring,
+def point_forces(xp, vp, mp, slave, thickness, xm, vm, faces, seg_k, seg_depth, point_k, seg_inv, ring,
                  cell_start, cell_segs, lo, cell, ncell, damping, friction, dt,
                  f_point, seg_of, weights, gap_out):
     """Penalty force on every slave point (see module docstring); each point writes its own rows.
 
     slave (P,) bool selects the points in contact consideration; thickness (P,) per point;
     seg_k (S,) segment stiffness (used where point_k[i] <= 0) and point_k (P,) a per-point
-    stiffness (soft constraint) otherwise. ring (P,) multiplies the segment stiffness per point: 1 in
+    stiffness (soft constraint, k = s m_p / dt0^2) otherwise: that spring acts on the reduced mass of the point
+    and its segment, m = m_p / (1 + m_p seg_inv[s]) with seg_inv (S,) the segment's largest 1 / m_node, so
+    k = point_k m / m_p and the damping and friction below take m for m_p. ring (P,) multiplies the segment stiffness per point: 1 in
     2D and 3D, the ring circumference 2 pi r_i of the point in an axisymmetric model, where seg_k is
     the meridian stiffness s K L^2 / A and the ring's k_i = 2 pi r_i s K L^2 / A (contact.system).
     Outputs: f_point (P, dim), seg_of (P,) the segment or
@@ -195,7 +197,12 @@ def point_forces(xp, vp, mp, slave, thickness, xm, vm, faces, seg_k, seg_depth, 
                 best_n[:] = nrm
         if best_s < 0:
             continue
-        k_pen = point_k[i] if point_k[i] > 0.0 else seg_k[best_s] * ring[i]
+        m_pair = mp[i]
+        if point_k[i] > 0.0:
+            m_pair = mp[i] / (1.0 + mp[i] * seg_inv[best_s])
+            k_pen = point_k[i] * m_pair / mp[i]
+        else:
+            k_pen = seg_k[best_s] * ring[i]
         vn = 0.0
         v_rel = np.empty(dim)
         for k in range(dim):
@@ -204,7 +211,7 @@ def point_forces(xp, vp, mp, slave, thickness, xm, vm, faces, seg_k, seg_depth, 
                 vmk += best_w[j] * vm[faces[best_s, j], k]
             v_rel[k] = vp[i, k] - vmk
             vn += v_rel[k] * best_n[k]
-        fn = k_pen * (thickness[i] - best_gap) - 2.0 * damping * np.sqrt(k_pen * mp[i]) * vn
+        fn = k_pen * (thickness[i] - best_gap) - 2.0 * damping * np.sqrt(k_pen * m_pair) * vn
         if fn <= 0.0:
             continue
         ft = 0.0
@@ -214,7 +221,7 @@ def point_forces(xp, vp, mp, slave, thickness, xm, vm, faces, seg_k, seg_depth, 
             vt2 += vtk * vtk
         vt = np.sqrt(vt2)
         if friction > 0.0 and vt > 0.0:
-            ft = min(friction * fn, mp[i] * vt / dt)  # never more than stops the slip in one step
+            ft = min(friction * fn, m_pair * vt / dt)  # never more than stops the slip in one step
         for k in range(dim):
             f_point[i, k] = fn * best_n[k]
             if ft > 0.0:

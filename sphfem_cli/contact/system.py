@@ -62,6 +62,8 @@ class NodesToSurfaceContact:
         self.reach = float(self.slave_thickness.max()) if len(slave_mass) else 0.0
         self._k_soft = None  # set on the first step for the soft constraint
         self._master_inv = None  # set on the first step (see _master_compliance)
+        self._node_inv = None  # see _node_inverse_mass
+        self._seg_inv = None  # see _segment_compliance
         self._initial_gaps_taken = False  # node slaves: see _take_initial_gaps
         self.work = 0.0
         self._f_master = np.zeros((model.n_nodes, self.dim))
@@ -155,28 +157,51 @@ class NodesToSurfaceContact:
                         self._passes += 1
         return self._passes
 
-    def _master_compliance(self) -> float:
-        """Largest 1 / m over the master nodes (times the ring 2 pi r in r-z), for the two-body spring.
-
-        A slave on a segment and the segment's node form a two-mass spring, omega^2 = k (1/m_s + 1/m_m)
-        (node weight 1, the worst case). m_m is the nodal mass; a rigid part's nodes move with its
-        body mass, and a node fixed in every direction does not move (1/m_m = 0). In r-z the node's
-        ring factor is taken at its radius plus the longest master edge, a bound on the radius of
-        the slaves it meets. Evaluated once, on the first step (constraints and masses are fixed).
-        """
-        if self._master_inv is None:
+    def _node_inverse_mass(self) -> np.ndarray:
+        """1 / m of each master node (in master_nodes' order): the nodal mass; a rigid part's node moves with its
+        body mass, and a node fixed in every direction does not move (1/m = 0). Once (masses and constraints are fixed)."""
+        if self._node_inv is None:
             model = self.sim.model
             nodes = self.master_nodes
             inv = 1.0 / np.maximum(model.mass[nodes], 1e-300)
             for b in model.rigid_bodies:
                 inv[np.isin(nodes, b.nodes)] = 1.0 / b.mass
             inv[~self.sim.constraints.free[nodes].any(axis=1)] = 0.0
+            self._node_inv = inv
+        return self._node_inv
+
+    def _master_compliance(self) -> float:
+        """Largest 1 / m over the master nodes (times the ring 2 pi r in r-z), for the two-body spring.
+
+        A slave on a segment and the segment's node form a two-mass spring, omega^2 = k (1/m_s + 1/m_m)
+        (node weight 1, the worst case), m_m from ``_node_inverse_mass``. In r-z the node's
+        ring factor is taken at its radius plus the longest master edge, a bound on the radius of
+        the slaves it meets.
+        """
+        if self._master_inv is None:
+            inv = self._node_inverse_mass().copy()
             if self.axisymmetric:
-                x0 = model.coordinates
+                x0 = self.sim.model.coordinates
                 edge = float(np.max(np.linalg.norm(x0[self.faces[:, 1]] - x0[self.faces[:, 0]], axis=1)))
-                inv *= 2.0 * np.pi * (x0[nodes, 0] + edge)
+                inv *= 2.0 * np.pi * (x0[self.master_nodes, 0] + edge)
             self._master_inv = float(inv.max()) if len(inv) else 0.0
         return self._master_inv
+
+    def _segment_compliance(self) -> np.ndarray:
+        """Per segment, the largest 1 / m_m over its nodes (``_node_inverse_mass``): the soft constraint's master side.
+
+        The soft spring k = s m_p / dt0^2 sets omega dt0 = sqrt(s) against an immovable master. On a node of
+        mass m_m the particle and node form a two-mass spring, omega^2 = k (1/m_p + 1/m_m), so the spring is
+        taken from the reduced mass, k = s m_p / (dt0^2 (1 + m_p / m_m)) (``point_forces``), which keeps
+        omega dt0 = sqrt(s) whatever the master's mesh. With m_p alone a plate refined under the water
+        (structure_in_water_sph, 4 x 60 and 8 x 120 elements: omega dt0 = 1.13 and 2.20) blew up. Both
+        masses are whole rings in r-z, so no ring factor enters. Once (masses are fixed).
+        """
+        if self._seg_inv is None:
+            inv = np.zeros(self.sim.model.n_nodes)
+            inv[self.master_nodes] = self._node_inverse_mass()
+            self._seg_inv = inv[self.faces].max(axis=1) if len(self.faces) else np.zeros(0)
+        return self._seg_inv
 
     def _take_initial_gaps(self, mp: np.ndarray, mask: np.ndarray, point_k: np.ndarray) -> None:
         """Node slaves that start (at the model's initial coordinates) within the contact thickness of a master face keep their initial
@@ -194,7 +219,7 @@ class NodesToSurfaceContact:
         start, segs = K.bin_segments(x0, self.faces, self.reach, lo, cell, ncell)
         at_rest = np.zeros_like(x0)
         K.point_forces(x0, at_rest, mp, mask, self.slave_thickness, x0, at_rest, self.faces, self.seg_k, self.seg_depth,
-                       point_k, self._ring(x0), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
+                       point_k, self._segment_compliance(), self._ring(x0), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
                        self.sim._dt_first or 0.0, self._f_point, self._seg_of, self._weights, self._gap)
         # a gap equal to the thickness to round-off is the zone's edge, no preload: left as it is
         caught = (self._seg_of >= 0) & (self._gap < self.slave_thickness * (1.0 - 1e-9))
@@ -220,7 +245,7 @@ class NodesToSurfaceContact:
             if not self.particle_slaves and not self._initial_gaps_taken:
                 self._take_initial_gaps(mp, mask, point_k)
             K.point_forces(xp, vp, mp, mask, thickness, st.x, st.v, self.faces, self.seg_k, self.seg_depth, point_k,
-                           self._ring(xp), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
+                           self._segment_compliance(), self._ring(xp), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
                            max(st.dt_prev, self.sim._dt_first or 0.0), self._f_point, self._seg_of, self._weights,
                            self._gap)
         self._f_master[:] = 0.0

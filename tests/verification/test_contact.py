@@ -200,7 +200,7 @@ def test_pair_forces_are_equal_and_opposite():
     f_point, seg_of, weights, gap = np.zeros((20, 2)), np.empty(20, np.int64), np.zeros((20, 2)), np.empty(20)
     start, segs = K.bin_segments(xm, faces, 0.05, np.array([-0.1, -0.1]), 0.6, np.array([2, 1]))
     K.point_forces(xp, vp, np.full(20, 0.1), np.ones(20, bool), np.full(20, 0.025), xm, np.zeros_like(xm), faces,
-                   np.full(2, 1e4), np.full(2, 0.5), np.zeros(20), np.ones(20), start, segs, np.array([-0.1, -0.1]), 0.6,
+                   np.full(2, 1e4), np.full(2, 0.5), np.zeros(20), np.zeros(2), np.ones(20), start, segs, np.array([-0.1, -0.1]), 0.6,
                    np.array([2, 1]), 0.1, 0.3, 1e-4, f_point, seg_of, weights, gap)
     f_master = np.zeros_like(xm)
     K.scatter_reactions(f_point, seg_of, weights, faces, f_master)

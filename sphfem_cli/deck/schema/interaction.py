@@ -31,7 +31,8 @@ class NodesToSurface(DeckModel):
     stiffness: Literal["penalty", "soft_constraint"] = Field(
         "penalty", description="penalty: k = penalty_scale K A^2/V (3D) or K L^2/A (2D) from the master element's "
         "bulk modulus K (the run's time step is bounded by the contact spring's stable step); soft_constraint: "
-        "k = soft_scale m_slave / dt0^2 from the slave's mass and the first step, for a soft slave against a stiff "
+        "k = soft_scale m / dt0^2 from the first step and the reduced mass m of the slave and the master segment's "
+        "lightest node, for a soft slave against a stiff "
         "master (water on steel, a rigid body): it never shortens the step. Default penalty."
     )
     penalty_scale: PositiveFloat = Field(0.1, description="Scale of the penalty stiffness [-]. Default 0.1.")
