@@ -193,7 +193,8 @@ class NodesToSurfaceContact:
         The soft spring k = s m_p / dt0^2 sets omega dt0 = sqrt(s) against an immovable master. On a node of
         mass m_m the particle and node form a two-mass spring, omega^2 = k (1/m_p + 1/m_m), so the spring is
         taken from the reduced mass, k = s m_p / (dt0^2 (1 + m_p / m_m)) (``point_forces``), which keeps
-        omega dt0 = sqrt(s) whatever the master's mesh. With m_p alone a plate refined under the water
+        omega dt0 = sqrt(s) whatever the master's mesh (LS-DYNA's SOFT = 1 takes m* = min(m_slave, m_master nodes),
+        LSTC FAQ contact.soft1; the reduced mass is within a factor 2 of that). With m_p alone a plate refined under the water
         (structure_in_water_sph, 4 x 60 and 8 x 120 elements: omega dt0 = 1.13 and 2.20) blew up. Both
         masses are whole rings in r-z, so no ring factor enters. Once (masses are fixed).
         """
