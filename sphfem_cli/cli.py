@@ -212,7 +212,8 @@ def mesh_study(deck, ratios, reference, quantities, tolerance, workers, schedule
               help="Quantity to draw, TABLE.COLUMN or a column found in one table (repeatable). Default: every table.")
 @click.option("--reference", "references", multiple=True, type=click.Path(exists=True, dir_okay=False),
               help="CSV of a reference curve (time, value in the run's units; '#' lines are comments) drawn with "
-                   "each --quantity (repeatable). The deck's output.references are drawn without asking.")
+                   "each --quantity (repeatable); one with no point in the run's time window is left out, with a warning. "
+                   "The deck's output.references are drawn without asking.")
 @click.option("-o", "--output", "outdir", type=click.Path(file_okay=False), default=None,
               help="Folder for the PNGs. Default: DIRECTORY/plots.")
 def plot(directory, quantities, references, outdir) -> None:

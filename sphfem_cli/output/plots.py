@@ -161,10 +161,16 @@ def _within(ref: ReferenceCurve, t_end: float) -> tuple[np.ndarray, np.ndarray]:
     return ref.time[keep], ref.value[keep]
 
 
-def _draw_reference(ax, ref: ReferenceCurve, t_end: float) -> None:
+def _draw_reference(ax, ref: ReferenceCurve, t_end: float, warn=lambda line: None) -> None:
     """A reference as open circles, or as a thin grey line where it is a dense record (more points
-    than circles can show apart)."""
+    than circles can show apart). One with no point in the run's window is not drawn (a legend entry
+    without points would say it was compared): ``warn`` says so, with its time range."""
     t, v = _within(ref, t_end)
+    if not len(t):
+        warn(f"warning: reference '{ref.label}' not drawn: none of its {len(ref.time)} points lies in the run's "
+             f"time window (0 to {1.05 * t_end:g}); its times run from {ref.time.min():g} to {ref.time.max():g}. "
+             "Is it in the run's units? (a deck's output.references can scale its columns)")
+        return
     if len(t) > _MARKED_POINTS:
         ax.plot(t, v, "-", color="0.45", lw=0.8, label=ref.label)
     else:
@@ -219,7 +225,7 @@ def glstat_plot(table: Path, path: Path, units: dict, dimension: int, band: Sequ
 
 
 def table_plot(table: Path, path: Path, units: dict, dimension: int, references: Sequence[ReferenceCurve] = (),
-               filtered: Path | None = None) -> Path:
+               filtered: Path | None = None, warn=lambda line: None) -> Path:
     """One panel per quantity of a history table, with the references that compare with its columns
     and, drawn over the raw columns, the probe's low-passed table ``filtered`` (``<name>_filtered.csv``)."""
     plt = _pyplot()
@@ -239,7 +245,7 @@ def table_plot(table: Path, path: Path, units: dict, dimension: int, references:
         for ref in references:
             tab, _, col = ref.quantity.partition(".")
             if tab == table.stem and (col == family or col in (columns[i] for i in idx)):
-                _draw_reference(ax, ref, data[-1, 0] if len(data) else 0.0)
+                _draw_reference(ax, ref, data[-1, 0] if len(data) else 0.0, warn)
         ax.set_ylabel(label(columns[idx[0]] if len(idx) == 1 else family, units, dimension))
         ax.set_title(family, fontsize=9)
         ax.grid(True, alpha=0.3)
@@ -250,15 +256,17 @@ def table_plot(table: Path, path: Path, units: dict, dimension: int, references:
 
 
 def quantity_plot(histories: Path, quantity: str, path: Path, units: dict, dimension: int,
-                  references: Sequence[ReferenceCurve] = ()) -> Path:
+                  references: Sequence[ReferenceCurve] = (), warn=lambda line: None) -> Path:
     """One quantity's history, with the references that compare with it."""
     plt = _pyplot()
     t, v = quantity_series(histories, quantity)
     fig, ax = plt.subplots(figsize=(7.0, 4.4))
     ax.plot(t, v, "o-" if len(t) < 3 else "-", lw=1.4, label=f"{_run_name(histories.parent)}")
-    drawn = [r for r in references if r.quantity == quantity]
-    for ref in drawn:
-        _draw_reference(ax, ref, t[-1] if len(t) else 0.0)
+    t_end = t[-1] if len(t) else 0.0
+    drawn = [r for r in references if r.quantity == quantity and len(_within(r, t_end)[0])]
+    for ref in references:
+        if ref.quantity == quantity:
+            _draw_reference(ax, ref, t_end, warn)
     ax.set_xlabel(label("time", units, dimension))
     ax.set_ylabel(label(quantity, units, dimension))
     ax.set_title(f"{quantity} of {_run_name(histories.parent)}" + (" against the reference" if drawn else ""))
@@ -291,7 +299,7 @@ def plot_run(run: Path, quantities: Sequence[str] = (), outdir: Path | None = No
     out = Path(outdir) if outdir else run / "plots"
     out.mkdir(parents=True, exist_ok=True)
     if names:
-        return [quantity_plot(histories, q, out / f"{_safe(q)}.png", units, dimension, refs) for q in names]
+        return [quantity_plot(histories, q, out / f"{_safe(q)}.png", units, dimension, refs, warn) for q in names]
     band = (data.get("control") or {}).get("energy_band")
     written = []
     stems = {t.stem for t in tables}
@@ -301,5 +309,6 @@ def plot_run(run: Path, quantities: Sequence[str] = (), outdir: Path | None = No
             written.append(glstat_plot(table, path, units, dimension, band))
         elif not (table.stem.endswith(FILTERED) and table.stem[:-len(FILTERED)] in stems):  # drawn with its raw table
             filtered = histories / f"{table.stem}{FILTERED}.csv"
-            written.append(table_plot(table, path, units, dimension, refs, filtered if filtered.is_file() else None))
+            written.append(table_plot(table, path, units, dimension, refs, filtered if filtered.is_file() else None,
+                                      warn))
     return written

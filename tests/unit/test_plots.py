@@ -141,3 +141,24 @@ def test_a_filtered_probe_is_drawn_over_its_raw_table_and_a_dense_reference_as_a
     wall = lines[-1]
     assert set(wall) == {"pressure", "pressure, filtered", "record"}
     assert wall["record"] == ("-", "None")  # 201 points: a line, not 201 circles
+
+
+def test_a_reference_outside_the_runs_window_is_not_drawn_and_says_why(tmp_path, monkeypatch):
+    """A dimensionless CSV (Martin & Moyce's T, Z) given to a run in seconds: no legend entry without points."""
+    run = _run(tmp_path)
+    (tmp_path / "mm.csv").write_text("T,Z\n0.83,1.2\n1.9,2.6\n")
+    (tmp_path / "near.csv").write_text("0.0005,0.0001\n0.002,0.0004\n")
+    legends = []
+    save = plots._save
+
+    def keep(fig, path, plt):
+        legends.append([t.get_text() for t in fig.axes[0].get_legend().get_texts()])
+        return save(fig, path, plt)
+
+    monkeypatch.setattr(plots, "_save", keep)
+    result = CliRunner().invoke(main, ["plot", str(run), "--quantity", "tip.displacement_y",
+                                       "--reference", str(tmp_path / "mm.csv"), "--reference", str(tmp_path / "near.csv")])
+    assert result.exit_code == 0, result.output
+    assert [entries[1:] for entries in legends] == [["near"]]  # after the run itself; the in-window reference is drawn (its point beyond 1.05 t_end cut)
+    assert "reference 'mm' not drawn: none of its 2 points lies in the run's time window" in result.output
+    assert "from 0.83 to 1.9" in result.output
