@@ -1,11 +1,13 @@
-"""Issue 15, scene 2 (deformable target): decks/bird_strike_axisymmetric_plate_{sph,ale}.yaml refined on the
-structure side (plate through the thickness and along the radius) and on the fluid side (SPH spacing, ALE
-element size), SPH against ALE, and both against a rigid-plastic membrane estimate.
+"""Issue 15, scene 2 (deformable target): decks/bird_strike_axisymmetric_plate_{sph,ale,lagrangian}.yaml refined on
+the structure side (plate through the thickness and along the radius) and on the fluid side (SPH spacing, ALE
+element size, the Lagrangian bird's element), the three birds against each other, and against a rigid-plastic
+membrane estimate.
 
     python docs/studies/bird_strike_plate.py --method sph --plates 1 2 4          # plate series, SPH dx 5 mm
     python docs/studies/bird_strike_plate.py --method sph --sizes 0.005 0.0025 0.00125   # fluid series, plate level 2
     python docs/studies/bird_strike_plate.py --method ale --sizes 0.005 0.0025 --end-time 2e-3
     python docs/studies/bird_strike_plate.py --method ale --sizes 0.00125 --end-time 2e-3   # peak only
+    python docs/studies/bird_strike_plate.py --method lagrangian --sizes 0.005 0.0025 0.00125
     python docs/studies/bird_strike_plate.py --table       # every run under WORK, from its files
     python docs/studies/bird_strike_plate.py --series ale_5mm_p2_5ms ale_2.5mm_p2_5ms ale_1.25mm_p2_2ms
     python docs/studies/bird_strike_plate.py --plot docs/studies/bird_strike_plate_deflection.png
@@ -36,14 +38,16 @@ from sphfem_cli.study.metrics import describe, three_grid
 
 ROOT = Path(__file__).resolve().parents[2]
 DECKS = {"sph": ROOT / "decks/bird_strike_axisymmetric_plate_sph.yaml",
-         "ale": ROOT / "decks/bird_strike_axisymmetric_plate_ale.yaml"}
-SHIPPED = {"sph": 0.005, "ale": 0.0025}
+         "ale": ROOT / "decks/bird_strike_axisymmetric_plate_ale.yaml",
+         "lagrangian": ROOT / "decks/bird_strike_axisymmetric_plate_lagrangian.yaml"}
+SHIPPED = {"sph": 0.005, "ale": 0.0025, "lagrangian": 0.0025}
 WORK = Path("study_bird_strike_plate")
 RHO, SPEED, RADIUS, LENGTH = 1000.0, 100.0, 0.05, 0.2  # the bird (the decks')
 PLATE_R, PLATE_H, PLATE_RHO = 0.25, 0.004, 2770.0  # the plate (the decks')
 FLOW_STRESSES = (3.69e8, 4.14e8, 4.96e8)  # Pa: JC A; (yield + ultimate) / 2 of 2024-T3; JC at 10 % strain
 PERMANENT = (3.5e-3, 5.0e-3)  # s: the force is below 1 % of rho A v^2 from about 3.4 ms in every run
 MOMENTUM = RHO * math.pi * RADIUS ** 2 * LENGTH * SPEED
+STYLES = {"sph": ("-", 1.0, 2), "ale": ("--", 1.6, 3), "lagrangian": (":", 1.8, 4)}  # line, width, z-order
 
 
 def overrides(method: str, size: float, plate: int, end_time: float) -> dict:
@@ -52,6 +56,9 @@ def overrides(method: str, size: float, plate: int, end_time: float) -> dict:
     out = {"parts.plate.geometry.box.divisions": [50 * plate, 2 * plate], "control.end_time": end_time}
     if method == "sph":
         out["parts.bird.spacing"] = size
+        return out
+    if method == "lagrangian":
+        out["parts.bird.geometry.box.divisions"] = [round(RADIUS / size), round(LENGTH / size)]
         return out
     segment = PLATE_R / (50 * plate)
     nquad = max(2, math.ceil(segment / size - 1e-9))
@@ -156,7 +163,7 @@ def table() -> None:
 
 
 def plot(path: Path) -> None:
-    """Centre deflection against time for every run under WORK: SPH solid, ALE dashed."""
+    """Centre deflection against time for every run under WORK: SPH solid, ALE dashed, Lagrangian dotted."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -167,9 +174,9 @@ def plot(path: Path) -> None:
             continue
         method, size, plate, _ = out.name.split("_")
         hist = read_histories(out)["centre"]
-        ax.plot(hist["time"] * 1e3, -hist["displacement_y"] * 1e3, "-" if method == "sph" else "--",
-                lw=1.0 if method == "sph" else 1.6, zorder=2 if method == "sph" else 3,
-                label=f"{method.upper()} fluid {size[:-2]} mm, plate {50 * int(plate[1:])} x {2 * int(plate[1:])}")
+        style, width, order = STYLES[method]
+        ax.plot(hist["time"] * 1e3, -hist["displacement_y"] * 1e3, style, lw=width, zorder=order,
+                label=f"{method.upper()} bird {size[:-2]} mm, plate {50 * int(plate[1:])} x {2 * int(plate[1:])}")
     ax.set_xlabel("time (ms)")
     ax.set_ylabel("plate centre deflection (mm)")
     ax.set_title("Bird strike (1.57 kg water, 100 m/s) on a clamped 4 mm 2024-T3 plate, r-z")

@@ -1,4 +1,4 @@
-"""decks/bird_strike_axisymmetric_plate_{sph,ale}.yaml: a water bird (D 0.1 m, L 0.2 m, 1.571 kg, 100 m/s)
+"""decks/bird_strike_axisymmetric_plate_{sph,ale,lagrangian}.yaml: a water bird (D 0.1 m, L 0.2 m, 1.571 kg, 100 m/s)
 onto a clamped 4 mm aluminium 2024-T3 plate of radius 0.25 m, r-z; figures from
 docs/studies/bird_strike_plate.py (docs/studies/bird_strike_plate.md).
 
@@ -17,9 +17,9 @@ What is checked, with the tolerance and where it comes from:
 * plastic but not torn: plastic strain at the centre > 1 % and the largest in the plate below 18 % (a
   typical elongation at break of 2024-T3 sheet; the decks have no failure model).
 
-The SPH deck runs whole (5 ms, the pytest process about 32 s CPU warm); the ALE deck (about 300 s CPU) is
-behind -m validation and is checked against the SPH figures (code to code: peak within 5 %, permanent within
-10 %).
+The SPH deck runs whole (5 ms, the pytest process about 32 s CPU warm); the ALE deck (about 300 s CPU) and the
+Lagrangian bird (about 170 s) are behind -m validation and are checked against the SPH figures (code to code: peak
+within 5 %, permanent within 10 %).
 """
 from __future__ import annotations
 
@@ -76,3 +76,19 @@ def test_ale_bird_on_plate_against_sph(tmp_path):
     assert MEMBRANE_BAND[0] <= got["peak"] <= MEMBRANE_BAND[1], got
     assert abs(got["impulse"] - 1.0) < 0.15, got
     assert 0.01 < got["centre_strain"] and got["max_strain"] < 0.18, got
+
+
+@pytest.mark.validation
+def test_lagrangian_bird_on_plate_against_sph(tmp_path):
+    """The shipped 2.5 mm Lagrangian bird (about 170 s CPU) against the SPH deck's finest figures, with the ALE
+    deck's code-to-code tolerances. Its plastic strain is not bounded here: the bird's crushed and eroded elements
+    next to the axis dent the plate's first element (largest strain 0.55 / 0.30 at 5 / 2.5 mm, falling with the
+    bird's element; docs/studies/bird_strike_plate.md, "The Lagrangian bird")."""
+    got = strike("bird_strike_axisymmetric_plate_lagrangian.yaml", tmp_path / "lagrangian")
+    print("Lagrangian 2.5 mm, plate 100 x 4:", {k: round(v, 5) for k, v in got.items()})
+    assert got["energy_err"] < 0.01, got
+    assert got["peak"] == pytest.approx(SPH_FINEST["peak"], rel=0.05), got
+    assert got["permanent"] == pytest.approx(SPH_FINEST["permanent"], rel=0.10), got
+    assert MEMBRANE_BAND[0] <= got["peak"] <= MEMBRANE_BAND[1], got
+    assert abs(got["impulse"] - 1.0) < 0.15, got
+    assert got["centre_strain"] > 0.01, got
