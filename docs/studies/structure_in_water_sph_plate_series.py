@@ -1,24 +1,25 @@
 """Issue 18 A1: the structure side of decks/structure_in_water_sph.yaml at the shipped particle spacing.
 
-    python docs/studies/structure_in_water_sph_plate_series.py            # plates 2 x 30 / 4 x 60 / 8 x 120
-    python docs/studies/structure_in_water_sph_plate_series.py stability  # why soft_scale 0.1 fails on finer plates
-    python docs/studies/structure_in_water_sph_plate_series.py spring     # the 4 x 60 plate with the spring k / 4
+    python docs/studies/structure_in_water_sph_plate_series.py            # plates 2 x 30 / 4 x 60 / 8 x 120, the deck's soft_scale
+    python docs/studies/structure_in_water_sph_plate_series.py series 0.3 # the same at soft_scale 0.3
+    python docs/studies/structure_in_water_sph_plate_series.py robust     # the series with the field output every 3 ms
+    python docs/studies/structure_in_water_sph_plate_series.py held       # the same with the spring k held (soft_scale 0.1 (2 / n)^2)
+    python docs/studies/structure_in_water_sph_plate_series.py masses     # face-node masses, the reduced mass, omega dt0
+    python docs/studies/structure_in_water_sph_plate_series.py spring     # the shipped plate at soft_scale 0.03 / 0.3 / 1.0
+    python docs/studies/structure_in_water_sph_plate_series.py gap        # the particles' smallest gap to the plate
 
 The shipped deck (SPH ratio 1, dx 10 mm, alpha 0, 3 ms, energy band on) with the plate's divisions 2 x 30 /
 4 x 60 / 8 x 120, the water fixed. Compared, as the mesh study and the fluid series
 (docs/studies/fsi_convergence_audit.md): the peak magnitude of the displacement and of the velocity of the node
 at (0.21, 0.125) (the `mid` history), and the clamp von Mises.
 
-The contact spring held fixed. The deck's soft constraint sets the spring per particle from the first step,
-k = soft_scale m_p / dt0^2 (sphfem_cli/contact/system.py), and dt0 is the plate's step, which falls with the
-element: soft_scale 0.1 on the 8 x 120 plate is a spring 16 times stiffer than the shipped one. The series
-holds k (the shipped 1.9e10 N/m per particle, 0.5 um under 1 MPa) by soft_scale 0.1 (2 / n)^2 on the n x 15 n
-plate: 0.1 / 0.025 / 0.00625, so that only the plate changes. The `stability` runs show why the deck's 0.1
-cannot be kept: the soft constraint's frequency sqrt(soft_scale) / dt0 is the spring on the particle's own
-mass; a particle on a face node of mass m_m moves it as a two-mass spring, omega^2 = k (1 / m_p + 1 / m_m),
-omega dt0 = sqrt(soft_scale (1 + m_p / m_m)), on top of the plate's own frequency near its limit at
-timestep_scale 0.9. The lattice puts every wet-face particle level with a node (y = 0.055 + 0.01 j), so the
-full node mass counts.
+The contact spring. The soft constraint takes its spring from the reduced mass of the particle and the
+segment's lightest node, k = s m_p / (dt0^2 (1 + m_p max_j 1 / m_j)) (sphfem_cli/contact/kernels.py
+point_forces, docs/theory/contact.md), so the pair's frequency is omega dt0 = sqrt(s) on every plate and the
+deck's own soft_scale runs on all three (the default series). Before 7 December 2026 it took m_p alone: a
+particle (0.1 kg/m) on a face node of 0.0084 / 0.0021 kg/m (4 x 60 / 8 x 120) was a two-mass spring at
+omega dt0 = 1.13 / 2.20 and the finer plates blew up, so the series then held k by soft_scale 0.1 (2 / n)^2
+(`held`: with the reduced mass that is now a spring softer by (2 / n)^2 on top of the mass factor).
 
 The clamp von Mises, one quantity on every plate: the deck's `clamp` point (0.2025, 0.1975) is the centre of
 the 2 x 30 plate's corner element [0.200, 0.205] x [0.195, 0.200] (one-point quadrature: its stress is the
@@ -38,6 +39,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 from sphfem_cli import api
 from sphfem_cli.solver.solid_domain import von_mises as solid_von_mises
@@ -47,7 +49,6 @@ ROOT = Path(__file__).resolve().parents[2]
 DECK = ROOT / "decks/structure_in_water_sph.yaml"
 WORK = Path("study_siw_sph_plate")
 SQUARE = (0.200, 0.205, 0.195, 0.200)  # the 2 x 30 plate's clamp element
-SOFT_SHIPPED = 0.1
 
 
 def clamp_points(n: int) -> list[list[float]]:
@@ -57,13 +58,15 @@ def clamp_points(n: int) -> list[list[float]]:
     return [[SQUARE[0] + (i + 0.5) * e, SQUARE[2] + (j + 0.5) * e] for i in range(k) for j in range(k)]
 
 
-def overrides(n: int, soft_scale: float, end_time: float | None = None) -> dict:
+def overrides(n: int, soft_scale: float, end_time: float | None = None, field_interval: float | None = None) -> dict:
     hist = [{"name": "mid", "point": [0.21, 0.125], "quantities": ["displacement", "velocity"]}]
     hist += [{"name": f"clamp{i}", "point": p, "quantities": ["stress"]} for i, p in enumerate(clamp_points(n))]
     out = {"parts.plate.geometry.box.divisions": [n, 15 * n], "contacts.0.soft_scale": soft_scale,
            "output.histories": hist}
     if end_time is not None:
         out["control.end_time"] = end_time
+    if field_interval is not None:  # the field output cuts the steps: another interval, other step times
+        out["output.interval"] = field_interval
     return out
 
 
@@ -72,10 +75,11 @@ def von_mises(s: dict[str, np.ndarray]) -> np.ndarray:
     return solid_von_mises(np.column_stack([s[f"stress_{c}"] for c in ("xx", "yy", "zz", "xy", "yz", "zx")]))
 
 
-def level(n: int, soft_scale: float, end_time: float | None = None, tag: str = "") -> dict:
+def level(n: int, soft_scale: float, end_time: float | None = None, tag: str = "",
+          field_interval: float | None = None) -> dict:
     folder = WORK / f"plate{n}{tag}"
     cpu = time.process_time()
-    res = api.run(DECK, folder, overrides(n, soft_scale, end_time), threads=1, overwrite=True)
+    res = api.run(DECK, folder, overrides(n, soft_scale, end_time, field_interval), threads=1, overwrite=True)
     cpu = time.process_time() - cpu
     out = {"n": n, "soft_scale": soft_scale, "status": res.status, "steps": res.steps, "t_end": float(res.time),
            "cpu": cpu, "message": res.message}
@@ -98,35 +102,26 @@ def level(n: int, soft_scale: float, end_time: float | None = None, tag: str = "
     return out
 
 
+def deck_soft_scale() -> float:
+    return float(yaml.safe_load(DECK.read_text())["contacts"][0]["soft_scale"])
+
+
 def node_masses() -> None:
-    """Face-node mass against the particle's and the two-mass omega dt0 at the deck's soft_scale 0.1."""
-    m_p = 1000.0 * 0.01**2
+    """Face-node mass against the particle's, the reduced-mass factor and omega dt0 with m_p alone and with m."""
+    s = deck_soft_scale()
     for n in (2, 4, 8):
         model = api.load(DECK, {"parts.plate.geometry.box.divisions": [n, 15 * n]}).model
         x = model.coordinates
         face = np.isclose(x[:, 0], 0.2) & (x[:, 1] > 0.051) & (x[:, 1] < 0.199)
-        m_m = float(model.mass[face].max())
-        print(f"plate {n} x {15 * n}: face node {m_m:.4g} kg/m, m_p / m_m {m_p / m_m:.3g}, omega dt0 at "
-              f"soft_scale 0.1: {math.sqrt(0.1 * (1 + m_p / m_m)):.3f}; at 0.1 (2/n)^2: "
-              f"{math.sqrt(0.1 * (2 / n) ** 2 * (1 + m_p / m_m)):.3f}")
+        m_m = float(model.mass[face].min())
+        m_p = 1000.0 * 0.01**2
+        print(f"plate {n} x {15 * n}: face node {m_m:.4g} kg/m, m_p / m_m {m_p / m_m:.3g}, reduced-mass factor "
+              f"1 / (1 + m_p / m_m) {1 / (1 + m_p / m_m):.4f}; omega dt0 at soft_scale {s:g}: with m_p alone "
+              f"{math.sqrt(s * (1 + m_p / m_m)):.3f}, with the reduced mass {math.sqrt(s):.3f}")
 
 
-def main(argv: list[str]) -> None:
-    mode = argv[0] if argv else "series"
-    if mode == "stability":
-        node_masses()
-        for n, s in ((4, 0.1), (8, 0.1), (8, 0.025), (8, 0.0125)):
-            r = level(n, s, 0.0005, tag=f"_s{s:g}")
-            print(f"plate {n} x {15 * n}, soft_scale {s:g} (omega dt0 from the particle alone "
-                  f"{math.sqrt(s):.3f}): {r['status']} at t = {r['t_end']:.4g} s, step {r['steps']} "
-                  f"{r['message'][:160]}")
-        return
-    if mode == "spring":
-        for s in (0.025, 0.025 / 4):
-            r = level(4, s, tag=f"_s{s:g}")
-            print({k: v for k, v in r.items() if k != "message"})
-        return
-    rows = [level(n, SOFT_SHIPPED * (2.0 / n) ** 2) for n in (2, 4, 8)]
+def series(scales: list[float], tag: str = "", field_interval: float | None = None) -> None:
+    rows = [level(n, s, tag=tag, field_interval=field_interval) for n, s in zip((2, 4, 8), scales)]
     for r in rows:
         print({k: v for k, v in r.items() if k != "message"})
     if any(r["status"] != "completed" for r in rows):
@@ -137,7 +132,75 @@ def main(argv: list[str]) -> None:
         shipped = rows[0][key]
         err = f", shipped {100 * (shipped / c.extrapolated - 1):+.2f} % from Richardson" if math.isfinite(c.extrapolated) else ""
         print(f"{key}: {' / '.join(f'{r[key]:.5g}' for r in rows)}: {describe(c)}, Richardson "
-              f"{c.extrapolated:.5g}, GCI(4 x 60) {100 * c.gci_medium:.2f} %, asymptotic check {c.asymptotic:.3f}{err}")
+              f"{c.extrapolated:.5g}, GCI(8 x 120) {100 * c.gci_fine:.2f} %, GCI(4 x 60) {100 * c.gci_medium:.2f} %, "
+              f"asymptotic check {c.asymptotic:.3f}{err}")
+
+
+def plate_gaps(results: Path) -> tuple[np.ndarray, np.ndarray]:
+    """Per field frame: time and the smallest signed distance of a particle centre to the plate's outline.
+
+    The outline is the quads' edges that belong to one element; a centre inside a quad counts negative.
+    The contact acts below its thickness, dx / 2 = 5 mm (the lattice's start), so thickness - gap is the
+    spring's compression."""
+    import h5py
+
+    gaps = []
+    with h5py.File(results) as f:
+        quads = f["plate/connectivity"][()]
+        edges = np.sort(np.concatenate([quads[:, [i, (i + 1) % 4]] for i in range(4)]), axis=1)
+        uniq, count = np.unique(edges, axis=0, return_counts=True)
+        outline = uniq[count == 1]
+        steps = sorted(k for k in f["plate"] if k.startswith("step_"))
+        times = f["times"][()][:len(steps)]
+        for k in steps:
+            xn = f[f"plate/{k}/coordinates"][()][:, :2]
+            xp = f[f"tank/{k}/coordinates"][()][:, :2]
+            a, b = xn[outline[:, 0]], xn[outline[:, 1]]
+            ab = b - a
+            t = np.clip(np.einsum("pej,ej->pe", xp[:, None, :] - a[None], ab) / np.einsum("ej,ej->e", ab, ab), 0.0, 1.0)
+            d = np.linalg.norm(xp[:, None, :] - (a[None] + t[..., None] * ab[None]), axis=2).min(axis=1)
+            inside = np.zeros(len(xp), dtype=bool)
+            for q in quads:
+                c = xn[q]
+                e = np.roll(c, -1, axis=0) - c
+                cross = e[None, :, 0] * (xp[:, None, 1] - c[None, :, 1]) - e[None, :, 1] * (xp[:, None, 0] - c[None, :, 0])
+                inside |= np.all(cross >= 0, axis=1) | np.all(cross <= 0, axis=1)
+            gaps.append(float(np.where(inside, -d, d).min()))
+    return np.asarray(times), np.array(gaps)
+
+
+def gap_runs() -> None:
+    """The shipped plate at soft_scale 0.03 / 0.1 / 0.3 with the field output every 20 us: the smallest gap."""
+    for scale in (0.03, 0.1, 0.3):
+        folder = WORK / f"gap_s{scale:g}"
+        res = api.run(DECK, folder, {"contacts.0.soft_scale": scale, "output.interval": 2e-5,
+                                     "output.fields": ["displacement"]}, threads=1, overwrite=True)
+        t, g = plate_gaps(folder / "results.h5")
+        i = int(np.argmin(g))
+        print(f"soft_scale {scale:g}: {res.status}, {res.steps} steps; smallest gap {1e3 * g[i]:.4f} mm (frame {i}, "
+              f"t {1e3 * t[i]:.3f} ms) against the thickness 5 mm: compression {1e3 * (0.005 - g[i]):.4f} mm; "
+              f"after 0.1 ms {1e3 * g[t > 1e-4].min() if np.any(t > 1e-4) else float('nan'):.4f} mm")
+
+
+def main(argv: list[str]) -> None:
+    mode = argv[0] if argv else "series"
+    s = deck_soft_scale()
+    if mode == "masses":
+        node_masses()
+    elif mode == "spring":
+        for scale in (0.03, 0.3, 1.0):
+            r = level(2, scale, tag=f"_s{scale:g}")
+            print({k: v for k, v in r.items() if k != "message"})
+    elif mode == "gap":
+        gap_runs()
+    elif mode == "robust":
+        series([s, s, s], tag="_f3ms", field_interval=0.003)
+    elif mode == "held":
+        series([s * (2.0 / n) ** 2 for n in (2, 4, 8)], tag="_held")
+    else:
+        if len(argv) > 1:
+            s = float(argv[1])
+        series([s, s, s], tag="" if s == deck_soft_scale() else f"_s{s:g}")
 
 
 if __name__ == "__main__":
