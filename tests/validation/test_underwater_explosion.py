@@ -62,6 +62,8 @@ def test_underwater_explosion_sph_run(tmp_path):
     h, ratio = run(DECK_SPH, out)
     assert np.interp(1.0e-4, h["time"], h["displacement_y"]) == pytest.approx(U100_ALE, rel=0.25)
     assert 0.95 < ratio[-1] < 1.05  # 1.006 measured (0.996 with the 60 x 2 plate)
+    # 59.3 mm measured in the smaller free-surface tank (56.9 with the 60 x 2 plate); the deck's larger tank with
+    # open sides gives 70.68 mm (6 December 2026) and 70.86 mm (7 December): this bound fails since the tank changed
     assert 0.05 < h["displacement_y"].max() < 0.065  # 59.3 mm measured (56.9 with the 60 x 2 plate)
     plate = np.genfromtxt(out / "histories" / "plate_pressure.csv", delimiter=",", names=True)["pressure"]
     half = np.genfromtxt(out / "histories" / "half_pressure.csv", delimiter=",", names=True)["pressure"]
@@ -69,7 +71,7 @@ def test_underwater_explosion_sph_run(tmp_path):
     half = half[np.isfinite(half)]  # NaN where no particle reaches the probe (cavitated water, late)
     print(f"SPH peak pressure: {half.max() / 1e6:.1f} MPa at 50 mm from the charge, {plate.max() / 1e6:.1f} MPa "
           "at the plate")
-    assert 21e9 > half.max() > plate.max() > 1e6  # 372 > 348 MPa measured
+    assert 21e9 > half.max() > plate.max() > 1e6  # 372 > 342 MPa measured (7 December 2026; 372 > 348 before)
 
 
 @pytest.mark.validation

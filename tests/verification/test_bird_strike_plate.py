@@ -5,21 +5,22 @@ docs/studies/bird_strike_plate.py (docs/studies/bird_strike_plate.md).
 What is checked, with the tolerance and where it comes from:
 
 * energy balance of the SPH deck (no outflow there): |energy ratio - 1| <= 1 % at every glstat row
-  (measured at most 0.17 %);
+  (measured at most 0.02 %, 7 December 2026);
 * the peak centre deflection against the SPH deck at dx 1.25 mm (the finest fluid level, 30.31 mm): within
-  3 % (the fluid series 30.65 / 30.02 / 30.31 mm is not monotone; the shipped 5 mm is +1.1 %);
-* the permanent centre deflection (mean over 3.5-5 ms) against the same run's 22.57 mm: within 8 % (the
-  shipped 5 mm reads +6.0 %; the series 23.92 / 22.64 / 22.57 mm converges, GCI 0.02 % on the finest);
+  3 % (the fluid series 30.40 / 29.99 / 30.31 mm is not monotone; the shipped 5 mm is +0.3 %; soft_scale
+  0.03-1.0 moves it by 1.0 %, the deck's header);
+* the permanent centre deflection (mean over 3.5-5 ms) against the same run's 22.56 mm: within 8 % (the
+  shipped 5 mm reads +4.7 %; the series 23.63 / 22.59 / 22.56 mm converges, GCI 0.00 % on the finest);
 * the peak against the rigid-plastic membrane estimate (study, "Independent estimate"): 26.6-35.7 mm over
   the flow stresses 496-369 MPa;
-* the impulse of the bird on the plate within 15 % of m v = 157.1 N s (measured 1.03-1.13 m v: the plate's
+* the impulse of the bird on the plate within 15 % of m v = 157.1 N s (measured 1.05-1.10 m v over the fluid series: the plate's
   spring-back throws water back, so it exceeds m v);
 * plastic but not torn: plastic strain at the centre > 1 % and the largest in the plate below 18 % (a
   typical elongation at break of 2024-T3 sheet; the decks have no failure model).
 
-The SPH deck runs whole (5 ms, the pytest process about 32 s CPU warm); the ALE deck (about 300 s CPU) and the
-Lagrangian bird (about 170 s) are behind -m validation and are checked against the SPH figures (code to code: peak
-within 5 %, permanent within 10 %).
+The SPH deck runs whole (5 ms, the pytest process 32-50 s CPU warm, by the load); the ALE deck (about 300 s CPU)
+and the Lagrangian bird (about 170 s) are behind -m validation and are checked against the SPH figures (code to
+code: peak within 5 %, permanent within 10 %).
 """
 from __future__ import annotations
 
@@ -35,7 +36,7 @@ from sphfem_cli import api
 DECKS = Path(__file__).parents[2] / "decks"
 MOMENTUM = 1000.0 * math.pi * 0.05 ** 2 * 0.2 * 100.0  # m v of the bird, N s
 PERMANENT = (3.5e-3, 5.0e-3)  # s, after the bird has gone
-SPH_FINEST = {"peak": 30.31e-3, "permanent": 22.57e-3}  # m: SPH dx 1.25 mm, plate 100 x 4
+SPH_FINEST = {"peak": 30.31e-3, "permanent": 22.56e-3}  # m: SPH dx 1.25 mm, plate 100 x 4 (7 December 2026)
 MEMBRANE_BAND = (26.6e-3, 35.7e-3)  # m: the membrane estimate's peak, flow stress 496 and 369 MPa
 
 
