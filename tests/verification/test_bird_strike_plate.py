@@ -68,28 +68,21 @@ def test_sph_bird_on_plate(tmp_path):
 
 
 @pytest.mark.validation
-def test_ale_bird_on_plate_against_sph(tmp_path):
-    """The shipped 2.5 mm ALE deck (about 300 s CPU) against the SPH deck's finest figures."""
-    got = strike("bird_strike_axisymmetric_plate_ale.yaml", tmp_path / "ale")
-    print("ALE 2.5 mm, plate 100 x 4:", {k: round(v, 5) for k, v in got.items()})
-    assert got["peak"] == pytest.approx(SPH_FINEST["peak"], rel=0.05), got
-    assert got["permanent"] == pytest.approx(SPH_FINEST["permanent"], rel=0.10), got
-    assert MEMBRANE_BAND[0] <= got["peak"] <= MEMBRANE_BAND[1], got
-    assert abs(got["impulse"] - 1.0) < 0.15, got
-    assert 0.01 < got["centre_strain"] and got["max_strain"] < 0.18, got
-
-
-@pytest.mark.validation
-def test_lagrangian_bird_on_plate_against_sph(tmp_path):
-    """The shipped 2.5 mm Lagrangian bird (about 170 s CPU) against the SPH deck's finest figures, with the ALE
-    deck's code-to-code tolerances. Its plastic strain is not bounded here: the bird's crushed and eroded elements
-    next to the axis dent the plate's first element (largest strain 0.55 / 0.30 at 5 / 2.5 mm, falling with the
-    bird's element; docs/studies/bird_strike_plate.md, "The Lagrangian bird")."""
-    got = strike("bird_strike_axisymmetric_plate_lagrangian.yaml", tmp_path / "lagrangian")
-    print("Lagrangian 2.5 mm, plate 100 x 4:", {k: round(v, 5) for k, v in got.items()})
-    assert got["energy_err"] < 0.01, got
+@pytest.mark.parametrize("deck, strain_limit, energy_limit", [("bird_strike_axisymmetric_plate_ale.yaml", 0.18, None),
+                                                               ("bird_strike_axisymmetric_plate_lagrangian.yaml", None, 0.01)],
+                         ids=["ale", "lagrangian"])
+def test_bird_on_plate_against_sph(tmp_path, deck, strain_limit, energy_limit):
+    """The shipped 2.5 mm ALE deck (about 300 s CPU) and Lagrangian bird (about 170 s) against the SPH deck's finest
+    figures, code to code. The Lagrangian bird's largest plastic strain is not bounded: its crushed and eroded
+    elements next to the axis dent the plate's first element (0.55 / 0.30 at 5 / 2.5 mm, falling with the bird's
+    element; docs/studies/bird_strike_plate.md, "The Lagrangian bird"). The ALE deck's energy balance is not checked:
+    its water leaves through the transmitting sides."""
+    got = strike(deck, tmp_path / "run")
+    print(deck, "2.5 mm, plate 100 x 4:", {k: round(v, 5) for k, v in got.items()})
     assert got["peak"] == pytest.approx(SPH_FINEST["peak"], rel=0.05), got
     assert got["permanent"] == pytest.approx(SPH_FINEST["permanent"], rel=0.10), got
     assert MEMBRANE_BAND[0] <= got["peak"] <= MEMBRANE_BAND[1], got
     assert abs(got["impulse"] - 1.0) < 0.15, got
     assert got["centre_strain"] > 0.01, got
+    assert strain_limit is None or got["max_strain"] < strain_limit, got
+    assert energy_limit is None or got["energy_err"] < energy_limit, got
