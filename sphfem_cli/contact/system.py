@@ -193,10 +193,10 @@ class NodesToSurfaceContact:
         The soft spring k = s m_p / dt0^2 sets omega dt0 = sqrt(s) against an immovable master. On a node of
         mass m_m the particle and node form a two-mass spring, omega^2 = k (1/m_p + 1/m_m), so the spring is
         taken from the reduced mass, k = s m_p / (dt0^2 (1 + m_p / m_m)) (``point_forces``), which keeps
-        omega dt0 = sqrt(s) whatever the master's mesh (LS-DYNA's SOFT = 1 takes m* = min(m_slave, m_master nodes),
-        LSTC FAQ contact.soft1; the reduced mass is within a factor 2 of that). With m_p alone a plate refined under the water
-        (structure_in_water_sph, 4 x 60 and 8 x 120 elements: omega dt0 = 1.13 and 2.20) blew up. Both
-        masses are whole rings in r-z, so no ring factor enters. Once (masses are fixed).
+        omega dt0 = sqrt(s) whatever the master's mesh (LS-DYNA's SOFT = 1 takes m* = min(m_slave, m_master
+        nodes), LSTC FAQ contact.soft1; the reduced mass is within a factor 2 of that). With m_p alone a plate
+        refined under the water (structure_in_water_sph, 4 x 60 and 8 x 120 elements: omega dt0 = 1.13 and 2.20)
+        blew up. Both masses are whole rings in r-z, so no ring factor enters. Once (masses are fixed).
         """
         if self._seg_inv is None:
             inv = np.zeros(self.sim.model.n_nodes)
@@ -220,8 +220,8 @@ class NodesToSurfaceContact:
         start, segs = K.bin_segments(x0, self.faces, self.reach, lo, cell, ncell)
         at_rest = np.zeros_like(x0)
         K.point_forces(x0, at_rest, mp, mask, self.slave_thickness, x0, at_rest, self.faces, self.seg_k, self.seg_depth,
-                       point_k, self._segment_compliance(), self._ring(x0), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
-                       self.sim._dt_first or 0.0, self._f_point, self._seg_of, self._weights, self._gap)
+                       point_k, self._segment_compliance(), self._ring(x0), start, segs, lo, cell, ncell,
+                       self.spec.damping, self.spec.friction, self.sim._dt_first or 0.0, self._f_point, self._seg_of, self._weights, self._gap)
         # a gap equal to the thickness to round-off is the zone's edge, no preload: left as it is
         caught = (self._seg_of >= 0) & (self._gap < self.slave_thickness * (1.0 - 1e-9))
         self.slave_thickness[caught] = np.maximum(self._gap[caught], 0.0)
@@ -246,8 +246,8 @@ class NodesToSurfaceContact:
             if not self.particle_slaves and not self._initial_gaps_taken:
                 self._take_initial_gaps(mp, mask, point_k)
             K.point_forces(xp, vp, mp, mask, thickness, st.x, st.v, self.faces, self.seg_k, self.seg_depth, point_k,
-                           self._segment_compliance(), self._ring(xp), start, segs, lo, cell, ncell, self.spec.damping, self.spec.friction,
-                           max(st.dt_prev, self.sim._dt_first or 0.0), self._f_point, self._seg_of, self._weights,
+                           self._segment_compliance(), self._ring(xp), start, segs, lo, cell, ncell, self.spec.damping,
+                           self.spec.friction, max(st.dt_prev, self.sim._dt_first or 0.0), self._f_point, self._seg_of, self._weights,
                            self._gap)
         self._f_master[:] = 0.0
         K.scatter_reactions(self._f_point, self._seg_of, self._weights, self.faces, self._f_master)

@@ -161,20 +161,21 @@ def _within(ref: ReferenceCurve, t_end: float) -> tuple[np.ndarray, np.ndarray]:
     return ref.time[keep], ref.value[keep]
 
 
-def _draw_reference(ax, ref: ReferenceCurve, t_end: float, warn=lambda line: None) -> None:
+def _draw_reference(ax, ref: ReferenceCurve, t_end: float, warn=lambda line: None) -> bool:
     """A reference as open circles, or as a thin grey line where it is a dense record (more points
     than circles can show apart). One with no point in the run's window is not drawn (a legend entry
-    without points would say it was compared): ``warn`` says so, with its time range."""
+    without points would say it was compared): ``warn`` says so, with its time range. True if drawn."""
     t, v = _within(ref, t_end)
     if not len(t):
         warn(f"warning: reference '{ref.label}' not drawn: none of its {len(ref.time)} points lies in the run's "
              f"time window (0 to {1.05 * t_end:g}); its times run from {ref.time.min():g} to {ref.time.max():g}. "
              "Is it in the run's units? (a deck's output.references can scale its columns)")
-        return
+        return False
     if len(t) > _MARKED_POINTS:
         ax.plot(t, v, "-", color="0.45", lw=0.8, label=ref.label)
     else:
         ax.plot(t, v, "ko", ms=4, mfc="none", label=ref.label)
+    return True
 
 
 _MARKED_POINTS = 80
@@ -263,10 +264,7 @@ def quantity_plot(histories: Path, quantity: str, path: Path, units: dict, dimen
     fig, ax = plt.subplots(figsize=(7.0, 4.4))
     ax.plot(t, v, "o-" if len(t) < 3 else "-", lw=1.4, label=f"{_run_name(histories.parent)}")
     t_end = t[-1] if len(t) else 0.0
-    drawn = [r for r in references if r.quantity == quantity and len(_within(r, t_end)[0])]
-    for ref in references:
-        if ref.quantity == quantity:
-            _draw_reference(ax, ref, t_end, warn)
+    drawn = [r for r in references if r.quantity == quantity and _draw_reference(ax, r, t_end, warn)]
     ax.set_xlabel(label("time", units, dimension))
     ax.set_ylabel(label(quantity, units, dimension))
     ax.set_title(f"{quantity} of {_run_name(histories.parent)}" + (" against the reference" if drawn else ""))
