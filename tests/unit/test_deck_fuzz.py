@@ -12,7 +12,8 @@ mutations to the tree and writes it back as YAML (`emit` below):
   an alias or a merge key ``<<`` between two values, an alias bomb, nesting 50 to 20 000 deep;
 - bytes: random bytes spliced into the file, the file truncated, the file padded past the size bound.
 
-`check` (click's CliRunner, in process) sees FUZZ_CHECK_CASES mutants; bases with more than 3000
+`check` (click's CliRunner, in process) sees FUZZ_CHECK_CASES mutants (FUZZ_CHECK_CASES_LONG more under
+`-m validation`); bases with more than 3000
 nodes and particles are drawn a quarter as often as the others (the largest ALE decks take 0.2 to
 0.6 s a check, the small decks about 20 ms). Each must exit 0, or 65 with exactly one line ``file:line:col: path: message`` whose line
 lies in the file, within MUTANT_SECONDS. The deck bounds are lowered for the fuzzing
@@ -44,7 +45,8 @@ SHIPPED = sorted((Path(__file__).parents[2] / "decks").glob("*.yaml"))
 DECKS = SHIPPED + sorted(FUZZ_DIR.glob("*.yaml"))
 RUN_DECKS = sorted(FUZZ_DIR.glob("*.yaml"))
 RUN_STEP_CAP = 60
-FUZZ_CHECK_CASES = 2000
+FUZZ_CHECK_CASES = 500  # default suite: about 12 s of CPU
+FUZZ_CHECK_CASES_LONG = 3000  # -m validation
 MUTANT_SECONDS = 20.0  # per mutant, generous for a loaded machine; a hang would take forever
 FUZZ_LIMITS = {"SPHFEM_MAX_DECK_NODES": "5000", "SPHFEM_MAX_DECK_BYTES": "262144"}
 ONE_LINE = r":(\d+):(\d+): .+"  # then "path: message"; a path may hold any name, spaces included
@@ -313,10 +315,8 @@ def _assert_one_line(result, path: Path, raw: bytes, what: str) -> None:
 CASES = {"check": 0, "run": 0, "check_65": 0, "check_0": 0}  # fuzz cases run in this session
 
 
-@settings(max_examples=FUZZ_CHECK_CASES, deadline=None, database=None, print_blob=True,
-          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
-@given(data=st.data())
-def test_mutated_decks_exit_0_or_65(tmp_path, data):
+def _check_mutant(tmp_path, data) -> None:
+    """One mutant through `sphfem check`: exit 0, or 65 with one located line; never a traceback or a hang."""
     deck = data.draw(st.sampled_from(WEIGHTED), label="deck")
     raw, what = _mutant_bytes(data, deck)
     mutated = tmp_path / deck.name
@@ -337,6 +337,21 @@ def test_mutated_decks_exit_0_or_65(tmp_path, data):
     CASES[f"check_{result.exit_code}"] += 1
     if result.exit_code == 65:
         _assert_one_line(result, mutated, raw, what)
+
+
+@settings(max_examples=FUZZ_CHECK_CASES, deadline=None, database=None, print_blob=True,
+          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(data=st.data())
+def test_mutated_decks_exit_0_or_65(tmp_path, data):
+    _check_mutant(tmp_path, data)
+
+
+@pytest.mark.validation
+@settings(max_examples=FUZZ_CHECK_CASES_LONG, deadline=None, database=None, print_blob=True,
+          suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
+@given(data=st.data())
+def test_many_mutated_decks_exit_0_or_65(tmp_path, data):
+    _check_mutant(tmp_path, data)
 
 
 def _non_finite(folder: Path) -> list[str]:

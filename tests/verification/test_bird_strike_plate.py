@@ -18,8 +18,9 @@ What is checked, with the tolerance and where it comes from:
 * plastic but not torn: plastic strain at the centre > 1 % and the largest in the plate below 18 % (a
   typical elongation at break of 2024-T3 sheet; the decks have no failure model).
 
-The SPH deck runs whole (5 ms, the pytest process 32-50 s CPU warm, by the load); the ALE deck (about 300 s CPU)
-and the Lagrangian bird (about 170 s) are behind -m validation and are checked against the SPH figures (code to
+All three are behind -m validation: the SPH deck runs whole (5 ms, 32-50 s CPU warm, by the load; the default
+suite runs its first steps in tests/regression), the ALE deck (about 300 s CPU) and the Lagrangian bird (about
+170 s) are checked against the SPH figures (code to
 code: peak within 5 %, permanent within 10 %).
 """
 from __future__ import annotations
@@ -55,6 +56,7 @@ def strike(deck: str, folder: Path) -> dict:
             "centre_strain": float(hist["centre"]["plastic_strain"][-1]), "max_strain": strain}
 
 
+@pytest.mark.validation
 def test_sph_bird_on_plate(tmp_path):
     got = strike("bird_strike_axisymmetric_plate_sph.yaml", tmp_path / "sph")
     print("SPH 5 mm, plate 100 x 4:", {k: round(v, 5) for k, v in got.items()})

@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 
 from sphfem_cli.sph import scenes
 
@@ -47,6 +48,7 @@ def _noh(dx, **options):
     return l1, shock, post, abs(ps.energies()["total"] / e0 - 1.0)
 
 
+@pytest.mark.validation
 def test_noh_cylinder_converges_with_the_mass_form():
     """Three resolutions: the L1 density error falls at an observed order of about 1, the post-shock
     density approaches 16 from below and the shock R = 0.2."""
