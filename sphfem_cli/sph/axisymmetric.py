@@ -17,7 +17,7 @@ the plane 2D kernel W (normalised in r-z) and Q = p / (rho eta) = p / (2 pi r rh
                 the plane mass rho_j A_j = m_j / (2 pi r_j) of each ring): the first sum is
                 sum_j rho_j A_j v_ij . grad_i W_ij; rho is even across the axis, so the images' +rho_j A_j
                 continue it consistently. Python API only (an axisymmetric deck refuses it): it converges
-                on Noh's sphere but lets a few particles reach the axis (docs/theory/sph.md)]
+                on Noh's sphere (docs/theory/sph.md)]
   momentum     dv_i/dt   = - sum_j m_j (s_j Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) grad_i W_ij
                            + p_i / (rho_i r_i) kappa_i
   energy       de_i/dt   = 1/2 sum_j m_j (Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) v_ij . grad_i W_ij
@@ -50,6 +50,9 @@ needed where the support is cut in z, at a floor without ghosts (a contact floor
 of the images' odd term is first order in a particle's radial offset and grows as 1/r towards the axis,
 and with the radial kappa alone a water column on a contact floor blew up at the corner of the axis and
 the floor (issue 15; docs/theory/sph.md gives the figures).
+
+Time step: besides the plane cfl h/(c + |v|), dt <= r/(c + |v|) (``axis_time_step``): the hoop terms vary
+over the distance r to the axis, which is below h for a ring squeezed onto the axis (Noh's implosion).
 
 Conservation: masses never change (mass exact). The part of the pair term with s_j - 1 (images only)
 does its work on particle i alone (the axis and the walls are at rest), and the hoop work goes into
@@ -99,6 +102,32 @@ def ring_smoothing_lengths(x, rho, m, active, eta, h):
         h[i] = hi
         hmax = max(hmax, hi)
     return hmax
+
+
+@njit(cache=True)
+def axis_time_step(x, c, v, active):
+    """min over active particles of r_i / (c_i + |v_i|): the Courant condition of the hoop terms.
+
+    The hoop terms (-rho v_r / r of the continuity equation, p / (rho r) of the momentum equation) vary
+    over the particle's distance r to the axis, not over h: a ring squeezed to r << h (Noh's implosion
+    gathers hot rings on the axis at r = 0.1-0.15 dx with h/r = 5.5) has a radial mode of length r that
+    the plane condition cfl h / (c + |v|) does not resolve. With dt <= r / (c + |v|) one step moves a
+    particle less than its distance to the axis (|v_r| dt < r: it cannot cross the axis in one step) and
+    the hoop term's density change rho |v_r| dt / r stays below rho (rho stays positive). Measured
+    (Noh's sphere, mass form, dx 0.04, cfl 0.25 alone): the innermost rings' radial velocity alternates
+    in sign from step to step and grows (c dt / r = 1.25 there) until a density goes negative and the
+    step collapses; cfl 0.22 (c dt / r about 1.1): two crossings of the axis, energy error 3.5e-3;
+    cfl 0.2 (about 1.0): none. A particle farther than cfl h from the axis (every row of a lattice,
+    r >= dx/2 > cfl h for h < 2 dx) is never limited by it. docs/studies/axisymmetric_acceptance.md (A4b).
+    """
+    dt = np.inf
+    for i in range(x.shape[0]):
+        if not active[i]:
+            continue
+        speed = c[i] + math.sqrt(v[i, 0] * v[i, 0] + v[i, 1] * v[i, 1])
+        if speed > 0.0:
+            dt = min(dt, x[i, 0] / speed)
+    return dt
 
 
 def axisymmetric_rates(sx, sd, perm, cell_start, sreach, settings_f, settings_i, grid_f, grid_i, acc, drho, de, xsph,

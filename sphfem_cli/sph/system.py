@@ -426,11 +426,16 @@ class SphSystem:
 
     def stable_dt(self, scale: float = 1.0) -> float:
         """scale x min over active particles of cfl h/(c+|v|), force_factor sqrt(h/|a|) and
-        viscous_factor rho h^2/mu, with a = acc + g + f_ext/m (call after ``compute_rates``)."""
+        viscous_factor rho h^2/mu, with a = acc + g + f_ext/m, and for an axisymmetric system r/(c+|v|)
+        (``axisymmetric.axis_time_step``) (call after ``compute_rates``)."""
         opt = self.options
         dt = integration.stable_time_step(self.h, self.c, self.v, self.acc, self.f_ext, self.m, self.rho, self.mat,
                                 self.active, self.params, self.gravity, float(opt.cfl), float(opt.force_factor),
                                 float(opt.viscous_factor), self._dt_work)
+        if self.axisymmetric:  # the hoop terms' Courant condition (sph.axisymmetric.axis_time_step)
+            from .axisymmetric import axis_time_step
+
+            dt = min(dt, axis_time_step(self.x, self.c, self.v, self.active))
         return scale * float(dt)
 
     def step(self, dt: float) -> None:

@@ -120,7 +120,8 @@ def _noh(dx):
 def test_noh_implosion_is_robust_on_the_axis():
     """Noh's spherical implosion (scenes.noh_sphere_axisymmetric, dx = 0.04, t = 0.6): the flow converges
     on a point of the axis. Measured: no particle crosses the axis (closest r = 4.3e-3), energy 1.6e-4
-    of the initial kinetic, axial momentum 1e-16 of sum m |v_z|, shock at R = 0.21 (exact 0.2)."""
+    of the initial kinetic, axial momentum 1e-16 of sum m |v_z|, shock at R = 0.21 (exact 0.2); with the
+    hoop terms' Courant condition (7 December 2026): closest r 4.36e-3, energy 2.1e-4, shock 0.2095."""
     ps, e0, pz0, scale, shock, _ = _noh(0.04)
     assert ps.wall_crossings == 0 and ps.x[:, 0].min() > 0.0
     assert abs(ps.energies()["total"] - e0) < 1e-3 * e0
@@ -136,7 +137,9 @@ def test_no_spurious_heating_on_the_axis():
     (ratio 0.945; 1.090 / 0.945 / 0.938 at dx 0.04 / 0.02 / 0.01, 0.481 / 0.513 at 0.01); inflow (0.25 < R < 0.45)
     e = 0.0043 on the axis, 0.0105 off it (0.0147 / 0.0043 / 0.0011 on the axis at 0.04 / 0.02 / 0.01).
     Asserted: the axis no hotter than off it by more than 5 % in the plateau, within 10 % of 0.5, and its inflow
-    heating under 2 % of 0.5.
+    heating under 2 % of 0.5. With the hoop terms' Courant condition (sph/axisymmetric.py axis_time_step, 7
+    December 2026, dx 0.02): plateau 0.5038 on the axis, 0.5314 off it; inflow 0.0043 on the axis, 0.0019 off
+    it (was 0.0105: the smaller steps heat the off-axis inflow less); inflow density axis / off 1.298.
 
     Found on the way, not a heating: the inflow within two spacings of the axis is denser than off it (9.95 against
     7.65 at dx 0.02, exact about 7.7; 9.68 / 9.95 / 9.80 at dx 0.04 / 0.02 / 0.01): +27 % to +30 % in a layer two
@@ -164,8 +167,8 @@ def test_no_spurious_heating_on_the_axis():
 @pytest.mark.xfail(strict=True, reason="the SPH continuity density over-compresses strong convergent shocks: "
                    "post-shock 76 and 89 at dx = 0.02, 0.01 (exact 64); the plane 2D cylindrical Noh does the "
                    "same (21.6 for 16) and is cured there by the mass form (continuity: mass, test_sph_noh.py), "
-                   "whose axisymmetric version converged when measured but has an axis instability "
-                   "(test_noh_sphere_converges_with_the_mass_form, a strict xfail); "
+                   "whose axisymmetric version converges (test_noh_sphere_converges_with_the_mass_form: 61.0 at "
+                   "dx = 0.01); unchanged by the axis time step (75.98, 88.5 on 7 December 2026); "
                    "docs/theory/sph.md 'Axisymmetric SPH'")
 @pytest.mark.parametrize("dx", [0.02, 0.01])
 def test_noh_post_shock_density(dx):
@@ -193,23 +196,18 @@ def test_deck_particles_carry_ring_masses():
 
 
 @pytest.mark.validation
-@pytest.mark.xfail(strict=True, reason="the mass form's axis singularity (measured 6 December 2026, dx = 0.04, one "
-                   "thread): the two innermost particles (the pair at z = +-0.019 that started at r = dx/2) are squeezed "
-                   "to r = 0.004-0.006 (0.1-0.15 dx) by t = 0.30 and oscillate radially there (v_r -2.9 / +2.4 / +0.9 "
-                   "over steps 80-82, rho 4.9 / 11 / 0.49); the mass form's weight rho_j A_j = m_j / (2 pi r_j) of "
-                   "their own axis images grows as 1/r_j with the ring mass fixed at r = dx/2, so at step 82 drho = "
-                   "-5.5e3 (rho 0.49) takes rho negative in one step (step 84: -0.97), h becomes NaN and the step "
-                   "collapses ('no usable time step' at t = 0.365). At f106440, which added this test, the same "
-                   "non-positive density appeared at step 132 but the run completed: the instability predates the "
-                   "later changes, which only moved when it ends the run. The mass form stays Python-API only.")
 def test_noh_sphere_converges_with_the_mass_form():
     """Noh's sphere with the mass form of the continuity equation (drho_i/dt = sum_j rho_j A_j v_ij.grad W
-    - rho_i v_r/r, sph/axisymmetric.py), dx = 0.04, 0.02, 0.01, t = 0.6. Measured (one thread, load ~7):
-    L1(rho) over R < 0.4 5.34 / 2.14 / 0.855 (observed order 1.32, 1.32; the volume form: 2.32 / 2.20 /
-    3.42), post-shock rho (0.05 < R < 0.15) 37.6 / 54.5 / 61.3 (exact 64), shock R 0.203 at dx = 0.01,
-    energy 1.3e-3 / 1.7e-4 / 3.1e-5 of the initial kinetic energy; 4 particles reached the axis (mirrored
-    back by the ghost wall) at every dx, and the run takes 2.8 times the volume form's steps at dx = 0.01
-    (2597, 35.7 CPU s)."""
+    - rho_i v_r/r, sph/axisymmetric.py), dx = 0.04, 0.02, 0.01, t = 0.6, exact solution Noh (1987)
+    (scenes.noh_density). Measured 7 December 2026 (one thread, load ~5, with the hoop terms' Courant
+    condition dt <= r/(c + |v|), sph/axisymmetric.py axis_time_step): L1(rho) over R < 0.4 5.310 / 2.161 /
+    0.872 (observed order 1.30, 1.31; the volume form: 2.31 / 2.21 / 3.43), post-shock rho (0.05 < R <
+    0.15) 38.1 / 54.4 / 61.0 (exact 64: -4.7 % at dx = 0.01), energy 2.4e-4 / 1.6e-4 / 1.0e-4 of the
+    initial kinetic energy, no particle reaches the axis (closest r 0.10 dx), 227 / 536 / 1195 steps
+    (the axis condition sets the step in 90-98 % of them; this file's three validation tests: 44.7 CPU
+    s). Without the axis condition (until then) the innermost rings' radial mode went unstable and the run
+    at dx = 0.04 collapsed its step at t = 0.365 (tests/unit/test_sph_axis_time_step.py). Asserted: L1
+    falling, order > 1 between the two finer levels, post-shock within 6 % of 64, energy within 3e-3."""
     l1 = []
     for dx in (0.04, 0.02, 0.01):
         ps = scenes.noh_sphere_axisymmetric(dx=dx, continuity="mass")
