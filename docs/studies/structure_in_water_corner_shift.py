@@ -22,31 +22,57 @@ import sys
 
 import numpy as np
 from numba import njit
-from scipy.spatial import cKDTree
 
 from sphfem_cli.contact.sph_boundary import SphBoundaryCoupling
 from sphfem_cli.sph import structure_walls as sw
 from sphfem_cli.sph.kernel_functions import kernel_f
-from sphfem_cli.sph.slots import SI_DIM, SI_KERNEL
+from sphfem_cli.sph.slots import SI_KERNEL
 
 A, RADIUS = float(sys.argv[1]), float(sys.argv[2])
 _record_work = SphBoundaryCoupling.record_work
 
 
 @njit(cache=False)
-def _gamma(kernel, dim, xi, hi, xj, vj, hj, wj):
-    """sum_j w_j V_j grad_i W_ij (h_ij = (h_i + h_j) / 2) for one point i over the candidates j."""
-    gx = gy = 0.0
-    for j in range(xj.shape[0]):
-        dx, dy = xi[0] - xj[j, 0], xi[1] - xj[j, 1]
-        hij = 0.5 * (hi + hj[j])
-        r = math.sqrt(dx * dx + dy * dy)
-        if r == 0.0 or r >= 2.0 * hij:
-            continue
-        f = kernel_f(kernel, dim, r, hij) * vj[j] * wj[j]
-        gx += f * dx
-        gy += f * dy
-    return gx, gy
+def _shift(kernel, a, xf, vf, hf, volf, sel, ws, twins, dt, moves):
+    """moves[k] = -A h_i |v_i| dt Gamma_i for i = sel[k] (rows of xf), Gamma_i over the fluid points xf and the
+    boundary particles ws on i's side of their faces, a coincident group counted once; |move| <= 0.1 h_i."""
+    for k in range(sel.shape[0]):
+        i = sel[k]
+        xi, yi, hi = xf[i, 0], xf[i, 1], hf[i]
+        gx = gy = 0.0
+        for j in range(xf.shape[0]):
+            dx, dy = xi - xf[j, 0], yi - xf[j, 1]
+            hij = 0.5 * (hi + hf[j])
+            r = math.sqrt(dx * dx + dy * dy)
+            if r == 0.0 or r >= 2.0 * hij:
+                continue
+            f = kernel_f(kernel, 2, r, hij) * volf[j]
+            gx += f * dx
+            gy += f * dy
+        for w in range(ws.shape[0]):
+            if (xi - ws[w, sw.W_FX]) * ws[w, sw.W_NX] + (yi - ws[w, sw.W_FY]) * ws[w, sw.W_NY] <= 0.0:
+                continue
+            dx, dy = xi - ws[w, sw.W_X], yi - ws[w, sw.W_Y]
+            hij = 0.5 * (hi + ws[w, sw.W_H])
+            r = math.sqrt(dx * dx + dy * dy)
+            if r == 0.0 or r >= 2.0 * hij:
+                continue
+            seen = 1.0
+            for t in range(twins.shape[1]):
+                o = twins[w, t]
+                if o >= 0 and (xi - ws[o, sw.W_FX]) * ws[o, sw.W_NX] + (yi - ws[o, sw.W_FY]) * ws[o, sw.W_NY] > 0.0:
+                    seen += 1.0
+            f = kernel_f(kernel, 2, r, hij) * ws[w, sw.W_M] / ws[w, sw.W_RHO] / seen
+            gx += f * dx
+            gy += f * dy
+        speed = math.sqrt(vf[i, 0] ** 2 + vf[i, 1] ** 2)
+        mx, my = -a * hi * speed * dt * gx, -a * hi * speed * dt * gy
+        size = math.sqrt(mx * mx + my * my)
+        if size > 0.1 * hi:
+            mx *= 0.1 * hi / size
+            my *= 0.1 * hi / size
+        moves[k, 0] = mx
+        moves[k, 1] = my
 
 
 def _corners(self, x: np.ndarray) -> np.ndarray:
@@ -79,36 +105,13 @@ def record_work(self, dt: float, dt_avg: float, v_old: np.ndarray, st) -> None:
     sel = fluid[dist < RADIUS * dx]
     if not len(sel):
         return
-    near = fluid[dist < RADIUS * dx + 2.0 * hmax]
-    tree = cKDTree(ps.x[near, :2])
-    ws = self.ws
-    wx = ws[:, sw.W_X:sw.W_Y + 1]
-    wtree = cKDTree(wx)
-    kernel, dim = int(ps.settings_i[SI_KERNEL]), int(ps.settings_i[SI_DIM])
-    moves = np.zeros((len(sel), 2))
-    for k, i in enumerate(sel):
-        xi, hi = ps.x[i, :2], float(ps.h[i])
-        js = near[tree.query_ball_point(xi, 2.0 * hmax)]
-        gx, gy = _gamma(kernel, dim, xi, hi, ps.x[js, :2], ps.m[js] / ps.rho[js], ps.h[js], np.ones(len(js)))
-        cand = np.asarray(wtree.query_ball_point(xi, 2.0 * hmax), dtype=np.int64)
-        if len(cand):
-            on = ((xi[0] - ws[cand, sw.W_FX]) * ws[cand, sw.W_NX] + (xi[1] - ws[cand, sw.W_FY]) * ws[cand, sw.W_NY]) > 0.0
-            cand = cand[on]
-        if len(cand):
-            seen = np.ones(len(cand))
-            for c, w in enumerate(cand):
-                for o in self._shift_twins[w]:
-                    if o >= 0 and ((xi[0] - ws[o, sw.W_FX]) * ws[o, sw.W_NX]
-                                   + (xi[1] - ws[o, sw.W_FY]) * ws[o, sw.W_NY]) > 0.0:
-                        seen[c] += 1.0
-            bx, by = _gamma(kernel, dim, xi, hi, wx[cand], ws[cand, sw.W_M] / ws[cand, sw.W_RHO], ws[cand, sw.W_H],
-                            1.0 / seen)
-            gx, gy = gx + bx, gy + by
-        d = -A * hi * float(np.linalg.norm(ps.v_half[i, :2])) * dt * np.array([gx, gy])
-        size = float(np.linalg.norm(d))
-        if size > 0.1 * hi:
-            d *= 0.1 * hi / size
-        moves[k] = d
+    near_mask = dist < RADIUS * dx + 2.0 * hmax
+    near = fluid[near_mask]
+    rows = np.flatnonzero(dist[near_mask] < RADIUS * dx)  # sel's rows in near
+    moves = np.zeros((len(rows), 2))
+    _shift(int(ps.settings_i[SI_KERNEL]), A, np.ascontiguousarray(ps.x[near, :2]),
+           np.ascontiguousarray(ps.v_half[near, :2]), ps.h[near], ps.m[near] / ps.rho[near], rows, self.ws,
+           self._shift_twins, dt, moves)
     ps.x[sel, :2] += moves  # after every gamma: the shift is evaluated on the step's positions
     self.shift_moved += len(sel)
 

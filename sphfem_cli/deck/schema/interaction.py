@@ -119,9 +119,11 @@ class SphBoundary(DeckModel):
         "faces' layers coincide; the fluid's density there and its gradient G solve the first-order (Liu & Liu 2006) "
         "system sum m_j W_gj = rho_g sum V_j W_gj + G . sum V_j r_j W_gj, sum m_j grad W_gj = rho_g sum V_j grad W_gj + "
         "(sum V_j grad W_gj r_j^T) G (r_j = x_j - x_g; a 3 x 3 system in 2D, exact for a linear density), and "
-        "rho_w = rho_g + G . (x_w - x_g), p_w = p_eos(rho_w) (the Shepard density where the system's determinant, "
-        "normalised by the kernel sum, is below 1e-3). Default adami (mdbc measured on the paper's section 4.1 "
-        "plate: docs/studies/structure_in_water.md, \"mDBC at the corners\")."))
+        "rho_w = rho_g + G . (x_w - x_g), p_w = p_eos(rho_w) (the Shepard density sum m W / sum V W where the "
+        "ghost's support cannot carry a gradient: the system, scaled by h, has an infinity-norm condition number "
+        "above 50 or sum V W < 0.1, e.g. ghosts above a free surface). Default adami (mdbc measured on the paper's "
+        "section 4.1 plate, where it does not change the peak's amplitude dependence: "
+        "docs/studies/structure_in_water.md, \"mDBC at the corners\")."))
 
 
 Contact = Annotated[Union[NodesToSurface], Field(discriminator="type")]
