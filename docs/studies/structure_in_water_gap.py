@@ -4,6 +4,7 @@
     python docs/studies/structure_in_water_gap.py [CASE ...]   # run from the repository root
     python docs/studies/structure_in_water_gap.py --summary
     python docs/studies/structure_in_water_gap.py --corner-figure
+    python docs/studies/structure_in_water_gap.py --pairs av0 sb0 sbm   # deck drive against a tenth, ratio 4
 
 Each case writes a variant of decks/structure_in_water_{ale,sph}.yaml into study_siw_gap/ (plate 4 x 60, 2 ms,
 the code-to-code settings of the study: ALE Lagrangian mesh with L_c = h / 2, i.e. pfac 16 / 16 / 10 at nquad
@@ -36,6 +37,10 @@ The convex-corner candidates (section "Convex corners"), each with its "...a01c0
 sph_boundary's corner_particles: once; "tt" / "ttc0" the av0 deck (penalty contact) with structure_in_water_corner_truncation.py's
 corner correction at each particle's pressure / at the water's ambient C0, run through
 structure_in_water_corner_run.py (energy guard off for these: the correction's work is negative contact energy).
+The mDBC candidates (section "mDBC at the corners"), each with its "...a01c01" twin: "sbm" the sb0 deck with
+sph_boundary's extrapolation: mdbc (English et al. 2022), "sbmc" the same with corner_particles: once; "sbs" the sb0
+deck with particle shifting restricted to the water next to the plate's lower corners
+(structure_in_water_corner_shift.py, A 2, within 4 spacings; energy guard off: the shift is no force).
 `--corner-figure` draws the water's speed round the plate's end
 (structure_in_water_corner_flow.png) from cd0_r4_gap, cd0a01c01_r4_gap and ale_2.5_gap.
 Every variant records the x force of the contact / coupling on three bands of each face of the plate
@@ -68,6 +73,7 @@ SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0
                 "hr15dp": {"smoothing_ratio": 1.5, "density_diffusion_form": "delta_plus"},
                 "hr15d05": {"smoothing_ratio": 1.5, "density_diffusion": 0.05},
                 "d02": {"density_diffusion": 0.02}, "d01": {"density_diffusion": 0.01}, "sbc": {}, "tt": {}, "ttc0": {},
+                "sbm": {}, "sbmc": {}, "sbs": {},
                 "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
 CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
@@ -76,28 +82,36 @@ CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
 # structure_in_water_corner_run.py: "tt" with each particle's pressure, "ttc0" with the water's ambient C0 (1 MPa;
 # 0.1 MPa in the a01c01 twin)
 CORNER_CORRECTION = {"tt": "particle", "ttc0": "ambient"}
-SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc"}  # boundary particles carried by the plate instead of the penalty contact
+SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc", "sbm", "sbmc", "sbs"}
+# the sb0 deck with particle shifting restricted to the water within CORNER_SHIFT[kind][1] spacings of the plate's lower
+# corners (A = CORNER_SHIFT[kind][0]), run through structure_in_water_corner_shift.py (section "mDBC at the corners")
+CORNER_SHIFT = {"sbs": ("2", "4")}  # boundary particles carried by the plate instead of the penalty contact
 # issue 12's convex-corner candidates (section "Convex corners"): "sbc" the sb0 deck with the corner squares counted
 # once (sph_boundary corner_particles: once)
-BOUNDARY_OPTIONS = {"sbc": {"corner_particles": "once"}}
+BOUNDARY_OPTIONS = {"sbc": {"corner_particles": "once"},
+                    # section "mDBC at the corners": the boundary particles' density from English et al. (2022)'s
+                    # first-order extrapolation at ghost nodes (through the faces, through the vertex at a corner)
+                    "sbm": {"extrapolation": "mdbc"}, "sbmc": {"extrapolation": "mdbc", "corner_particles": "once"}}
 # the energy guard off: at a tenth the corners-once run stopped at 0.70 ms on the guard against negative contact
 # energy (the boundary's share of the pair work -0.021 J, 10 % of the energy in play) with the energy ratio 1.0005
 # and the tangential-only form of "tt" stopped at step 100 (34 us) on the same guard (contact -0.078 J of 0.40 J in
 # play, energy ratio 1.0014): the corner correction's work is booked as contact energy and is negative
-ENERGY_GUARD_OFF = {"sbca01c01", "tt", "tta01c01", "ttc0", "ttc0a01c01"}
+ENERGY_GUARD_OFF = {"sbca01c01", "tt", "tta01c01", "ttc0", "ttc0a01c01", "sbs", "sbsa01c01"}
 AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
 LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: linear water, no kernel)
 # the drive's velocity scaled (2 -> 0.2 m/s: the linear limit); "a01c01" / "a03c03" scale the ambient pressure with it
 AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1}
 # the twins "<kind>a01c01" of these SPH kinds: the same change at a tenth of the drive and of the ambient pressure
 for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15", "sb0hr15", "hr15dp", "hr15d05", "d05", "d02", "d01",
-              "sbc", "tt", "ttc0"):
+              "sbc", "tt", "ttc0", "sbm", "sbmc", "sbs"):
     _twin = _kind + "a01c01"
     SPH_VARIANTS[_twin] = SPH_VARIANTS[_kind]
     if _kind in BOUNDARY_OPTIONS:
         BOUNDARY_OPTIONS[_twin] = BOUNDARY_OPTIONS[_kind]
     if _kind in CORNER_CORRECTION:
         CORNER_CORRECTION[_twin] = CORNER_CORRECTION[_kind]
+    if _kind in CORNER_SHIFT:
+        CORNER_SHIFT[_twin] = CORNER_SHIFT[_kind]
     if _kind in CONTACT:
         CONTACT[_twin] = CONTACT[_kind]
     if _kind in SPH_BOUNDARY:
@@ -186,12 +200,14 @@ def run(name: str) -> None:
     deck = variant(name)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     kind = name.split("_")[0]
-    command = ["sphfem"]
+    command = [sys.executable, "-m", "sphfem_cli.cli"]  # this tree's package (PYTHONPATH = the repository root)
     if kind in CORNER_CORRECTION:
         pressure = CORNER_CORRECTION[kind]
         if pressure == "ambient":
             pressure = str(yaml.safe_load(open(deck))["equations_of_state"]["water"]["c0"])
         command = [sys.executable, str(ROOT / "docs/studies/structure_in_water_corner_run.py"), pressure]
+    if kind in CORNER_SHIFT:
+        command = [sys.executable, str(ROOT / "docs/studies/structure_in_water_corner_shift.py"), *CORNER_SHIFT[kind]]
     subprocess.run([*command, "run", str(deck), "-o", str(WORK / name), "-q", "--overwrite", "--threads", "1"],
                    check=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -246,7 +262,32 @@ def summary() -> None:
             row.append(f"gauges {g[0]:.2f} / {g[1]:.2f} MPa, clamp VM {history(name, 'clamp')['von_mises'].max() / 1e6:.2f} MPa")
         else:
             row.append("")
+        if (WORK / name / "histories" / "glstat.csv").exists():  # the energy table at the end, and its ratio's range
+            e = history(name, "glstat")
+            row[-1] += (f"; energy ratio {e['energy_ratio'][-1]:.4f} ({e['energy_ratio'][1:].min():.4f}-"
+                        f"{e['energy_ratio'][1:].max():.4f}), contact {e['contact'][-1]:.3f} J, external "
+                        f"{e['external_work'][-1]:.3f} J")
         print(f"{name} | {row[0]} | {row[1]} | {row[2]} ; {row[3]} | {row[4]}")
+
+
+REFERENCE_PEAK = 0.5734  # mm, the same-plate (4 x 60) independent reference ("An independent continuum reference")
+
+
+def pairs(kinds: list[str]) -> None:
+    """Each SPH kind at ratio 4 at the deck's drive and its twin at a tenth of drive and ambient pressure (peak x 10):
+    the peak mid-height displacement against REFERENCE_PEAK and the amplitude effect (their difference in % of the
+    reference). "av0" pairs with "a01c01" (the deck's penalty contact)."""
+    print("kind | deck drive mm (vs ref) | a tenth x 10 | amplitude effect | energy ratio at 2 ms deck / tenth")
+    for kind in kinds:
+        out = []
+        for name, scale in ((f"{kind}_r4_gap", 1.0), (f"{'a01c01' if kind == 'av0' else kind + 'a01c01'}_r4_gap", 10.0)):
+            if not (WORK / name / "histories" / "mid.csv").exists():
+                break
+            u = scale * 1e3 * np.abs(history(name, "mid")["displacement_x"]).max()
+            out.append((u, 100.0 * (u / REFERENCE_PEAK - 1.0), history(name, "glstat")["energy_ratio"][-1]))
+        if len(out) == 2:
+            print(f"{kind} | {out[0][0]:.4f} ({out[0][1]:+.2f} %) | {out[1][0]:.4f} ({out[1][1]:+.2f} %) | "
+                  f"{out[0][1] - out[1][1]:+.2f} % | {out[0][2]:.4f} / {out[1][2]:.4f}")
 
 
 def corner_figure(path: str = "structure_in_water_corner_flow.png") -> None:
@@ -279,6 +320,8 @@ if __name__ == "__main__":
     args = sys.argv[1:]
     if args == ["--summary"]:
         summary()
+    elif args[:1] == ["--pairs"]:
+        pairs(args[1:])
     elif args == ["--corner-figure"]:
         corner_figure()
     else:

@@ -11,7 +11,9 @@ rho_0 (L_0 / n_s) dx. Each step, at state n, every particle is placed from the f
 (a_w from the nodes' velocities of the last two steps with ``wall_acceleration``, else 0; the rotation
 of n is not in v_w), its
 pressure is extrapolated from the fluid on its face's side (``sph.structure_walls.wall_state``,
-Adami et al. 2012 with g - a_w), and the pair terms with that fluid are added to the particles'
+Adami et al. 2012 with g - a_w; with ``extrapolation: mdbc`` its density is the fluid's extrapolated to first
+order from a ghost node mirrored through the face, or through the convex vertex for the particles behind a
+corner, ``wall_state_mdbc``), and the pair terms with that fluid are added to the particles'
 rates (``wall_pairs``): the forces to ``f_ext``, the continuity and energy terms to ``drho`` and
 ``de``. With ``corner_particles: once`` a particle that coincides with particles of other faces (behind a convex
 corner, where two faces' layers overlap) counts 1 / k for a fluid point that sees k of them
@@ -85,8 +87,54 @@ class SphBoundaryCoupling:
         self._v_start = None
         x0 = np.asarray(model.coordinates, dtype=np.float64)
         self.place(x0, np.zeros_like(x0), np.zeros_like(x0))
-        self.twins = (self._coincident(self.particles()) if spec.corner_particles == "once"
+        coincident = (self._coincident(self.particles())
+                      if spec.corner_particles == "once" or spec.extrapolation == "mdbc" else None)
+        self.twins = (coincident if spec.corner_particles == "once"
                       else np.full((len(self.seg), 1), -1, dtype=np.int64))
+        # mDBC's ghost nodes: through the face, or through the convex vertex the particle's coincident group shares
+        self.mdbc = spec.extrapolation == "mdbc"
+        self.vertex = np.full(len(self.seg), -1, dtype=np.int64)
+        self.side2 = np.full(len(self.seg), -1, dtype=np.int64)
+        self.mdbc_order = np.zeros(len(self.seg), dtype=np.int64)  # 1 first order, 0 Shepard, -1 no fluid seen
+        self.mdbc_cond = np.zeros(len(self.seg))  # the scaled system's condition number
+        if self.mdbc:
+            self._corner_ghosts(coincident, x0)
+            self.place(x0, np.zeros_like(x0), np.zeros_like(x0))
+
+    def _corner_ghosts(self, twins: np.ndarray, x0: np.ndarray) -> None:
+        """For every particle with coincident particles of other segments (the squares behind the convex corners,
+        where two faces' layers overlap): the convex vertex of its face nearest to it at the start (``vertex``: its
+        ghost is mirrored through that vertex), and a coincident particle of the other face at that vertex
+        (``side2``: the ghost sees the fluid on that face's side too). A convex vertex joins segments f = a -> b and
+        g = b -> c with t_f x t_g > 0 (a left turn: with the outward normals to the right of a -> b the boundary runs
+        counter-clockwise)."""
+        faces = self.faces
+        t = x0[faces[:, 1]] - x0[faces[:, 0]]
+        t = t / np.linalg.norm(t, axis=1)[:, None]
+        normal = np.stack([t[:, 1], -t[:, 0]], axis=1)
+        starts = {int(a): g for g, a in enumerate(faces[:, 0])}
+        corners = {}  # vertex node -> the outward normals of its two segments
+        for f, b in enumerate(faces[:, 1]):
+            g = starts.get(int(b))
+            if g is not None and t[f, 0] * t[g, 1] - t[f, 1] * t[g, 0] > 1e-6:
+                corners[int(b)] = (normal[f], normal[g])
+        if not corners:
+            return
+        nodes = np.fromiter(corners, dtype=np.int64)
+        pos = self.particles()
+        for w in range(len(self.seg)):
+            row = [o for o in twins[w] if o >= 0]
+            if not row:
+                continue
+            own = normal[self.seg[w]]
+            mine = [v for v in nodes if max(float(n @ own) for n in corners[v]) > 0.99]  # corners of its face
+            if not mine:
+                continue
+            v = int(mine[int(np.argmin(np.linalg.norm(x0[mine] - pos[w], axis=1)))])
+            other = [n for n in corners[v] if float(n @ own) < 0.5]
+            match = [o for o in row if float(normal[self.seg[o]] @ other[0]) > 0.99]
+            if match:
+                self.vertex[w], self.side2[w] = v, match[0]
 
     def _coincident(self, pos: np.ndarray) -> np.ndarray:
         """(Nw, K) int64: for every particle (at ``pos``, the start) the particles of other faces within dx / 4
@@ -113,6 +161,11 @@ class SphBoundaryCoupling:
         ws[:, sw.W_FX:sw.W_FY + 1] = face
         ws[:, sw.W_NX:sw.W_NY + 1] = normal
         ws[:, sw.W_X:sw.W_Y + 1] = face - self.depth[:, None] * normal
+        if getattr(self, "mdbc", False):  # ghost nodes: x_f + d n through the face, 2 x_v - x_w through a vertex
+            ghost = face + self.depth[:, None] * normal
+            at = self.vertex >= 0
+            ghost[at] = 2.0 * x[self.vertex[at]] - ws[at, sw.W_X:sw.W_Y + 1]
+            ws[:, sw.W_GX:sw.W_GY + 1] = ghost
         ws[:, sw.W_VX:sw.W_VY + 1] = (1.0 - s) * v[ia] + s * v[ib]
         ws[:, sw.W_AX:sw.W_AY + 1] = (1.0 - s) * a[ia] + s * a[ib]
 
@@ -151,8 +204,13 @@ class SphBoundaryCoupling:
             real = np.flatnonzero(perm < ps.n)
             mine[real] = self.sim.model.particles.part[ps.ids[perm[real]]] == self.part_index
             args = (pts["sx"], pts["sd"], mine)
-            sw.wall_state(self.ws, self.material, *args, pts["cell_start"], ps.settings_f, ps.settings_i,
-                          pts["grid_f"], pts["grid_i"], ps.params)
+            if self.mdbc:
+                sw.wall_state_mdbc(self.ws, self.side2, self.material, *args, pts["cell_start"], ps.settings_f,
+                                   ps.settings_i, pts["grid_f"], pts["grid_i"], ps.params, self.mdbc_order,
+                                   self.mdbc_cond)
+            else:
+                sw.wall_state(self.ws, self.material, *args, pts["cell_start"], ps.settings_f, ps.settings_i,
+                              pts["grid_f"], pts["grid_i"], ps.params)
             self._power = sw.wall_pairs(self.ws, self.twins, self.slip, *args, pts["perm"], pts["cell_start"], ps.settings_f,
                                         ps.settings_i, pts["grid_f"], pts["grid_i"], self.f_fluid, ps.drho, ps.de,
                                         self.f_wall)

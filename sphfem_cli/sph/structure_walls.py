@@ -18,6 +18,10 @@ kernel pushes it in without any wall (F_i = -(2 p / rho) m_i sum_j V_j grad W_ij
 particles of other faces that coincide with w (``contact/sph_boundary.py`` finds them); a fluid point that sees
 k of a group weighs each by 1 / k, so the corner's solid counts once (``twins`` all -1: every particle counts).
 
+Two ways to set the boundary particles' pressure and density (``sph_boundary``'s ``extrapolation``):
+``wall_state`` (Adami et al. 2012, the default) and ``wall_state_mdbc`` (English et al. 2022's mDBC: the
+fluid's density extrapolated to first order at a ghost node mirrored through the boundary).
+
 Equations: docs/theory/coupling.md ("SPH boundary particles on a structure").
 """
 from __future__ import annotations
@@ -26,7 +30,7 @@ import math
 
 from numba import njit, prange
 
-from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0
+from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0, eos_pressure
 from ..materials.slots import Q_E0
 from .eos import density_from_pressure, sound_speed
 from .kernel_functions import kernel_f, kernel_w
@@ -43,7 +47,8 @@ W_NX, W_NY, W_NZ = 9, 10, 11     # outward unit normal of its face
 W_FX, W_FY, W_FZ = 12, 13, 14    # its projection on the face
 W_M, W_H = 15, 16                # mass, smoothing length
 W_RHO, W_P, W_C = 17, 18, 19     # density, pressure, sound speed (wall_state writes them)
-NW = 20
+W_GX, W_GY, W_GZ = 20, 21, 22    # its ghost node (wall_state_mdbc): mirrored through its face, or a convex vertex
+NW = 23
 
 
 @njit(cache=True, fastmath=False)
@@ -107,6 +112,134 @@ def wall_state(ws, mat, sx, sd, mine, cell_start, settings_f, settings_i, grid_f
         if pw < cutoff:
             pw = cutoff
         rw = density_from_pressure(eos, q, rho0, pw, q[Q_E0], rho0) if sw > 0.0 else rho0
+        ws[w, W_RHO] = rw
+        ws[w, W_P] = pw
+        ws[w, W_C] = sound_speed(eos, q, rw / rho0, q[Q_E0])
+
+
+# wall_state_mdbc's first-order solve needs a ghost support this full (the Shepard sum sum V W, 1 in the bulk; DualSPHysics'
+# mDBC takes 0.1 too) and a scaled system this well conditioned (1.0-5.0 for every ghost by the submerged faces and
+# corners of the paper's section 4.1 plate at the start; 1e2 to infinity for ghosts above its free surface, where a
+# first-order solve blew the run up within 45 steps); else the Shepard (zeroth-order) density
+MDBC_SUM_MIN = 0.1
+MDBC_COND_MAX = 50.0
+
+
+@njit(cache=True, parallel=True, fastmath=False, error_model="numpy")
+def wall_state_mdbc(ws, side2, mat, sx, sd, mine, cell_start, settings_f, settings_i, grid_f, grid_i, params, out,
+                    cond_out):
+    """mDBC (English, Crespo, Rogers, Dominguez, Moxley & Gomez-Gesteira 2022, Comp. Part. Mech. 9, 1; the
+    first-order consistent kernel interpolation of Liu & Liu 2006, Appl. Numer. Math. 56, 19) density and pressure
+    of every boundary particle (2D plane).
+
+    Each particle w has a ghost node x_g in the fluid (``ws[w, W_GX:W_GY+1]``; ``contact/sph_boundary.py`` places
+    it: x_f + d n_w, its mirror through its face, or 2 x_v - x_w through a convex vertex v of the structure).
+    The fluid's density there and its gradient G solve, with r_j = x_j - x_g, h_gj = (h_w + h_j) / 2 and the
+    test functions W_gj and grad_g W_gj over the fluid points j within 2 h_gj of x_g on w's face's side (or, with
+    ``side2[w] >= 0``, on the side of that particle's face too: a vertex ghost sees both faces' water),
+
+      sum_j m_j W_gj      = rho_g sum_j V_j W_gj      + G . sum_j V_j r_j W_gj
+      sum_j m_j grad W_gj = rho_g sum_j V_j grad W_gj + (sum_j V_j grad W_gj r_j^T) G
+
+    (the Taylor expansion rho_j = rho_g + G . r_j tested with W and grad W: exact for a linear density on any
+    particle arrangement whose 3 x 3 matrix is regular), and the particle takes
+
+      rho_w = rho_g + G . (x_w - x_g),      p_w = p_eos(rho_w / rho_0, E_0),      c_w = c_eos there.
+
+    The system A (rho_g, h_w G) = b is solved in units of h_w (gradient rows times h_w, position columns over
+    h_w: A is about diag(1, -1, -1) in a full support); where the ghost's support is not full enough to carry a
+    gradient (the Shepard sum sum_j V_j W_gj below ``MDBC_SUM_MIN``, or A's infinity-norm condition number above
+    ``MDBC_COND_MAX``: ghosts near a free surface or a corner's empty side, as DualSPHysics' mDBC falls back on a
+    small kernel sum or an ill-conditioned matrix) the Shepard value rho_w = sum m W / sum V W is used. p_w is bounded below by the pressure cut-off (rho_w then the EOS's
+    density there); a particle whose ghost sees no fluid gets p = 0 and the reference density (as ``wall_state``).
+    Writes ``ws[:, W_RHO]``, ``ws[:, W_P]``, ``ws[:, W_C]``; ``out[w]`` = 1 where the first-order solve was used, 0
+    where the Shepard fallback was, -1 where no fluid was seen; ``cond_out[w]`` the condition number.
+    """
+    kernel, dim = settings_i[SI_KERNEL], settings_i[SI_DIM]
+    nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
+    hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
+    ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
+    cutoff = settings_f[SF_PRESSURE_CUTOFF]
+    inv_cell = 1.0 / cell
+    rho0 = params[mat, P_RHO0]
+    eos = int(params[mat, P_EOS_TYPE])
+    q = params[mat, EOS_OFFSET:]
+    for w in prange(ws.shape[0]):
+        xg, yg, zg, hw = ws[w, W_GX], ws[w, W_GY], ws[w, W_GZ], ws[w, W_H]
+        o = side2[w]
+        reach = hw + hmax  # bounds every 2 h_gj
+        x0, x1 = cell_range(xg, reach, ox, inv_cell, nx)
+        y0, y1 = cell_range(yg, reach, oy, inv_cell, ny)
+        z0, z1 = cell_range(zg, reach, oz, inv_cell, nz)
+        # a[r][c]: rows W, h d/dx W, h d/dy W; columns rho_g, h G_x, h G_y; b the right-hand side
+        a00 = a01 = a02 = a10 = a11 = a12 = a20 = a21 = a22 = 0.0
+        b0 = b1 = b2 = 0.0
+        for cz in range(z0, z1 + 1):
+            for cy in range(y0, y1 + 1):
+                base = (cz * ny + cy) * nx
+                for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
+                    if (int(sd[D_MK, j]) & 3) != KIND_FLUID or not mine[j]:
+                        continue
+                    if not _on_side(ws, w, sx[0, j], sx[1, j], sx[2, j]):
+                        if o < 0 or not _on_side(ws, o, sx[0, j], sx[1, j], sx[2, j]):
+                            continue
+                    rx, ry, rz = sx[0, j] - xg, sx[1, j] - yg, sx[2, j] - zg  # r_j = x_j - x_g
+                    hij = 0.5 * (hw + sx[3, j])
+                    r2 = rx * rx + ry * ry + rz * rz
+                    if r2 >= 4.0 * hij * hij:
+                        continue
+                    r = math.sqrt(r2)
+                    wv = kernel_w(kernel, dim, r, hij)
+                    f = kernel_f(kernel, dim, r, hij) * hw  # grad_g W = F (x_g - x_j) = -F r_j; times h_w
+                    gx, gy = -f * rx, -f * ry
+                    vj = sd[D_VOL, j]
+                    mj = vj * sd[D_RHO, j]
+                    sx_, sy_ = rx / hw, ry / hw
+                    a00 += vj * wv
+                    a01 += vj * wv * sx_
+                    a02 += vj * wv * sy_
+                    a10 += vj * gx
+                    a11 += vj * gx * sx_
+                    a12 += vj * gx * sy_
+                    a20 += vj * gy
+                    a21 += vj * gy * sx_
+                    a22 += vj * gy * sy_
+                    b0 += mj * wv
+                    b1 += mj * gx
+                    b2 += mj * gy
+        if a00 <= 0.0:
+            ws[w, W_RHO] = rho0
+            ws[w, W_P] = 0.0
+            ws[w, W_C] = sound_speed(eos, q, 1.0, q[Q_E0])
+            out[w] = -1
+            cond_out[w] = math.inf
+            continue
+        c00 = a11 * a22 - a12 * a21
+        c01 = a12 * a20 - a10 * a22
+        c02 = a10 * a21 - a11 * a20
+        det = a00 * c00 + a01 * c01 + a02 * c02
+        cond = math.inf
+        if det != 0.0:  # the infinity-norm condition number ||A|| ||A^-1|| of the scaled system
+            i00, i01, i02 = c00 / det, (a02 * a21 - a01 * a22) / det, (a01 * a12 - a02 * a11) / det
+            i10, i11, i12 = c01 / det, (a00 * a22 - a02 * a20) / det, (a02 * a10 - a00 * a12) / det
+            i20, i21, i22 = c02 / det, (a01 * a20 - a00 * a21) / det, (a00 * a11 - a01 * a10) / det
+            na = max(abs(a00) + abs(a01) + abs(a02), abs(a10) + abs(a11) + abs(a12), abs(a20) + abs(a21) + abs(a22))
+            ni = max(abs(i00) + abs(i01) + abs(i02), abs(i10) + abs(i11) + abs(i12), abs(i20) + abs(i21) + abs(i22))
+            cond = na * ni
+        cond_out[w] = cond
+        if a00 >= MDBC_SUM_MIN and cond <= MDBC_COND_MAX:
+            rg = i00 * b0 + i01 * b1 + i02 * b2  # rho_g, h G_x, h G_y = A^-1 b
+            hgx = i10 * b0 + i11 * b1 + i12 * b2
+            hgy = i20 * b0 + i21 * b1 + i22 * b2
+            rw = rg + (hgx * (ws[w, W_X] - xg) + hgy * (ws[w, W_Y] - yg)) / hw
+            out[w] = 1
+        else:
+            rw = b0 / a00
+            out[w] = 0
+        pw = eos_pressure(eos, q, rw / rho0, q[Q_E0])
+        if pw < cutoff:
+            pw = cutoff
+            rw = density_from_pressure(eos, q, rho0, pw, q[Q_E0], rw)
         ws[w, W_RHO] = rw
         ws[w, W_P] = pw
         ws[w, W_C] = sound_speed(eos, q, rw / rho0, q[Q_E0])

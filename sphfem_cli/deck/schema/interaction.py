@@ -110,6 +110,20 @@ class SphBoundary(DeckModel):
         "the kernel sum with the boundary is complete there too (a uniform pressure exerts no net force on a "
         "lattice). Default per_face (measured on the paper's section 4.1 plate: "
         "docs/studies/structure_in_water.md, \"Convex corners\")."))
+    extrapolation: Literal["adami", "mdbc"] = Field("adami", description=(
+        "How the boundary particles' pressure and density are set from the fluid. adami: p_w = (sum_f p_f W_wf + "
+        "(g - a_w) . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf over the fluid on the particle's face's side (Adami, "
+        "Hu & Adams 2012, J. Comput. Phys. 231, 7057, eq. 27), rho_w from the EOS. mdbc: the modified dynamic boundary "
+        "condition (English et al. 2022, Comp. Part. Mech. 9, 1): each particle's ghost node x_g is its mirror through "
+        "its face (x_f + d n), or through the convex vertex (2 x_v - x_w) for the particles behind a corner where two "
+        "faces' layers coincide; the fluid's density there and its gradient G solve the first-order (Liu & Liu 2006) "
+        "system sum m_j W_gj = rho_g sum V_j W_gj + G . sum V_j r_j W_gj, sum m_j grad W_gj = rho_g sum V_j grad W_gj + "
+        "(sum V_j grad W_gj r_j^T) G (r_j = x_j - x_g; a 3 x 3 system in 2D, exact for a linear density), and "
+        "rho_w = rho_g + G . (x_w - x_g), p_w = p_eos(rho_w) (the Shepard density sum m W / sum V W where the "
+        "ghost's support cannot carry a gradient: the system, scaled by h, has an infinity-norm condition number "
+        "above 50 or sum V W < 0.1, e.g. ghosts above a free surface). Default adami (mdbc measured on the paper's "
+        "section 4.1 plate, where it does not change the peak's amplitude dependence: "
+        "docs/studies/structure_in_water.md, \"mDBC at the corners\")."))
 
 
 Contact = Annotated[Union[NodesToSurface], Field(discriminator="type")]
