@@ -93,9 +93,14 @@ class SphDomain(Domain):
     def limiter_description(self) -> str:
         ps, m = self.system, self.model
         with np.errstate(divide="ignore", invalid="ignore"):
-            cfl = np.where(ps.active, ps.h / (ps.c + np.linalg.norm(ps.v, axis=1)), np.inf)
-        i = int(ps.ids[int(np.argmin(cfl))])
-        return f"SPH particle {i} of part '{m.parts[int(m.particles.part[i])].name}'"
+            speed = ps.c + np.linalg.norm(ps.v, axis=1)
+            cfl = np.where(ps.active, float(ps.options.cfl) * ps.h / speed, np.inf)
+            # r-z: the hoop terms' condition r / (c + |v|) (sph.axisymmetric.axis_time_step) may be the smaller
+            axis = np.where(ps.active, ps.x[:, 0] / speed, np.inf) if ps.axisymmetric else np.full_like(cfl, np.inf)
+        k = int(np.argmin(np.minimum(cfl, axis)))
+        i = int(ps.ids[k])
+        which = " (its distance to the axis)" if axis[k] < cfl[k] else ""
+        return f"SPH particle {i} of part '{m.parts[int(m.particles.part[i])].name}'{which}"
 
     def state_arrays(self) -> dict[str, np.ndarray]:
         """The evolving per-particle arrays the output reads, by name (rows are particle slots)."""

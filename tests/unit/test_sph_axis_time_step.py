@@ -68,3 +68,24 @@ def test_mass_form_noh_keeps_its_step():
     assert ps.wall_crossings == 0 and ps.x[:, 0].min() > 0.0
     assert ps.rho.min() > 0.0 and np.isfinite(ps.h).all()
     assert abs(ps.energies()["total"] - e0) < 1e-3 * e0
+
+
+def test_the_limiter_names_the_ring_near_the_axis():
+    """The step guard's and `check`'s limiter (``SphDomain.limiter_description``) names the particle whose step
+    is smallest by either condition, and says when it is the axis condition."""
+    from types import SimpleNamespace
+
+    from sphfem_cli.solver.sph_domain import SphDomain
+
+    ps = _column()
+    ps.compute_rates()
+    model = SimpleNamespace(parts=[SimpleNamespace(name="water")],
+                            particles=SimpleNamespace(part=np.zeros(ps.n, dtype=np.int64)))
+    domain = SimpleNamespace(system=ps, model=model)
+    plain = SphDomain.limiter_description(domain)
+    assert plain.startswith("SPH particle ") and plain.endswith("of part 'water'")
+    k = int(np.argmin(ps.x[:, 0] + ps.x[:, 1]))
+    ps.x[k, 0] = 0.02 * 0.05
+    ps.compute_rates()
+    expect = f"SPH particle {int(ps.ids[k])} of part 'water' (its distance to the axis)"
+    assert SphDomain.limiter_description(domain) == expect
