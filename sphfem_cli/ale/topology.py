@@ -94,6 +94,21 @@ def _unique_keys(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return order[new], inverse
 
 
+def _unique_pairs(hi: np.ndarray, lo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``_unique_keys`` of the pairs (hi, lo), in lexicographic order: ``np.unique`` of the rows of a
+    sorted (n, 4) node key packed as (k0 N + k1, k2 N + k3) (N the node count, N^2 < 2^63), the same order
+    and first occurrences without the row-as-record sort of ``np.unique(axis=0)`` (96 000 hex8: 1.9 -> 0.2 s)."""
+    order = np.lexsort((lo, hi))  # stable: equal pairs keep their index order
+    h, l = hi[order], lo[order]
+    new = np.empty(len(hi), dtype=bool)
+    new[:1] = True
+    np.not_equal(h[1:], h[:-1], out=new[1:])
+    new[1:] |= l[1:] != l[:-1]
+    inverse = np.empty(len(hi), dtype=np.int64)
+    inverse[order] = np.cumsum(new) - 1
+    return order[new], inverse
+
+
 @njit(cache=True)
 def _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
     """The face maps of a quad4 mesh from its local faces' face numbers inv (4E,) (local face k of
@@ -169,11 +184,10 @@ def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:
     loc = HEX_FACE_NODES
     quads = conn[:, loc].reshape(6 * n_elem, 4)  # (6E, 4) in outward order
     key = np.sort(quads, axis=1)
-    uniq, first, inv, counts = np.unique(key, axis=0, return_index=True, return_inverse=True, return_counts=True)
-    inv = inv.ravel()
-    if counts.max(initial=0) > 2:
+    first, inv = _unique_pairs(key[:, 0] * n_nodes + key[:, 1], key[:, 2] * n_nodes + key[:, 3])
+    if np.bincount(inv).max(initial=0) > 2:
         raise ValueError("a face is shared by more than two elements")
-    n_faces = uniq.shape[0]
+    n_faces = first.size
     flat = np.arange(6 * n_elem)
     face_nodes = quads[first]
     face_elem = -np.ones((n_faces, 2), dtype=np.int64)
@@ -228,8 +242,10 @@ def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:
 
 def hex_edges(conn: np.ndarray) -> np.ndarray:
     """Unique edges (n, 2) of a hex8 mesh."""
-    e = np.concatenate([conn[:, HEX_EDGES[d]].reshape(-1, 2) for d in range(3)])
-    return np.unique(np.sort(e, axis=1), axis=0)
+    e = np.sort(np.concatenate([conn[:, HEX_EDGES[d]].reshape(-1, 2) for d in range(3)]), axis=1)
+    n = int(e.max(initial=-1)) + 1
+    first, _ = _unique_keys(e[:, 0] * n + e[:, 1])  # np.unique(e, axis=0)'s rows, as one integer key
+    return e[first]
 
 
 def largest_face_area(nodes: np.ndarray, conn: np.ndarray) -> np.ndarray:
