@@ -81,30 +81,20 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
     )
 
 
-def _unique_keys(key: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _unique_keys(*keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(first, inverse) of ``np.unique(key, return_index=True, return_inverse=True)``: the index of each
-    distinct key's first occurrence, in increasing key order, and each entry's distinct-key number."""
-    order = np.argsort(key, kind="stable")
-    sorted_key = key[order]
-    new = np.empty(len(key), dtype=bool)
+    distinct key's first occurrence, in increasing key order, and each entry's distinct-key number. Several
+    keys (most significant first) are one key read lexicographically: a hex8 face's sorted nodes packed as
+    (k0 N + k1, k2 N + k3) (N the node count, N^2 < 2^63) give ``np.unique(axis=0)``'s rows, order and first
+    occurrences without its row-as-record sort (96 000 hex8: 0.55-0.66 -> 0.02 s)."""
+    order = np.argsort(keys[0], kind="stable") if len(keys) == 1 else np.lexsort(keys[::-1])  # both stable
+    n = len(keys[0])
+    new = np.zeros(n, dtype=bool)
     new[:1] = True
-    np.not_equal(sorted_key[1:], sorted_key[:-1], out=new[1:])
-    inverse = np.empty(len(key), dtype=np.int64)
-    inverse[order] = np.cumsum(new) - 1
-    return order[new], inverse
-
-
-def _unique_pairs(hi: np.ndarray, lo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``_unique_keys`` of the pairs (hi, lo), in lexicographic order: ``np.unique`` of the rows of a
-    sorted (n, 4) node key packed as (k0 N + k1, k2 N + k3) (N the node count, N^2 < 2^63), the same order
-    and first occurrences without the row-as-record sort of ``np.unique(axis=0)`` (96 000 hex8: 1.9 -> 0.2 s)."""
-    order = np.lexsort((lo, hi))  # stable: equal pairs keep their index order
-    h, l = hi[order], lo[order]
-    new = np.empty(len(hi), dtype=bool)
-    new[:1] = True
-    np.not_equal(h[1:], h[:-1], out=new[1:])
-    new[1:] |= l[1:] != l[:-1]
-    inverse = np.empty(len(hi), dtype=np.int64)
+    for key in keys:
+        sorted_key = key[order]
+        new[1:] |= sorted_key[1:] != sorted_key[:-1]
+    inverse = np.empty(n, dtype=np.int64)
     inverse[order] = np.cumsum(new) - 1
     return order[new], inverse
 
@@ -184,7 +174,7 @@ def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:
     loc = HEX_FACE_NODES
     quads = conn[:, loc].reshape(6 * n_elem, 4)  # (6E, 4) in outward order
     key = np.sort(quads, axis=1)
-    first, inv = _unique_pairs(key[:, 0] * n_nodes + key[:, 1], key[:, 2] * n_nodes + key[:, 3])
+    first, inv = _unique_keys(key[:, 0] * n_nodes + key[:, 1], key[:, 2] * n_nodes + key[:, 3])
     if np.bincount(inv).max(initial=0) > 2:
         raise ValueError("a face is shared by more than two elements")
     n_faces = first.size

@@ -149,8 +149,7 @@ def point_forces(xp, vp, mp, slave, thickness, xm, vm, faces, seg_k, seg_depth, 
     stiffness (soft constraint, k = s m_p / dt0^2) otherwise: that spring acts on the reduced mass of the point
     and its segment, m = m_p / (1 + m_p seg_inv[s]) with seg_inv (S,) the segment's largest 1 / m_node, so
     k = point_k m / m_p and the damping and friction below take m for m_p. ring (P,) multiplies the segment
-    stiffness per point: 1 in
-    2D and 3D, the ring circumference 2 pi r_i of the point in an axisymmetric model, where seg_k is
+    stiffness per point: 1 in 2D and 3D, the ring circumference 2 pi r_i of the point in an axisymmetric model, where seg_k is
     the meridian stiffness s K L^2 / A and the ring's k_i = 2 pi r_i s K L^2 / A (contact.system).
     Outputs: f_point (P, dim), seg_of (P,) the segment or
     -1, weights (P, nn) its shape functions at the contact point, gap_out (P,) the gap.

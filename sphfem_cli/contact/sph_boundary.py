@@ -85,15 +85,16 @@ class SphBoundaryCoupling:
         self.work = 0.0
         self._power = 0.0
         self._v_start = None
+        # mDBC's ghost nodes: through the face, or through the convex vertex the particle's coincident group shares
+        # (``_corner_ghosts``, from the first placement)
+        self.mdbc = spec.extrapolation == "mdbc"
+        self.vertex = np.full(len(self.seg), -1, dtype=np.int64)
         x0 = np.asarray(model.coordinates, dtype=np.float64)
         self.place(x0, np.zeros_like(x0), np.zeros_like(x0))
         coincident = (self._coincident(self.particles())
-                      if spec.corner_particles == "once" or spec.extrapolation == "mdbc" else None)
+                      if spec.corner_particles == "once" or self.mdbc else None)
         self.twins = (coincident if spec.corner_particles == "once"
                       else np.full((len(self.seg), 1), -1, dtype=np.int64))
-        # mDBC's ghost nodes: through the face, or through the convex vertex the particle's coincident group shares
-        self.mdbc = spec.extrapolation == "mdbc"
-        self.vertex = np.full(len(self.seg), -1, dtype=np.int64)
         self.side2 = np.full(len(self.seg), -1, dtype=np.int64)
         self.mdbc_order = np.zeros(len(self.seg), dtype=np.int64)  # 1 first order, 0 Shepard, -1 no fluid seen
         self.mdbc_cond = np.zeros(len(self.seg))  # the scaled system's condition number
@@ -161,7 +162,7 @@ class SphBoundaryCoupling:
         ws[:, sw.W_FX:sw.W_FY + 1] = face
         ws[:, sw.W_NX:sw.W_NY + 1] = normal
         ws[:, sw.W_X:sw.W_Y + 1] = face - self.depth[:, None] * normal
-        if getattr(self, "mdbc", False):  # ghost nodes: x_f + d n through the face, 2 x_v - x_w through a vertex
+        if self.mdbc:  # ghost nodes: x_f + d n through the face, 2 x_v - x_w through a vertex
             ghost = face + self.depth[:, None] * normal
             at = self.vertex >= 0
             ghost[at] = 2.0 * x[self.vertex[at]] - ws[at, sw.W_X:sw.W_Y + 1]

@@ -221,7 +221,8 @@ class NodesToSurfaceContact:
         at_rest = np.zeros_like(x0)
         K.point_forces(x0, at_rest, mp, mask, self.slave_thickness, x0, at_rest, self.faces, self.seg_k, self.seg_depth,
                        point_k, self._segment_compliance(), self._ring(x0), start, segs, lo, cell, ncell,
-                       self.spec.damping, self.spec.friction, self.sim._dt_first or 0.0, self._f_point, self._seg_of, self._weights, self._gap)
+                       self.spec.damping, self.spec.friction, self.sim._dt_first or 0.0, self._f_point, self._seg_of,
+                       self._weights, self._gap)
         # a gap equal to the thickness to round-off is the zone's edge, no preload: left as it is
         caught = (self._seg_of >= 0) & (self._gap < self.slave_thickness * (1.0 - 1e-9))
         self.slave_thickness[caught] = np.maximum(self._gap[caught], 0.0)
@@ -247,8 +248,8 @@ class NodesToSurfaceContact:
                 self._take_initial_gaps(mp, mask, point_k)
             K.point_forces(xp, vp, mp, mask, thickness, st.x, st.v, self.faces, self.seg_k, self.seg_depth, point_k,
                            self._segment_compliance(), self._ring(xp), start, segs, lo, cell, ncell, self.spec.damping,
-                           self.spec.friction, max(st.dt_prev, self.sim._dt_first or 0.0), self._f_point, self._seg_of, self._weights,
-                           self._gap)
+                           self.spec.friction, max(st.dt_prev, self.sim._dt_first or 0.0), self._f_point, self._seg_of,
+                           self._weights, self._gap)
         self._f_master[:] = 0.0
         K.scatter_reactions(self._f_point, self._seg_of, self._weights, self.faces, self._f_master)
         st.f_contact += self._f_master
