@@ -335,7 +335,8 @@ def corners(names: list[str], scale: float = 1.0) -> None:
                 fast.append(speed[d < 0.01].max())
                 sum2.append(float(np.sum(speed[d < 0.005] ** 2)))
         print(f"{name} | u(0.8/1.0/1.2 ms) {' / '.join(f'{a:.4f}' for a in u)} mm | fastest within 10 mm "
-              f"{' / '.join(f'{a:.1f}' for a in fast)} m/s | sum v^2 within 5 mm {' / '.join(f'{a:.0f}' for a in sum2)}")
+              f"{' / '.join(f'{a:.1f}' for a in fast)} m/s | sum v^2 within 5 mm "
+              f"{' / '.join(f'{a:.0f}' for a in sum2)}")
 
 
 def corner_figure(path: str = "structure_in_water_corner_flow.png") -> None:

@@ -1,6 +1,6 @@
 """`sphfem` with a first-order consistent (kernel-gradient-corrected) pressure gradient and continuity for the water
 next to the structure of every ``sph_boundary`` coupling (issue 12, docs/studies/structure_in_water.md, "mDBC's
-velocity and a first-order pressure gradient"; used by structure_in_water_gap.py's kinds sbk / sbmk and their a01c01
+velocity and a first-order pressure gradient"; used by structure_in_water_gap.py's kinds sbk / sbka and their a01c01
 twins). Study code, not in the package.
 
     python docs/studies/structure_in_water_kgc.py [all] run DECK -o OUT ...
@@ -127,7 +127,8 @@ def correction_matrices(ws, twins, sx, sd, mine, cell_start, settings_i, grid_f,
             r2 = dx * dx + dy * dy
             if r2 >= 4.0 * hij * hij or r2 == 0.0:
                 continue
-            f = kernel_f(kernel, dim, math.sqrt(r2), hij) * ws[w, sw.W_M] / ws[w, sw.W_RHO] * _seen(ws, twins, w, xi, yi)
+            f = (kernel_f(kernel, dim, math.sqrt(r2), hij) * ws[w, sw.W_M] / ws[w, sw.W_RHO]
+                 * _seen(ws, twins, w, xi, yi))
             m00 -= dx * f * dx
             m01 -= dx * f * dy
             m10 -= dy * f * dx
