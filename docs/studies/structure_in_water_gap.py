@@ -46,7 +46,8 @@ The last SPH wall candidates (section "mDBC's velocity and a first-order pressur
 "...a01c01" twin: "sbmn" / "sbmf" the sbm deck with the boundary particles' velocity extrapolated from the ghost nodes
 (structure_in_water_mdbc_velocity.py, no-slip / slip; energy guard off), "sbk" the sb0 deck with the
 kernel-gradient-corrected pressure gradient and continuity for the water next to the plate (structure_in_water_kgc.py;
-energy guard off), "sbka" the same for every water point with a nearly full support. `--corners` prints u(t) on
+energy guard off), "sbka" the same for every water point with a nearly full support ("sbkan": with the boundary
+pairs' gradient left plain). `--corners` prints u(t) on
 the rise and the water's speed next to the plate's lower corners.
 `--corner-figure` draws the water's speed round the plate's end
 (structure_in_water_corner_flow.png) from cd0_r4_gap, cd0a01c01_r4_gap and ale_2.5_gap.
@@ -80,7 +81,7 @@ SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0
                 "hr15dp": {"smoothing_ratio": 1.5, "density_diffusion_form": "delta_plus"},
                 "hr15d05": {"smoothing_ratio": 1.5, "density_diffusion": 0.05},
                 "d02": {"density_diffusion": 0.02}, "d01": {"density_diffusion": 0.01}, "sbc": {}, "tt": {}, "ttc0": {},
-                "sbm": {}, "sbmc": {}, "sbs": {}, "sbmn": {}, "sbmf": {}, "sbk": {}, "sbka": {},
+                "sbm": {}, "sbmc": {}, "sbs": {}, "sbmn": {}, "sbmf": {}, "sbk": {}, "sbka": {}, "sbkan": {},
                 "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
 CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
@@ -89,7 +90,7 @@ CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
 # structure_in_water_corner_run.py: "tt" with each particle's pressure, "ttc0" with the water's ambient C0 (1 MPa;
 # 0.1 MPa in the a01c01 twin)
 CORNER_CORRECTION = {"tt": "particle", "ttc0": "ambient"}
-SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka"}
+SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan"}
 # the sb0 deck with particle shifting restricted to the water within CORNER_SHIFT[kind][1] spacings of the plate's lower
 # corners (A = CORNER_SHIFT[kind][0]), run through structure_in_water_corner_shift.py (section "mDBC at the corners")
 CORNER_SHIFT = {"sbs": ("2", "4")}  # boundary particles carried by the plate instead of the penalty contact
@@ -105,21 +106,22 @@ BOUNDARY_OPTIONS = {"sbc": {"corner_particles": "once"},
 MDBC_VELOCITY = {"sbmn": "no_slip", "sbmf": "slip"}
 # the sb0 deck with the kernel-gradient-corrected pressure gradient and continuity next to the plate
 # (structure_in_water_kgc.py)
-KGC = {"sbk": [], "sbka": ["all"]}  # "sbka": every water point with a nearly full support corrected
+KGC = {"sbk": [], "sbka": ["all"],  # "sbka": every water point with a nearly full support corrected
+       "sbkan": ["all", "nowall"]}  # "sbkan": the same with the boundary pairs' gradient plain
 # the energy guard off: at a tenth the corners-once run stopped at 0.70 ms on the guard against negative contact
 # energy (the boundary's share of the pair work -0.021 J, 10 % of the energy in play) with the energy ratio 1.0005
 # and the tangential-only form of "tt" stopped at step 100 (34 us) on the same guard (contact -0.078 J of 0.40 J in
 # play, energy ratio 1.0014): the corner correction's work is booked as contact energy and is negative
 ENERGY_GUARD_OFF = {"sbca01c01", "tt", "tta01c01", "ttc0", "ttc0a01c01", "sbs", "sbsa01c01",
                     # the extrapolated boundary velocity's continuity and pair-work terms are not the nodes' work
-                    "sbmn", "sbmna01c01", "sbmf", "sbmfa01c01", "sbk", "sbka01c01", "sbka", "sbkaa01c01"}
+                    "sbmn", "sbmna01c01", "sbmf", "sbmfa01c01", "sbk", "sbka01c01", "sbka", "sbkaa01c01", "sbkan", "sbkana01c01"}
 AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
 LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: linear water, no kernel)
 # the drive's velocity scaled (2 -> 0.2 m/s: the linear limit); "a01c01" / "a03c03" scale the ambient pressure with it
 AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1}
 # the twins "<kind>a01c01" of these SPH kinds: the same change at a tenth of the drive and of the ambient pressure
 for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15", "sb0hr15", "hr15dp", "hr15d05", "d05", "d02", "d01",
-              "sbc", "tt", "ttc0", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka"):
+              "sbc", "tt", "ttc0", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan"):
     _twin = _kind + "a01c01"
     SPH_VARIANTS[_twin] = SPH_VARIANTS[_kind]
     if _kind in BOUNDARY_OPTIONS:

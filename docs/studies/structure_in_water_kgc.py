@@ -3,7 +3,7 @@ next to the structure of every ``sph_boundary`` coupling (issue 12, docs/studies
 velocity and a first-order pressure gradient"; used by structure_in_water_gap.py's kinds sbk / sbka and their a01c01
 twins). Study code, not in the package.
 
-    python docs/studies/structure_in_water_kgc.py [all] run DECK -o OUT ...
+    python docs/studies/structure_in_water_kgc.py [all [nowall]] run DECK -o OUT ...
 
 For every water point i that sees a boundary particle (within 2 h on the particle's face's side), the moment matrix
 over its water neighbours j and the boundary particles w it sees (each coincident group behind a convex corner
@@ -31,7 +31,8 @@ points: no external work), the boundary pairs' part to the coupling's ``f_fluid`
 On a lattice the bulk's own moment is not exactly I (cubic spline, h/dx 1.2: L - I about 0.009 per entry), so the
 correction restricted to the water next to the plate scales its gradient by about 1 % against the bulk's; with "all"
 every water point of the part whose M has a smaller eigenvalue of at least EIG_MIN (0.9: a nearly full support, the
-corners' water included; not the free surface) is corrected too (kinds sbka / sbkaa01c01).
+corners' water included; not the free surface) is corrected too (kinds sbka / sbkaa01c01); "all nowall" leaves
+the boundary pairs' gradient plain (kind sbkan, the diagnostic of the ratio-5 instability).
 """
 import math
 import sys
@@ -47,6 +48,7 @@ from sphfem_cli.sph.slots import (CONTINUITY_MASS, D_MK, D_PR, D_RHO, D_VOL, D_V
                                   GF_OY, GF_OZ, GI_NX, GI_NY, GI_NZ, KIND_FLUID, SI_CONTINUITY, SI_DIM, SI_KERNEL)
 
 EVERYWHERE = __name__ == "__main__" and sys.argv[1] == "all"
+WALLS = not (__name__ == "__main__" and sys.argv[2] == "nowall")  # "all nowall": the boundary pairs uncorrected
 EIG_MIN = 0.9  # "all": the water points corrected (a full support has M = I up to the lattice's own 1 %)
 _wall_pairs = sw.wall_pairs
 _forces = SphBoundaryCoupling.forces
@@ -153,10 +155,10 @@ def correction_matrices(ws, twins, sx, sd, mine, cell_start, settings_i, grid_f,
 
 @njit(cache=True)
 def add_correction(ws, twins, sx, sd, mine, perm, cell_start, settings_i, grid_f, grid_i, lmat, acc, f_fluid, drho,
-                   de, f_wall):
+                   de, f_wall, walls=True):
     """Add the pair terms with g~_ij - grad_i W_ij (module docstring) for every fluid slot k with lmat[k] != 0:
     its half (L_k - I) / 2 grad_k W_kj of every pair, to both points. Returns the boundary pairs' fluid power
-    sum m_i de_i (``wall_pairs``' share)."""
+    sum m_i de_i (``wall_pairs``' share). ``walls`` False: the boundary pairs keep the plain gradient (L_k = I in them)."""
     kernel, dim = settings_i[SI_KERNEL], settings_i[SI_DIM]
     mform = settings_i[SI_CONTINUITY] == CONTINUITY_MASS
     nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
@@ -208,7 +210,7 @@ def add_correction(ws, twins, sx, sd, mine, perm, cell_start, settings_i, grid_f
                     drho[j] += (mi if mform else rhoj * voli) * vg
                     de[i] += 0.5 * mj * s * vg
                     de[j] += 0.5 * mi * s * vg
-        inside = bx0 <= xi <= bx1 and by0 <= yi <= by1
+        inside = walls and bx0 <= xi <= bx1 and by0 <= yi <= by1
         for w in range(ws.shape[0] if inside else 0):
             if not sw._on_side(ws, w, xi, yi, sx[2, k]):
                 continue
@@ -247,7 +249,7 @@ def wall_pairs(ws, twins, slip, sx, sd, mine, perm, cell_start, settings_f, sett
     STATE["corrected"] = STATE.get("corrected", 0) + count - fallback
     STATE["fallback"] = STATE.get("fallback", 0) + fallback
     return power + add_correction(ws, twins, sx, sd, mine, perm, cell_start, settings_i, grid_f, grid_i, lmat,
-                                  ps.acc, f_fluid, drho, de, f_wall)
+                                  ps.acc, f_fluid, drho, de, f_wall, WALLS)
 
 
 def forces(self, st) -> None:
@@ -263,4 +265,4 @@ def install() -> None:
 if __name__ == "__main__":
     install()
     from sphfem_cli.cli import main
-    main(sys.argv[2:] if sys.argv[1] == "all" else sys.argv[1:], prog_name="sphfem")
+    main(sys.argv[1 + (sys.argv[1] == "all") + (sys.argv[2] == "nowall"):], prog_name="sphfem")
