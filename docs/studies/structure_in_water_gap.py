@@ -5,6 +5,7 @@
     python docs/studies/structure_in_water_gap.py --summary
     python docs/studies/structure_in_water_gap.py --corner-figure
     python docs/studies/structure_in_water_gap.py --pairs av0 sb0 sbm   # deck drive against a tenth, ratio 4
+    python docs/studies/structure_in_water_gap.py --corners sbm_r4_gap sbma01c01_r4_gap   # the corner layer's speed
 
 Each case writes a variant of decks/structure_in_water_{ale,sph}.yaml into study_siw_gap/ (plate 4 x 60, 2 ms,
 the code-to-code settings of the study: ALE Lagrangian mesh with L_c = h / 2, i.e. pfac 16 / 16 / 10 at nquad
@@ -41,6 +42,13 @@ The mDBC candidates (section "mDBC at the corners"), each with its "...a01c01" t
 sph_boundary's extrapolation: mdbc (English et al. 2022), "sbmc" the same with corner_particles: once; "sbs" the sb0
 deck with particle shifting restricted to the water next to the plate's lower corners
 (structure_in_water_corner_shift.py, A 2, within 4 spacings; energy guard off: the shift is no force).
+The last SPH wall candidates (section "mDBC's velocity and a first-order pressure gradient"), each with its
+"...a01c01" twin: "sbmn" / "sbmf" the sbm deck with the boundary particles' velocity extrapolated from the ghost nodes
+(structure_in_water_mdbc_velocity.py, no-slip / slip; energy guard off), "sbk" the sb0 deck with the
+kernel-gradient-corrected pressure gradient and continuity for the water next to the plate (structure_in_water_kgc.py;
+energy guard off), "sbka" the same for every water point with a nearly full support ("sbkan": with the boundary
+pairs' gradient left plain). `--corners` prints u(t) on
+the rise and the water's speed next to the plate's lower corners.
 `--corner-figure` draws the water's speed round the plate's end
 (structure_in_water_corner_flow.png) from cd0_r4_gap, cd0a01c01_r4_gap and ale_2.5_gap.
 Every variant records the x force of the contact / coupling on three bands of each face of the plate
@@ -73,7 +81,7 @@ SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0
                 "hr15dp": {"smoothing_ratio": 1.5, "density_diffusion_form": "delta_plus"},
                 "hr15d05": {"smoothing_ratio": 1.5, "density_diffusion": 0.05},
                 "d02": {"density_diffusion": 0.02}, "d01": {"density_diffusion": 0.01}, "sbc": {}, "tt": {}, "ttc0": {},
-                "sbm": {}, "sbmc": {}, "sbs": {},
+                "sbm": {}, "sbmc": {}, "sbs": {}, "sbmn": {}, "sbmf": {}, "sbk": {}, "sbka": {}, "sbkan": {},
                 "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
 CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
@@ -82,7 +90,7 @@ CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
 # structure_in_water_corner_run.py: "tt" with each particle's pressure, "ttc0" with the water's ambient C0 (1 MPa;
 # 0.1 MPa in the a01c01 twin)
 CORNER_CORRECTION = {"tt": "particle", "ttc0": "ambient"}
-SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc", "sbm", "sbmc", "sbs"}
+SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan"}
 # the sb0 deck with particle shifting restricted to the water within CORNER_SHIFT[kind][1] spacings of the plate's lower
 # corners (A = CORNER_SHIFT[kind][0]), run through structure_in_water_corner_shift.py (section "mDBC at the corners")
 CORNER_SHIFT = {"sbs": ("2", "4")}  # boundary particles carried by the plate instead of the penalty contact
@@ -91,19 +99,29 @@ CORNER_SHIFT = {"sbs": ("2", "4")}  # boundary particles carried by the plate in
 BOUNDARY_OPTIONS = {"sbc": {"corner_particles": "once"},
                     # section "mDBC at the corners": the boundary particles' density from English et al. (2022)'s
                     # first-order extrapolation at ghost nodes (through the faces, through the vertex at a corner)
-                    "sbm": {"extrapolation": "mdbc"}, "sbmc": {"extrapolation": "mdbc", "corner_particles": "once"}}
+                    "sbm": {"extrapolation": "mdbc"}, "sbmc": {"extrapolation": "mdbc", "corner_particles": "once"},
+                    # section "mDBC's velocity ...": the sbm deck with the boundary particles' velocity extrapolated
+                    # from the ghost nodes too (structure_in_water_mdbc_velocity.py), no-slip / slip
+                    "sbmn": {"extrapolation": "mdbc"}, "sbmf": {"extrapolation": "mdbc"}}
+MDBC_VELOCITY = {"sbmn": "no_slip", "sbmf": "slip"}
+# the sb0 deck with the kernel-gradient-corrected pressure gradient and continuity next to the plate
+# (structure_in_water_kgc.py)
+KGC = {"sbk": [], "sbka": ["all"],  # "sbka": every water point with a nearly full support corrected
+       "sbkan": ["all", "nowall"]}  # "sbkan": the same with the boundary pairs' gradient plain
 # the energy guard off: at a tenth the corners-once run stopped at 0.70 ms on the guard against negative contact
 # energy (the boundary's share of the pair work -0.021 J, 10 % of the energy in play) with the energy ratio 1.0005
 # and the tangential-only form of "tt" stopped at step 100 (34 us) on the same guard (contact -0.078 J of 0.40 J in
 # play, energy ratio 1.0014): the corner correction's work is booked as contact energy and is negative
-ENERGY_GUARD_OFF = {"sbca01c01", "tt", "tta01c01", "ttc0", "ttc0a01c01", "sbs", "sbsa01c01"}
+ENERGY_GUARD_OFF = {"sbca01c01", "tt", "tta01c01", "ttc0", "ttc0a01c01", "sbs", "sbsa01c01",
+                    # the extrapolated boundary velocity's continuity and pair-work terms are not the nodes' work
+                    "sbmn", "sbmna01c01", "sbmf", "sbmfa01c01", "sbk", "sbka01c01", "sbka", "sbkaa01c01", "sbkan", "sbkana01c01"}
 AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
 LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: linear water, no kernel)
 # the drive's velocity scaled (2 -> 0.2 m/s: the linear limit); "a01c01" / "a03c03" scale the ambient pressure with it
 AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1}
 # the twins "<kind>a01c01" of these SPH kinds: the same change at a tenth of the drive and of the ambient pressure
 for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15", "sb0hr15", "hr15dp", "hr15d05", "d05", "d02", "d01",
-              "sbc", "tt", "ttc0", "sbm", "sbmc", "sbs"):
+              "sbc", "tt", "ttc0", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan"):
     _twin = _kind + "a01c01"
     SPH_VARIANTS[_twin] = SPH_VARIANTS[_kind]
     if _kind in BOUNDARY_OPTIONS:
@@ -112,6 +130,10 @@ for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15", "sb0hr15", "hr15
         CORNER_CORRECTION[_twin] = CORNER_CORRECTION[_kind]
     if _kind in CORNER_SHIFT:
         CORNER_SHIFT[_twin] = CORNER_SHIFT[_kind]
+    if _kind in MDBC_VELOCITY:
+        MDBC_VELOCITY[_twin] = MDBC_VELOCITY[_kind]
+    if _kind in KGC:
+        KGC[_twin] = KGC[_kind]
     if _kind in CONTACT:
         CONTACT[_twin] = CONTACT[_kind]
     if _kind in SPH_BOUNDARY:
@@ -208,6 +230,10 @@ def run(name: str) -> None:
         command = [sys.executable, str(ROOT / "docs/studies/structure_in_water_corner_run.py"), pressure]
     if kind in CORNER_SHIFT:
         command = [sys.executable, str(ROOT / "docs/studies/structure_in_water_corner_shift.py"), *CORNER_SHIFT[kind]]
+    if kind in MDBC_VELOCITY:
+        command = [sys.executable, str(ROOT / "docs/studies/structure_in_water_mdbc_velocity.py"), MDBC_VELOCITY[kind]]
+    if kind in KGC:
+        command = [sys.executable, str(ROOT / "docs/studies/structure_in_water_kgc.py"), *KGC[kind]]
     subprocess.run([*command, "run", str(deck), "-o", str(WORK / name), "-q", "--overwrite", "--threads", "1"],
                    check=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
@@ -290,6 +316,31 @@ def pairs(kinds: list[str]) -> None:
                   f"{out[0][1] - out[1][1]:+.2f} % | {out[0][2]:.4f} / {out[1][2]:.4f}")
 
 
+def corners(names: list[str], scale: float = 1.0) -> None:
+    """Per run: u at 0.8 / 1.0 / 1.2 ms (mm, x scale), and at each field output (0.5 / 1.0 / 1.5 / 2.0 ms) the fastest
+    water particle within 10 mm of either lower corner of the plate (its bottom face's end nodes, moving) and the sum
+    of v^2 within 5 mm of them (m/s, m^2/s^2, velocities x scale); "...a01c01" runs are scaled by 10."""
+    import h5py
+    for name in names:
+        k = 10.0 if "a01c01" in name else scale
+        mid = history(name, "mid")
+        u = [k * 1e3 * float(np.interp(t, mid["time"], mid["displacement_x"])) for t in (0.8e-3, 1.0e-3, 1.2e-3)]
+        fast, sum2 = [], []
+        with h5py.File(WORK / name / "results.h5", "r") as f:
+            for step in sorted(s for s in f["tank"] if s.startswith("step_"))[1:]:
+                x, v = f[f"tank/{step}/coordinates"][:, :2], k * f[f"tank/{step}/point/velocity"][:, :2]
+                plate = f[f"plate/{step}/coordinates"][:, :2]
+                low = plate[np.abs(plate[:, 1] - plate[:, 1].min()) < 1e-4]
+                ends = low[[low[:, 0].argmin(), low[:, 0].argmax()]]
+                d = np.min(np.linalg.norm(x[:, None, :] - ends[None, :, :], axis=2), axis=1)
+                speed = np.linalg.norm(v, axis=1)
+                fast.append(speed[d < 0.01].max())
+                sum2.append(float(np.sum(speed[d < 0.005] ** 2)))
+        print(f"{name} | u(0.8/1.0/1.2 ms) {' / '.join(f'{a:.4f}' for a in u)} mm | fastest within 10 mm "
+              f"{' / '.join(f'{a:.1f}' for a in fast)} m/s | sum v^2 within 5 mm "
+              f"{' / '.join(f'{a:.0f}' for a in sum2)}")
+
+
 def corner_figure(path: str = "structure_in_water_corner_flow.png") -> None:
     """Water speed round the plate's lower end at 0.5 and 1.0 ms: SPH ratio 4 at the deck's drive and at a tenth
     (velocities x 10), and the Lagrangian ALE at 2.5 mm (its mesh nodes); runs cd0_r4_gap, cd0a01c01_r4_gap and
@@ -322,6 +373,8 @@ if __name__ == "__main__":
         summary()
     elif args[:1] == ["--pairs"]:
         pairs(args[1:])
+    elif args[:1] == ["--corners"]:
+        corners(args[1:])
     elif args == ["--corner-figure"]:
         corner_figure()
     else:
