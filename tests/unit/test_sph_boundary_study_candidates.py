@@ -28,6 +28,9 @@ from sphfem_cli.sph.slots import SI_KERNEL
 
 from test_sph_boundary import AT_REST
 
+# study code, not shipped, and about 50 s of CPU (its own kernels compiled): behind -m validation (README)
+pytestmark = pytest.mark.validation
+
 # the study modules imported by name from docs/studies (numba's cache needs a module it can find again)
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "docs" / "studies"))
 import structure_in_water_kgc as kgc  # noqa: E402
