@@ -182,7 +182,8 @@ reflected ghost particles (r -> -r, v_r -> -v_r), so no `wall` is needed on the 
 there is the same line). Ghost `wall`s on the other sides carry over from 2D (a `right` wall is the
 cylinder wall r = R, `bottom`/`top` are planes z = const), slip only; the equations of state, the
 density diffusion, the artificial viscosity, XSPH, `hydrostatic` starts, `domain` and pressure probes
-are those of 2D. A `high_explosive` part burns as in 2D (programmed burn, its products' renormalised
+are those of 2D, and so are both forms of `continuity` (the mass form weighs each ring by its plane
+mass rho_j A_j). A `high_explosive` part burns as in 2D (programmed burn, its products' renormalised
 continuity carried to r-z: docs/theory/sph.md "Explosive products in r-z"); its `detonations` lie on
 the axis (x = 0; a point off it would be a ring: a deck error). Deck errors name what stays 2D/3D only:
 viscous fluids (`viscosity` > 0), `dummy_wall` boundaries and `no_slip`/`wall_function` walls.

@@ -16,8 +16,9 @@ the plane 2D kernel W (normalised in r-z) and Q = p / (rho eta) = p / (2 pi r rh
                [mass form (SphOptions.continuity = "mass", the plane code's sum_j m_j v_ij . grad W with
                 the plane mass rho_j A_j = m_j / (2 pi r_j) of each ring): the first sum is
                 sum_j rho_j A_j v_ij . grad_i W_ij; rho is even across the axis, so the images' +rho_j A_j
-                continue it consistently. Python API only (an axisymmetric deck refuses it): it converges
-                on Noh's sphere (docs/theory/sph.md)]
+                continue it consistently. It converges on Noh's sphere where the volume form over-compresses
+                (docs/theory/sph.md); a deck's continuity: mass since 7 December 2026, with the axis time
+                step below]
   momentum     dv_i/dt   = - sum_j m_j (s_j Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) grad_i W_ij
                            + p_i / (rho_i r_i) kappa_i
   energy       de_i/dt   = 1/2 sum_j m_j (Q_i + Q_j + Pi_ij / (2 pi rbar_ij)) v_ij . grad_i W_ij
@@ -334,15 +335,19 @@ def renormalise_ring_continuity(sx, sd, perm, cell_start, sreach, settings_i, gr
 
     The r-z divergence is the meridian-plane one plus the hoop term, div v = dv_r/dr + dv_z/dz + v_r/r.
     ``axisymmetric_rates`` put in drho_i the plain estimate rho_i sum_j A_j v_ij . grad_i W_ij of
-    -rho_i (dv_r/dr + dv_z/dz) and the exact hoop term -rho_i v_r,i / r_i. For every fluid slot whose
-    particle ``perm[k]`` has ``flag`` set, the first is replaced by -rho_i tr(G_i M_i^-1) with
+    -rho_i (dv_r/dr + dv_z/dz) (mass form, ``SI_CONTINUITY`` = ``CONTINUITY_MASS``: sum_j rho_j A_j v_ij .
+    grad_i W_ij) and the exact hoop term -rho_i v_r,i / r_i. For every fluid slot whose particle ``perm[k]``
+    has ``flag`` set, the first (of either form: the one the rates used is subtracted) is replaced by
+    -rho_i tr(G_i M_i^-1) with
 
         G_i = sum_j A_j (v_j - v_i) (x) grad_i W_ij,   M_i = sum_j A_j (x_j - x_i) (x) grad_i W_ij
 
     over the particles and ghosts within 2 h_ij (A_j = V_j / (2 pi r_j), r_j the source's radius, as in
     ``axisymmetric_rates``; the plane 2D kernel), so that
 
-        drho_i/dt = -rho_i (tr(G_i M_i^-1) + v_r,i / r_i)  (+ delta-SPH, unchanged).
+        drho_i/dt = -rho_i (tr(G_i M_i^-1) + v_r,i / r_i)  (+ delta-SPH, unchanged),
+
+    the same for both forms (the renormalised divergence has no weight to choose).
 
     The hoop term is the particle's own v_r/r, not renormalised (it is exact). The images across the
     axis carry (-v_r, v_z) at (-r, z): the odd continuation of v_r, even of v_z, which is the Cartesian
@@ -353,6 +358,7 @@ def renormalise_ring_continuity(sx, sd, perm, cell_start, sreach, settings_i, gr
     number of particles corrected. Derivation: docs/theory/sph.md ("Explosive products in r-z").
     """
     kernel = settings_i[SI_KERNEL]
+    mform = settings_i[SI_CONTINUITY] == CONTINUITY_MASS
     nx, ny = grid_i[GI_NX], grid_i[GI_NY]
     cell = grid_f[GF_CELL]
     ox, oy = grid_f[GF_OX], grid_f[GF_OY]
@@ -394,7 +400,7 @@ def renormalise_ring_continuity(sx, sd, perm, cell_start, sreach, settings_i, gr
                 area = sd[D_VOL, j] * INV_TWO_PI / rj
                 du = ui - sd[D_VX, j]
                 dv = vi - sd[D_VY, j]
-                plain += area * f * (du * dx + dv * dy)
+                plain += (area * sd[D_RHO, j] if mform else area) * f * (du * dx + dv * dy)  # the rates' first sum
                 # (v_j - v_i)_p (grad W)_q and (x_j - x_i)_p (grad W)_q
                 g[0, 0] -= area * du * f * dx
                 g[0, 1] -= area * du * f * dy
@@ -405,6 +411,7 @@ def renormalise_ring_continuity(sx, sd, perm, cell_start, sreach, settings_i, gr
                 mm[1, 0] -= area * dy * f * dx
                 mm[1, 1] -= area * dy * f * dy
         div = renormalised_divergence(g, mm, 2)
-        drho[i] -= sd[D_RHO, k] * (plain + div)
+        rhoi = sd[D_RHO, k]
+        drho[i] -= (plain + rhoi * div) if mform else rhoi * (plain + div)  # the volume form's arithmetic as before
         done += 1
     return done

@@ -137,9 +137,6 @@ def _check_axisymmetric(deck: Deck) -> None:
         if kind == "sph":
             sph = True
             _check_meridian_half_plane(pname, part)
-            if getattr(section, "continuity", "volume") != "volume":
-                raise ValueError(f"@sections.{part.section}.continuity: {AXISYMMETRIC_SPH}; the '{section.continuity}' "
-                                 "form of the continuity equation is 2D/3D only (docs/theory/sph.md 'Axisymmetric SPH')")
             if getattr(section, "density_diffusion_form", "molteni_colagrossi") != "molteni_colagrossi":
                 raise ValueError(f"@sections.{part.section}.density_diffusion_form: {AXISYMMETRIC_SPH}; the "
                                  f"'{section.density_diffusion_form}' form of the density diffusion is 2D/3D only "
