@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 import time
 from pathlib import Path
 
@@ -35,6 +36,11 @@ from sphfem_cli import api
 from sphfem_cli.study.metrics import describe, three_grid
 
 ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+from tests.reference_data import value  # noqa: E402
+
+# Cole's similitude, Swisdak's TNT constants (tests/data/underwater_explosion_free_field.{yaml,md})
+COLE_P = tuple(value("underwater_explosion_free_field", k) for k in ("cole_peak_k", "cole_peak_alpha"))
 DECK_3D = ROOT / "decks/underwater_explosion_3d_ale.yaml"
 DECK_RZ = ROOT / "decks/underwater_explosion_free_field_axisymmetric_ale.yaml"
 WORK = Path("study_undex_axi_vs_3d")
@@ -136,7 +142,7 @@ def far_field(h: float) -> None:
     for probe in probes:
         r_c = float(np.linalg.norm((np.floor(np.asarray(probe["point"]) / h) + 0.5) * h))
         peak = float(np.nanmax(hist[probe["name"]]["pressure"]))
-        cole = 52.4e6 * (charge ** (1.0 / 3.0) / r_c) ** 1.13
+        cole = COLE_P[0] * (charge ** (1.0 / 3.0) / r_c) ** COLE_P[1]
         print(f"   R_c {r_c:.4f} m ({r_c / 0.02:4.1f} radii): peak {peak / 1e6:6.1f} MPa, Cole {cole / 1e6:6.1f}, "
               f"ratio {peak / cole:.3f}")
 

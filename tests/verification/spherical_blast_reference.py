@@ -60,7 +60,9 @@ explosion at rho0, E0: p = p_JWL(1, E0)), the limit D -> infinity.
 **Similitude** (Cole, "Underwater Explosions", Princeton 1948, ch. 7; coefficients for TNT from
 Swisdak, NSWC TR 76-116 (1978)): P_max = K (W^(1/3)/R)^alpha with K = 52.4 MPa, alpha = 1.13, and
 the decay constant theta = K_t W^(1/3) (W^(1/3)/R)^(alpha_t) with K_t = 84 us, alpha_t = -0.23 (W in
-kg TNT, R in m); theta is measured here as the time from the peak to peak/e.
+kg TNT, R in m); theta is measured here as the time from the peak to peak/e. The constants are read from
+tests/data/underwater_explosion_free_field.yaml (their sources and checks in the .md beside it), where this
+reference's converged peaks are stored too (python -m tests.reference_data spherical-blast-1d).
 
 **Interface.** `setup_from_deck(path)` reads the charge and water; `blast(setup, dr, radii)` returns the
 pressure histories p(t) at fixed radii; `peaks` their peak, its time and theta; `cole_peak`,
@@ -79,10 +81,14 @@ import numpy as np
 import yaml
 from numba import njit
 
+from tests.reference_data import value
+
 DECK = Path(__file__).resolve().parents[2] / "decks/underwater_explosion_free_field_axisymmetric_ale.yaml"
 EXPONENT = {"planar": 0, "cylindrical": 1, "spherical": 2}
-COLE_P = (52.4e6, 1.13)          # Swisdak 1978, TNT: P_max [Pa] = K (W^(1/3)/R)^alpha
-COLE_THETA = (84.0e-6, -0.23)    # Swisdak 1978, TNT: theta [s] = K W^(1/3) (W^(1/3)/R)^alpha
+FREE_FIELD = "underwater_explosion_free_field"   # tests/data/underwater_explosion_free_field.{yaml,md}: sources
+# Swisdak 1978, TNT: P_max [Pa] = K (W^(1/3)/R)^alpha; theta [s] = K W^(1/3) (W^(1/3)/R)^alpha
+COLE_P = (value(FREE_FIELD, "cole_peak_k"), value(FREE_FIELD, "cole_peak_alpha"))
+COLE_THETA = (value(FREE_FIELD, "cole_theta_k"), value(FREE_FIELD, "cole_theta_alpha"))
 
 
 @dataclass(frozen=True)

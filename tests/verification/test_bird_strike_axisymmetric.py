@@ -5,6 +5,9 @@ disc, r-z, against Wilbeck's exact results for a fluid on a rigid target (Wilbec
 * the pressure at the centre at impact is the Hugoniot pressure P_H = rho0 U_s v, 168.3 MPa for the deck's
   Tait water (U_s = 1682.6 m/s solved from the Tait Hugoniot; docs/studies/bird_strike.py).
 
+Both are read from tests/data/bird_strike_axisymmetric.yaml (sources and the resolution study in the .md beside
+it); test_hugoniot_pressure_of_tait_water solves P_H again from the deck's EOS and checks the stored value.
+
 Measured (docs/studies/bird_strike.py, 3 ms; figures in docs/studies/bird_strike.md): impulse / (m v)
 SPH dx 5 / 2.5 / 1.25 mm 0.985 / 0.987 / 0.979, ALE h 5 / 2.5 / 1.25 mm 0.966 / 0.975 / 0.980 (the force is
 still ~5 kN at 3 ms); centre peak / P_H SPH 1.02 / 1.03 / 1.01, ALE 1.063 / 1.022 / 1.045. Tolerances: impulse
@@ -18,12 +21,17 @@ from pathlib import Path
 import h5py
 import numpy as np
 import pytest
+import yaml
 from scipy.optimize import brentq
 
 from sphfem_cli import api
+from tests.reference_data import value
 
 DECKS = Path(__file__).parents[2] / "decks"
-RHO, C0, GAMMA, SPEED, RADIUS, LENGTH = 1000.0, 1483.0, 7.0, 100.0, 0.05, 0.2
+RHO, C0, GAMMA, SPEED, RADIUS, LENGTH = 1000.0, 1483.0, 7.0, 100.0, 0.05, 0.2  # the SPH deck's (checked below)
+DATA = "bird_strike_axisymmetric"  # tests/data/bird_strike_axisymmetric.{yaml,md}
+MOMENTUM = value(DATA, "momentum")  # m v, N s (Wilbeck 1978)
+P_H = value(DATA, "hugoniot_pressure")  # Pa (Wilbeck 1978, the deck's Tait Hugoniot)
 
 
 def hugoniot_pressure() -> float:
@@ -40,15 +48,21 @@ def impact(deck: str, folder: Path, overrides: dict | None = None) -> tuple[floa
     hist = result.histories()
     t, force = hist["target"]["time"], -hist["target"]["contact_force_y"]
     tc, pc = hist["centre"]["time"], hist["centre"]["pressure"]
-    momentum = RHO * math.pi * RADIUS ** 2 * LENGTH * SPEED
-    return np.trapezoid(force, t) / momentum, np.nanmax(pc[tc <= 5.0e-5]) / hugoniot_pressure(), result
+    return np.trapezoid(force, t) / MOMENTUM, np.nanmax(pc[tc <= 5.0e-5]) / P_H, result
 
 
 def test_hugoniot_pressure_of_tait_water():
-    """The Hugoniot solved above against its weak-shock limit rho0 c0 v (1 + k v / c0), k = (gamma + 1) / 4."""
+    """The Hugoniot solved above against its weak-shock limit rho0 c0 v (1 + k v / c0), k = (gamma + 1) / 4, and
+    the stored P_H and m v against the deck's own constants (tolerance 1e-4: the stored values' digits)."""
+    deck = yaml.safe_load((DECKS / "bird_strike_axisymmetric_sph.yaml").read_text())
+    eos = deck["equations_of_state"]["water"]
+    assert (eos["reference_density"], eos["sound_speed"], eos["gamma"]) == (RHO, C0, GAMMA)
+    assert deck["initial"][0]["velocity"] == [0.0, -SPEED]
+    assert deck["parts"]["bird"]["geometry"]["box"]["max"] == [RADIUS, LENGTH]
     weak = RHO * C0 * SPEED * (1.0 + (GAMMA + 1.0) / 4.0 * SPEED / C0)
     assert hugoniot_pressure() == pytest.approx(weak, rel=2e-3)
-    assert hugoniot_pressure() == pytest.approx(168.26e6, rel=1e-4)
+    assert hugoniot_pressure() == pytest.approx(P_H, rel=1e-4)
+    assert RHO * math.pi * RADIUS ** 2 * LENGTH * SPEED == pytest.approx(MOMENTUM, rel=1e-4)
 
 
 def test_sph_bird_gives_its_momentum_and_the_hugoniot_pressure(tmp_path):

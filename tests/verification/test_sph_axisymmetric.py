@@ -179,17 +179,21 @@ def test_noh_post_shock_density(dx):
 def test_deck_particles_carry_ring_masses():
     """decks/water_column_axisymmetric_sph.yaml: the SPH rings of a cylinder R = 0.1 m, H = 0.2 m weigh
     pi R^2 H rho (the midpoint lattice sums 2 pi r dx^2 exactly to pi R^2 per layer), and the model's
-    SPH system is axisymmetric with the axis as its first ghost wall."""
+    SPH system is axisymmetric with the axis as its first ghost wall. The exact mass is read from
+    tests/data/water_column_axisymmetric_sph.yaml; tolerance 1e-9 (the lattice's sum is exact)."""
     from pathlib import Path
 
     from sphfem_cli.driver import load_model
     from sphfem_cli.solver.sph_domain import SphDomain
+    from tests.reference_data import value
 
     deck = Path(__file__).resolve().parents[2] / "decks" / "water_column_axisymmetric_sph.yaml"
     model = load_model(deck).model
     assert model.axisymmetric
     mass = model.particles.mass.sum()
-    assert abs(mass - math.pi * 0.1**2 * 0.2 * 1000.0) < 1e-9 * mass
+    exact = value("water_column_axisymmetric_sph", "mass")  # rho pi R^2 H
+    assert exact == pytest.approx(math.pi * 0.1**2 * 0.2 * 1000.0, rel=1e-9)  # the stored digits
+    assert abs(mass - exact) < 1e-9 * mass
     dom = SphDomain(model, model.options.sph, model.options.control)
     w = dom.system.options.walls[0]
     assert dom.system.axisymmetric and (w.axis, w.position, w.side, w.condition) == (0, 0.0, 1, "slip")

@@ -1,8 +1,9 @@
 """Checks of tests/verification/spherical_blast_reference.py (the 1D Lagrangian underwater-explosion reference).
 
 Default suite, a few seconds: the JWL's Chapman-Jouguet point, the EOS against the solver's kernel, total
-energy, a planar water shock's Rankine-Hugoniot jump, and a coarse resolution series of the spherical
-blast. Tolerances are stated per test with the error observed when they were written.
+energy, a planar water shock's Rankine-Hugoniot jump, a coarse resolution series of the spherical
+blast, Cole's similitude and the reference's stored peaks (tests/data/underwater_explosion_free_field.{yaml,md} and
+_1d.csv: one 2 mm level rerun). Tolerances are stated per test with the error observed when they were written.
 """
 import math
 
@@ -10,10 +11,12 @@ import numpy as np
 import pytest
 import yaml
 
+from tests.reference_data import BLAST_1D, BLAST_1D_RADII, blast_1d_domain, table, value
 from tests.verification.spherical_blast_reference import (
     DECK, Lagrangian1D, _fg, _grid, blast, cj_state, cole_peak, peaks, piston, setup_from_deck, water_hugoniot)
 
 SETUP = setup_from_deck()
+FREE_FIELD = "underwater_explosion_free_field"   # tests/data/underwater_explosion_free_field.{yaml,md}
 
 
 def test_setup_reads_the_deck():
@@ -103,11 +106,40 @@ def test_spherical_peaks_converge_from_below():
 
 
 def test_cole_similitude_formula():
-    """P = 52.4 MPa (W^(1/3)/R)^1.13 (Swisdak 1978): 1 kg at 1 m is 52.4 MPa; the deck's charge at 0.10 m
-    236.4 MPa (docs/studies/underwater_explosion.md's table)."""
-    assert cole_peak(1.0, 1.0) == pytest.approx(52.4e6)
+    """P = 52.4 MPa (W^(1/3)/R)^1.13 (Swisdak 1978; tests/data/underwater_explosion_free_field.yaml): 1 kg at 1 m is
+    K; the deck's charge at 0.10 m 236.4 MPa (docs/studies/underwater_explosion.md's table), as stored; the stored
+    charge mass is the deck's sphere's (tolerance 1e-5: its digits)."""
+    k = value(FREE_FIELD, "cole_peak_k")
+    assert k == 52.4e6 and value(FREE_FIELD, "cole_peak_alpha") == 1.13
+    assert cole_peak(1.0, 1.0) == pytest.approx(k)
     assert cole_peak(SETUP.charge_mass, 0.10) / 1e6 == pytest.approx(236.4, abs=0.1)
-    assert math.isclose(cole_peak(8.0, 2.0), 52.4e6, rel_tol=1e-12)
+    assert cole_peak(SETUP.charge_mass, 0.10) == pytest.approx(value(FREE_FIELD, "cole_peak_at_0_10m"), rel=1e-4)
+    assert SETUP.charge_mass == pytest.approx(value(FREE_FIELD, "charge_mass"), rel=1e-5)
+    assert math.isclose(cole_peak(8.0, 2.0), k, rel_tol=1e-12)
+
+
+def test_stored_1d_reference_is_this_decks():
+    """tests/data/underwater_explosion_free_field_1d.csv (python -m tests.reference_data spherical-blast-1d) holds
+    this reference's peaks for the deck as it is: its 2 mm level rerun here on the same grid (the same dr and outer
+    wall, stopped at 0.16 ms, after the peak and its decay to 1/e at 0.06-0.20 m) gives the stored peaks and theta
+    to 1e-8 (the CSV's nine digits; the same steps, so they agree to the digits stored). And the stored converged peaks (the YAML's one_d_extrapolated_peak)
+    are the Richardson values of the CSV's three finest levels (three_grid) to 0.05 MPa, their rounding."""
+    from sphfem_cli.study.metrics import three_grid
+    stored = table(BLAST_1D)
+    dr = 2.0e-3
+    near = np.array([r for r in BLAST_1D_RADII if r <= 0.20])
+    _, r_max = blast_1d_domain(dr, SETUP.water.c)
+    got = peaks(blast(SETUP, dr, near, t_end=1.6e-4, r_max=r_max))
+    level = stored[np.isclose(stored["dr_m"], dr)]
+    ref = {round(float(r), 4): row for r, row in zip(level["R_m"], level)}
+    for k, r in enumerate(near):
+        assert got["peak"][k] == pytest.approx(ref[round(r, 4)]["peak_Pa"], rel=1e-8)
+        assert got["theta"][k] == pytest.approx(ref[round(r, 4)]["theta_s"], rel=1e-8)
+    levels = sorted(set(stored["dr_m"]))[:3]                   # the three finest
+    radii = value(FREE_FIELD, "one_d_radii")
+    for r, p_ext in zip(radii, value(FREE_FIELD, "one_d_extrapolated_peak")):
+        vals = [stored["peak_Pa"][np.isclose(stored["dr_m"], d) & np.isclose(stored["R_m"], r)][0] for d in levels]
+        assert three_grid(levels, vals).extrapolated == pytest.approx(p_ext, abs=0.05e6), r
 
 
 def test_programmed_burn_reaches_the_cj_state():
