@@ -9,7 +9,7 @@ from numba import njit, prange
 
 from ..fem.geometry import hex8_volume_origin
 from .hex_lanes import _HV_BLOCK, _HV_ROWS, hex_volume_block
-from .lagrange import N_CHUNKS, chunk_range, is_trace, quad_area
+from .lagrange import N_CHUNKS, chunk_range, quad_area
 from .ring_geometry import ring_volume
 
 # closures
@@ -21,24 +21,13 @@ assert _BLOCK == _HV_BLOCK
 
 
 @njit(cache=True, inline="always")
-def _counts(e, m, vol_m, mass_m, mat_rho0, vtot, mass_e, phi_eps, trace):
-    """Whether material m takes part in element e's closure: above phi_eps of the volume and, with trace >= 0,
-    no trace (``lagrange.is_trace``); trace < 0: above phi_eps alone."""
-    if vol_m[e, m] <= phi_eps * vtot:
-        return False
-    return trace < 0.0 or not is_trace(vol_m[e, m], mass_m[e, m], mat_rho0[m], vtot, mass_e, trace)
-
-
-@njit(cache=True, inline="always")
 def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta, phi_eps, pressed,
-                    mat_rho0, trace, dvm, dev):
+                    dvm, dev):
     """Mixed-element closure of element e over the Lagrangian step (shared by 2D and 3D).
 
     The volume change dV = v_lag - sum_m V_m split between the present materials (``lagrange_energy``:
     equal strain, or pressure relaxation limited by beta; a material at most phi_eps of the volume keeps
-    its volume, and so does a trace (``lagrange.is_trace``: an EOS state but at most ``trace`` of the
-    element's mass or of rho0_m V; unless every material is absent or a trace, then those above phi_eps
-    count); where a structure presses on the element (pressed[e]) its void is the structure's volume
+    its volume; where a structure presses on the element (pressed[e]) its void is the structure's volume
     and takes its equal-strain share, outside the relaxation), each material's energy changed by its
     own -p_m dV_m plus its mass share of the rest of the element's work w (viscous and hourglass
     work). e_lag[e, m]: the second half of the material's own work, -p_m dV_m / (2 M_m) (``lagrange_energy``).
@@ -48,27 +37,15 @@ def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, c
     vtot = 0.0
     for m in range(n_mat):
         vtot += vol_m[e, m]
-    mass_e = 0.0
-    for m in range(n_mat):
-        mass_e += mass_m[e, m]
     dv = v_lag - vtot
     # equal strain among the present materials; an absent one (at most phi_eps of the volume) keeps its
     # volume, hence its density: strained with a collapsing void it reached 15-47 rho0 and, remapped into a
     # neighbour where it counted again, Tait pressures of 1e16 Pa (decks/bird_strike_axisymmetric_ale.yaml at
     # 1.25 mm stopped on the step guard at 0.37 ms)
-    # a trace (lagrange.is_trace) keeps its volume too: with almost no stiffness (a products' trace at the
-    # pressure cut-off) the relaxation gave it nearly all the expansion of water under tension and its -p dV,
-    # 1e13 J/kg (decks/underwater_explosion_plate_3d_ale.yaml at 10 mm stopped on the step guard at 0.532 ms)
-    t = trace
     v_present = 0.0
     for m in range(n_mat):
-        if _counts(e, m, vol_m, mass_m, mat_rho0, vtot, mass_e, phi_eps, t):
+        if vol_m[e, m] > phi_eps * vtot:
             v_present += vol_m[e, m]
-    if v_present <= 0.0:  # all absent or traces: those above phi_eps take the change
-        t = -1.0
-        for m in range(n_mat):
-            if vol_m[e, m] > phi_eps * vtot:
-                v_present += vol_m[e, m]
     # the materials that relax: the present ones, less, in an element a structure presses on, those without
     # stiffness (void): there the void is the structure's own volume behind its face, which moves with the
     # structure and cannot close; relaxed against the water it took the compression the face imposes every
@@ -83,7 +60,7 @@ def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, c
     for m in range(n_mat):
         dvm[m] = 0.0
         dev[m] = 0.0
-        if _counts(e, m, vol_m, mass_m, mat_rho0, vtot, mass_e, phi_eps, t):
+        if vol_m[e, m] > phi_eps * vtot:
             dvm[m] = dv * vol_m[e, m] / v_present
             if not (held and bulk_m[e, m] <= 0.0):
                 n_relax += 1
@@ -93,14 +70,14 @@ def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, c
         kmin = 1e-9 * kmax  # void (or a material without stiffness) takes the volume change
         dv_relax = dv if v_relax == v_present else dv * v_relax / v_present  # the relaxing materials' share
         for m in range(n_mat):
-            if _counts(e, m, vol_m, mass_m, mat_rho0, vtot, mass_e, phi_eps, t) and not (held and bulk_m[e, m] <= 0.0):
+            if vol_m[e, m] > phi_eps * vtot and not (held and bulk_m[e, m] <= 0.0):
                 k = max(bulk_m[e, m], kmin)
                 s_comp += vol_m[e, m] / k
                 s_p += vol_m[e, m] * pres_m[e, m] / k
         pbar = s_p / s_comp
         scale = 1.0
         for m in range(n_mat):
-            if _counts(e, m, vol_m, mass_m, mat_rho0, vtot, mass_e, phi_eps, t) and not (held and bulk_m[e, m] <= 0.0):
+            if vol_m[e, m] > phi_eps * vtot and not (held and bulk_m[e, m] <= 0.0):
                 k = max(bulk_m[e, m], kmin)
                 target = dv_relax * vol_m[e, m] / k / s_comp + alpha * vol_m[e, m] * (pres_m[e, m] - pbar) / k
                 dev[m] = target - dvm[m]
@@ -120,6 +97,9 @@ def _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, c
         if mass_m[e, m] > 0.0:
             own -= pres_m[e, m] * dvm[m]
     rest = w - own
+    mass_e = 0.0
+    for m in range(n_mat):
+        mass_e += mass_m[e, m]
     for m in range(n_mat):
         e_lag[e, m] = 0.0
         if mass_m[e, m] > 0.0:
@@ -202,7 +182,7 @@ def hex_work_corners(e, x, v_old, v_new, dt, conn, f_elem, hv, i):
 
 @njit(cache=True, inline="always")
 def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta,
-                    phi_eps, pressed, mat_rho0, trace, work_elem, ring, npe, dim):
+                    phi_eps, pressed, work_elem, ring, npe, dim):
     """The body of ``lagrange_energy`` (quad4, plane or ring) and ``lagrange_energy_3d`` (hex8): per element its
     work and Lagrangian volume (``quad_work_volume``; hex8: ``hex_work_corners``, then the block's volumes together,
     ``hex_lanes.hex_volume_block``; npe and dim literal constants of the caller, the other element's branch
@@ -246,13 +226,13 @@ def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_
                 else:
                     for i in range(nb):
                         _closure_energy(block + i, work_elem[block + i], v_blk[i], vol_m, mass_m, ener_m, e_lag, pres_m,
-                                        bulk_m, closure, alpha, beta, phi_eps, pressed, mat_rho0, trace, dvm, dev)
+                                        bulk_m, closure, alpha, beta, phi_eps, pressed, dvm, dev)
             continue
         for e in range(start, stop):
             w, v_lag = quad_work_volume(e, x, v_old, v_new, dt, conn, f_elem, p, ring)
             work_elem[e] = w
             _closure_energy(e, w, v_lag, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta, phi_eps,
-                            pressed, mat_rho0, trace, dvm, dev)
+                            pressed, dvm, dev)
 
 
 # quad4 and hex8: one body (``energy_elements``, inline, the element's work and volume chosen by literal
@@ -267,14 +247,12 @@ def energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_
 # ring 1.024 / 1.040, where the unchanged forces kernel read 0.985-1.034 in the same runs (the noise floor).
 @njit(parallel=True, cache=True)
 def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, q_elem,
-                    closure, alpha, beta, phi_eps, pressed, mat_rho0, trace, work_elem, ring):
+                    closure, alpha, beta, phi_eps, pressed, work_elem, ring):
     """Internal energy and material volumes over the Lagrangian step (module docstring, step 3).
 
     work_elem (E,) receives W_e, the internal-energy increment of the element. Material volumes
     follow the Lagrangian volume at x + dt v_new. Closure CLOSURE_EQUAL_STRAIN: dV_m = (V_m / V_p) dV over
-    the present materials (V_p their volume; one at most phi_eps of the element keeps its volume, and so does
-    a trace, ``lagrange.is_trace`` with the materials' reference densities mat_rho0 (N,) and the fraction
-    ``trace``);
+    the present materials (V_p their volume; one at most phi_eps of the element keeps its volume);
     CLOSURE_RELAX: dV_m = dV (V_m/K_m) / S + alpha V_m (p_m - pbar) / K_m, S = sum V_k/K_k,
     pbar = sum (V_k p_k / K_k) / S (equal pressure increments plus a relaxation towards a common
     pressure), its departure from equal strain scaled down so that no material loses more than a
@@ -284,17 +262,17 @@ def lagrange_energy(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_
     with ring True (r-z), its exact ring volume (``ring_geometry.ring_volume``). The body: ``energy_elements``.
     """
     energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta,
-                    phi_eps, pressed, mat_rho0, trace, work_elem, ring, 4, 2)
+                    phi_eps, pressed, work_elem, ring, 4, 2)
 
 
 @njit(parallel=True, cache=True)
 def lagrange_energy_3d(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, q_elem,
-                       closure, alpha, beta, phi_eps, pressed, mat_rho0, trace, work_elem):
+                       closure, alpha, beta, phi_eps, pressed, work_elem):
     """``lagrange_energy`` on hex8: compatible work W_e = -dt sum_I f_eI . (v_I^{n-1/2} + v_I^{n+1/2}) / 2,
     the Lagrangian volume (``fem.geometry.hex8_volume_origin``) at x + dt v^{n+1/2}, then the same closure
     (``energy_elements``)."""
     energy_elements(x, v_old, v_new, dt, conn, f_elem, vol_m, mass_m, ener_m, e_lag, pres_m, bulk_m, closure, alpha, beta,
-                    phi_eps, pressed, mat_rho0, trace, work_elem, False, 8, 3)
+                    phi_eps, pressed, work_elem, False, 8, 3)
 
 
 @njit(parallel=True, cache=True)

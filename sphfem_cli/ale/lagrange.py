@@ -35,32 +35,6 @@ BC_LINE = 4  # 3D: a node on two slip planes moves along their intersection, bc_
 # without mass) carries no pressure and no sound speed: it is void
 RHO_VOID = 1e-9
 
-
-@njit(cache=True, inline="always")
-def is_trace(vol, mass, rho0, vtot, mtot, trace):
-    """Whether a material of volume vol and mass mass in an element of volume vtot and mass mtot is a trace:
-    it has an EOS state (rho0 > 0 and a density above RHO_VOID rho0, so a pressure) but its mass is at most
-    ``trace`` of the element's mass M, or at most ``trace`` of the mass rho0 V the element would hold filled
-    with it at its reference density: M_m <= trace M or M_m <= trace rho0 V.
-
-    A trace does not take part in the mixed-element closure (``energy._closure_energy``: it keeps its
-    volume and gets none of the element's -p dV) nor serves as a neighbour of the remap's van Leer slopes
-    (``remap._face_flux``). Why: a trace has almost no mass, so any work handed to it is a huge specific
-    energy; in the pressure relaxation a trace at the pressure cut-off with almost no stiffness took nearly
-    all the expansion of water under tension (2000 times its volume in one step) and its -p dV, 1e13 J/kg,
-    which the remap then spread (docs/studies/underwater_explosion.md, "The stop traced further at 10 mm").
-    The two fractions are those of OpenRadioss's multi-material law 51 (engine/source/materials/mat/mat051/
-    sigeps51.F90: a sub-material takes part in the element's update only where M_m / M > TOL51 and
-    M_m / (rho0_m V) > TOL51, TOL51 = 1e-10; there a sub-material below them is dropped with its mass, here
-    it is kept, frozen, so that mass and energy stay conserved). A material without an EOS state (void, or
-    volume the remap left without mass: below RHO_VOID) is no trace: it has no pressure, so no work, and
-    stays the closure's soft material.
-    """
-    if rho0 <= 0.0 or mass <= RHO_VOID * rho0 * vol:
-        return False
-    return mass <= trace * mtot or mass <= trace * rho0 * vtot
-
-
 # with a pressure cut-off (cavitation), a Gruneisen liquid below RHO_CAVITATED times its reference
 # density is cavitated: pressure = the cut-off, sound speed its reference one. Below it the EOS's
 # thermal term (Gamma rho = gamma0 rho0, fixed) with the cut-off's work p_c dV in the energy

@@ -2,8 +2,8 @@
 
 Field names and values are those of the deck's ``ale_multi_material`` section
 (docs/deck-reference.md), so that one concept has one name from the deck to the kernel; the few
-that no deck sets (``relax_alpha``, ``relax_beta``, ``ke_fix``, ``phi_eps``, ``trace_fraction``,
-``mass_floor``) say so in their comments. Validation here raises ValueError (the deck schema already bounds what a
+that no deck sets (``relax_alpha``, ``relax_beta``, ``ke_fix``, ``phi_eps``, ``mass_floor``) say
+so in their comments. Validation here raises ValueError (the deck schema already bounds what a
 deck can give). Imports nothing that compiles: a model can build these without loading a kernel.
 """
 from __future__ import annotations
@@ -66,11 +66,7 @@ class AleOptions:
     ``timestep_scale``, formerly ``courant``); pressure_cutoff the lowest material pressure
     (cavitation, LS-DYNA *MAT_NULL PC; None for none); ke_fix: the kinetic energy lost by the
     momentum remap returned to the internal energy (DeBar; total energy conserved); phi_eps: a
-    material below this volume fraction counts as absent; trace_fraction: a material with an EOS state
-    whose mass is at most this fraction of its element's mass, or of the mass the element would hold
-    filled with it at its reference density, is a trace (``lagrange.is_trace``): it keeps its volume in
-    the closure and is no neighbour of the van Leer slopes (1e-9, phi_eps's value; OpenRadioss's law 51
-    drops sub-materials below 1e-10 of both, sigeps51.F90's TOL51); mass_floor: nodes whose mass is at or
+    material below this volume fraction counts as absent; mass_floor: nodes whose mass is at or
     below this fraction of their full mass (their elements' reference volumes filled at the
     largest reference density) are held at zero velocity, their momentum booked with the wall
     impulse (1e-10: the gas front expanding into void, tests/verification/test_ale_void.py, moves
@@ -90,7 +86,6 @@ class AleOptions:
     pressure_cutoff: float | None = None
     ke_fix: bool = True  # no deck key
     phi_eps: float = 1e-9  # no deck key
-    trace_fraction: float = 1e-9  # no deck key
     mass_floor: float = 1e-10  # no deck key
     motion: MeshMotion = field(default_factory=MeshMotion)
 

@@ -17,7 +17,7 @@ from .face_lanes import (FL_AMOUNT, FL_BLOCK, FL_EA, FL_ED, FL_EU, FL_HASFAR, FL
                          FL_ROWS, FL_SGN, FL_VA, FL_VD, FL_VU, face_block)
 from .hex_lanes import _HV_BLOCK, _HV_ROWS, hex_volume_block
 from .ring_geometry import ring_volume
-from .lagrange import N_CHUNKS, chunk_range, is_trace, quad_area
+from .lagrange import N_CHUNKS, chunk_range, quad_area
 
 
 assert FL_BLOCK == _HV_BLOCK  # the swept volumes of a block of faces go through hex_volume_block's rows
@@ -45,15 +45,14 @@ def van_leer(qd, qa, qu, courant):
 
 
 @njit(cache=True, inline="always")
-def _face_flux(f, amount, donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps, mat_rho0, trace, fvol,
-               fmass, fener, dvm, g, used):
+def _face_flux(f, amount, donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener,
+               dvm, g, used):
     """Material volume, mass and energy fluxes of face f for a swept volume ``amount`` (shared by 2D and 3D).
 
     donor gives, acc receives, far is the element upwind of the donor (-1: none); sgn +1 when the
     acceptor is the face's owner. See ``face_fluxes``: a donor of -1 (inflow through an open face)
     is a copy of the acceptor, an acceptor of -1 (outflow) a copy of the donor; material volumes by
-    SLIC or donor fractions, mass and energy by donor cell or van Leer (a neighbour where the material is
-    a trace, ``lagrange.is_trace`` with mat_rho0 and ``trace``, gives no slope). Writes fvol, fmass, fener
+    SLIC or donor fractions, mass and energy by donor cell or van Leer. Writes fvol, fmass, fener
     rows of f (already zero); dvm, g, used: scratch (N,).
     """
     n_mat = vol_m.shape[1]
@@ -76,15 +75,11 @@ def _face_flux(f, amount, donor, acc, far, sgn, vol_m, mass_m, ener_m, order, if
     vd = 0.0
     va = 0.0
     vu = 0.0
-    ma = 0.0
-    mu = 0.0
     for m in range(n_mat):
         vd += vol_m[donor, m]
         va += vol_m[acc, m]
-        ma += mass_m[acc, m]
         if far >= 0:
             vu += vol_m[far, m]
-            mu += mass_m[far, m]
     amount = min(amount, vd)
     # material volumes
     sharp = False
@@ -139,11 +134,8 @@ def _face_flux(f, amount, donor, acc, far, sgn, vol_m, mass_m, ener_m, order, if
                 ha = False
                 hu = False
                 if order == 2 and far >= 0:
-                    # a trace's specific energy is no neighbour's: it may be anything its few molecules got
-                    ha = vol_m[acc, m] > phi_eps * va and mass_m[acc, m] > 0.0 and \
-                        not is_trace(vol_m[acc, m], mass_m[acc, m], mat_rho0[m], va, ma, trace)
-                    hu = vol_m[far, m] > phi_eps * vu and mass_m[far, m] > 0.0 and \
-                        not is_trace(vol_m[far, m], mass_m[far, m], mat_rho0[m], vu, mu, trace)
+                    ha = vol_m[acc, m] > phi_eps * va and mass_m[acc, m] > 0.0
+                    hu = vol_m[far, m] > phi_eps * vu and mass_m[far, m] > 0.0
                     if ha and hu:
                         # Courant number of the material itself, so that what stays in the
                         # donor keeps a density between its neighbours' (no mass without volume)
@@ -166,7 +158,7 @@ def _face_flux(f, amount, donor, acc, far, sgn, vol_m, mass_m, ener_m, order, if
 
 @njit(parallel=True, cache=True)
 def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x_lag, x_new,
-                vol_m, mass_m, ener_m, order, iface, phi_eps, mat_rho0, trace, fvol, fmass, fener, flow, ring):
+                vol_m, mass_m, ener_m, order, iface, phi_eps, fvol, fmass, fener, flow, ring):
     """Fluxes through the listed faces, positive into the face's first element (its owner).
 
     The volume through a face (owner orientation) is the signed volume it sweeps from the
@@ -179,8 +171,7 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
     Material volumes: IFACE_DONOR phi_m of the donor; IFACE_SLIC materials leave the donor in the
     order of their fraction gradient across it (acceptor minus upwind), the highest first, each
     at most its volume in the donor. Mass and energy: donor-cell (order 1) or van Leer (order 2)
-    values of rho_m and e_m (``_face_flux``; a trace, ``lagrange.is_trace`` with the reference densities
-    mat_rho0 (N,) and the fraction ``trace``, is no neighbour of the slopes). Boundary faces carry flux only when open
+    values of rho_m and e_m (``_face_flux``). Boundary faces carry flux only when open
     (transmitting): the outside state is a copy of the inside element. Writes fvol, fmass, fener
     rows of the listed faces, and flow[f]: False where the face sweeps nothing (a closed boundary face, or
     a swept volume of 0: its rows are zeros), for ``apply_face_fluxes``. With one material the faces go in
@@ -308,8 +299,8 @@ def face_fluxes(faces, face_nodes, face_elem, face_local, elem_nbr, face_open, x
                     wk[FL_EU * B + nb] = ener_m[u, 0]
                     nb += 1
                 else:
-                    _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps, mat_rho0,
-                               trace, fvol, fmass, fener, dvm, g, used)
+                    _face_flux(f, abs(dv), donor, acc, far, sgn, vol_m, mass_m, ener_m, order, iface, phi_eps,
+                               fvol, fmass, fener, dvm, g, used)
             if nb > 0:
                 face_block(nb, wk[FL_AMOUNT * B:(FL_AMOUNT + 1) * B], wk[FL_SGN * B:(FL_SGN + 1) * B],
                            wk[FL_HASFAR * B:(FL_HASFAR + 1) * B], wk[FL_VD * B:(FL_VD + 1) * B],

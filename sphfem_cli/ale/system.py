@@ -496,8 +496,7 @@ class AleSystem:
         K.add_column_sums(self._impulse, self.wall_impulse)  # wall_impulse += impulse.sum(axis=0), same bits
         self._k_energy(self.x, v_old, self.velocity, dt, self.conn, self.f_elem, self.vol_m, self.mass_m,
                        self.ener_m, self.e_lag, self.pres_m, self.bulk_m, self.q_elem, self.closure, self.options.relax_alpha,
-                       self.options.relax_beta, self.options.phi_eps, self.pressed, self.mat_rho0,
-                       self.options.trace_fraction, self.work_elem)
+                       self.options.relax_beta, self.options.phi_eps, self.pressed, self.work_elem)
         self._since_remap += 1
         if lagrangian:
             self.x = x_lag
@@ -562,8 +561,8 @@ class AleSystem:
             ka, kb = topo["side_a"][d], topo["side_b"][d]
             self._k_faces(topo["faces_by_dir"][d], topo["face_nodes"], topo["face_elem"], topo["face_local"],
                           topo["elem_nbr"], self.face_open, x_lag, x_new, self.vol_m, self.mass_m, self.ener_m,
-                          self.order, self.iface, self.options.phi_eps, self.mat_rho0, self.options.trace_fraction,
-                          self._fvol, self._fmass, self._fener, self._flow)
+                          self.order, self.iface, self.options.phi_eps, self._fvol, self._fmass, self._fener,
+                          self._flow)
             if any_open:
                 fo = np.flatnonzero(self.face_open & (topo["face_dir"] == d))
                 self._inflow_fluxes(fo[self.face_inflow[fo] >= 0], x_lag, x_new)

@@ -24,7 +24,7 @@ def _squeeze(vol_m, mass_m, ener_m, pres_m, bulk_m, s, pressed, closure=K.CLOSUR
     v_new = np.array([[0.0, 0.0], [0.0, 0.0], [0.0, -s], [0.0, -s]])
     K.lagrange_energy(x, np.zeros((4, 2)), v_new, 1.0, np.array([[0, 1, 2, 3]]), np.zeros((1, 4, 2)), vol_m, mass_m,
                       ener_m, np.zeros_like(vol_m), pres_m, bulk_m, np.zeros(1), closure, 0.5, 0.5, 1e-9,
-                      np.array([pressed]), np.array([RHO0, 0.0]), 1e-9, np.zeros(1), False)
+                      np.array([pressed]), np.zeros(1), False)
 
 
 def _face_element(pressed: bool, closure=K.CLOSURE_RELAX, steps: int = 20, s: float = 1e-3) -> float:
@@ -72,7 +72,7 @@ def test_pressed_element_still_relaxes_its_stiff_materials():
     v_new = np.array([[0.0, 0.0], [0.0, 0.0], [0.0, -0.01], [0.0, -0.01]])
     K.lagrange_energy(x, np.zeros((4, 2)), v_new, 1.0, np.array([[0, 1, 2, 3]]), np.zeros((1, 4, 2)), vol_m, mass_m,
                       ener_m, np.zeros((1, 3)), pres_m, bulk_m, np.zeros(1), K.CLOSURE_RELAX, 0.5, 0.5, 1e-9,
-                      np.array([True]), np.array([RHO0, 1.2, 0.0]), 1e-9, np.zeros(1), False)
+                      np.array([True]), np.zeros(1), False)
     dv = -0.01
     assert vol_m[0, 2] == pytest.approx(0.2 + 0.2 * dv, rel=1e-14)  # the void: its equal-strain share
     share = 0.8 * dv  # water and gas, equal pressure increments: the gas takes nearly all

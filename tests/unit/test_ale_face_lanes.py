@@ -49,8 +49,7 @@ def _fluxes(ale, x_lag):
     for d in range(2):
         K.face_fluxes(topo["faces_by_dir"][d], topo["face_nodes"], topo["face_elem"], topo["face_local"],
                       topo["elem_nbr"], ale.face_open, x_lag, ale.x0, ale.vol_m, ale.mass_m, ale.ener_m, ale.order,
-                      ale.iface, ale.options.phi_eps, ale.mat_rho0, ale.options.trace_fraction,
-                      ale._fvol, ale._fmass, ale._fener, ale._flow, False)
+                      ale.iface, ale.options.phi_eps, ale._fvol, ale._fmass, ale._fener, ale._flow, False)
         out.append((ale._fvol.copy(), ale._fmass.copy(), ale._fener.copy(), ale._flow.copy()))
     return out
 
@@ -97,8 +96,7 @@ def test_hex8_faces_that_have_not_moved_sweep_nothing():
         faces = topo["faces_by_dir"][d]
         K.face_fluxes(faces, topo["face_nodes"], topo["face_elem"], topo["face_local"], topo["elem_nbr"],
                       ale.face_open, x_lag, ale.x0, ale.vol_m, ale.mass_m, ale.ener_m, ale.order, ale.iface,
-                      ale.options.phi_eps, ale.mat_rho0, ale.options.trace_fraction,
-                      ale._fvol, ale._fmass, ale._fener, ale._flow, False)
+                      ale.options.phi_eps, ale._fvol, ale._fmass, ale._fener, ale._flow, False)
         dv = np.empty(len(faces))
         K.swept_volumes_3d(faces, topo["face_nodes"], x_lag, ale.x0, dv)
         still = ~moved[topo["face_nodes"][faces]].any(axis=1)

@@ -92,8 +92,7 @@ def test_donor_face_fluxes_match_reference():
     for d in range(2):
         K.face_fluxes(topo["faces_by_dir"][d], topo["face_nodes"], topo["face_elem"], topo["face_local"],
                       topo["elem_nbr"], ale.face_open, x_lag, ale.x0, ale.vol_m, ale.mass_m, ale.ener_m, 1,
-                      K.IFACE_DONOR, ale.options.phi_eps, ale.mat_rho0, ale.options.trace_fraction,
-                      ale._fvol, ale._fmass, ale._fener, ale._flow, False)
+                      K.IFACE_DONOR, ale.options.phi_eps, ale._fvol, ale._fmass, ale._fener, ale._flow, False)
     ref = R.face_fluxes_donor(topo, ale.face_open, x_lag, ale.x0, ale.vol_m, ale.mass_m, ale.ener_m)
     for got, want in zip((ale._fvol, ale._fmass, ale._fener), ref):
         np.testing.assert_allclose(got, want, rtol=1e-13, atol=1e-16)
@@ -150,8 +149,7 @@ def test_a_trace_beside_a_collapsing_void_keeps_its_density(closure, trace):
     ener_m = np.zeros((1, 2))
     pres_m, bulk_m = np.zeros((1, 2)), np.array([[2.2e9, 0.0]])
     K.lagrange_energy(x, v_old, v_new, 1.0, conn, np.zeros((1, 4, 2)), vol_m, mass_m, ener_m, np.zeros((1, 2)), pres_m, bulk_m,
-                      np.zeros(1), closure, 0.5, 0.5, 1e-9, np.zeros(1, dtype=np.bool_), np.array([1000.0, 0.0]), 1e-9,
-                      np.zeros(1), False)
+                      np.zeros(1), closure, 0.5, 0.5, 1e-9, np.zeros(1, dtype=np.bool_), np.zeros(1), False)
     assert vol_m.sum() == pytest.approx(0.8, rel=1e-14)
     if trace < 1e-9:
         assert vol_m[0, 0] == trace

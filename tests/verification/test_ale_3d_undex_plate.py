@@ -49,14 +49,14 @@ def test_3d_deck_pushes_the_plate_early(tmp_path):
 
 @pytest.mark.validation
 def test_3d_quarter_against_rz_twin_at_5mm(tmp_path):
-    """Both at 5 mm to the deck's 0.8 ms (the 3D run 304 s CPU). The 3D run reaches it, past both plates' maxima
-    (before the trace floor and the fog nodes' sweep velocities of issue 15 b3b2 it stopped at 0.345 ms).
-    Measured 7 December 2026 (3D / r-z), the loading phase: centre displacement at 0.3 ms 1.096, RMS of the
-    displacement difference over 0-0.3 ms 3.3 % of the r-z value at 0.3 ms, plate_pressure peak 0.985,
-    standoff_pressure peak 0.947 (before: 1.096, 3.4 %, 0.985, 0.947). Tolerances: 15 % on the displacement at 0.3 ms, 6 % on the RMS, 10 % on
-    both peaks: the measured gaps with about half again as margin. The maximum: 3D 22.34 mm at 0.466 ms, r-z
-    32.44 mm at 0.610 ms (0.689): the 3D plate stops being driven after 0.28 ms, which is issue 15's open gap
-    (docs/studies/underwater_explosion.md, "The trace floor and the fog nodes' sweep velocities"); asserted here only that both maxima lie inside
+    """Both at 5 mm to the deck's 0.8 ms (the 3D run 315 s CPU). The 3D run reaches it, past both plates' maxima
+    (before the fog nodes' zero velocity between the remap sweeps, issue 15 b3b2, it stopped at 0.345 ms). Measured
+    7 December 2026 (3D / r-z), the loading phase: centre displacement at 0.3 ms 1.088, RMS of the displacement
+    difference over 0-0.3 ms 3.2 % of the r-z value at 0.3 ms, plate_pressure peak 0.985, standoff_pressure peak
+    0.947 (before: 1.096, 3.4 %, 0.985, 0.947). Tolerances: 15 % on the displacement at 0.3 ms, 6 % on the RMS, 10 %
+    on both peaks: the measured gaps with about half again as margin. The maximum: 3D 22.31 mm at 0.466 ms, r-z
+    32.44 mm at 0.610 ms (0.688): the 3D plate stops being driven after 0.28 ms, which is issue 15's open gap
+    (docs/studies/underwater_explosion.md, "The plate scene in 3D"); asserted here only that both maxima lie inside
     the run, so that the comparison of the peak is made."""
     solid = api.run(DECK_3D, tmp_path / "solid", solid_scene(0.005), threads=1)
     twin = api.run(DECK_RZ, tmp_path / "rz", rz_scene(0.005), threads=1)
