@@ -569,7 +569,7 @@ class AleSystem:
                 self.outflow -= self._fmass[fo].sum(axis=0)
             K.apply_face_fluxes(ka, kb, topo["elem_face"], topo["elem_sign"], self._fvol, self._fmass, self._fener,
                                 self._flow, self.vol_m, self.mass_m, self.ener_m)
-            K.node_velocities(mnode, pnode, self._unode)
+            K.node_velocities(mnode, pnode, self.m_floor, self._unode)
             K.dual_fluxes(ka, kb, d, self.conn, topo["elem_face"], topo["elem_sign"], topo["elem_nbr"], self.face_open,
                           any_open, self._fmass, topo["node_line"], mnode, self._unode, self.order, self._g, self._b,
                           self._moving)

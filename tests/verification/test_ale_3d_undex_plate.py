@@ -17,7 +17,7 @@ from sphfem_cli import api
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "docs" / "studies"))
-from underwater_explosion_plate_3d import DECK_3D, DECK_RZ, SPHERE, rz_scene, solid_scene  # noqa: E402
+from underwater_explosion_plate_3d import DECK_3D, DECK_RZ, LOADING, SPHERE, rz_scene, solid_scene  # noqa: E402
 
 
 def _histories(folder: Path) -> dict:
@@ -49,24 +49,35 @@ def test_3d_deck_pushes_the_plate_early(tmp_path):
 
 @pytest.mark.validation
 def test_3d_quarter_against_rz_twin_at_5mm(tmp_path):
-    """Both at 5 mm to the deck's 0.3 ms (the 3D run about 100 s CPU). Measured 7 December 2026 (3D / r-z):
-    centre displacement at 0.3 ms 1.096, RMS of the displacement difference over 0-0.3 ms 3.4 % of the r-z value
-    at 0.3 ms, plate_pressure peak 0.985, standoff_pressure peak 0.947. At 10 mm: 0.835, 4.9 %, 1.002, 0.967.
-    Tolerances: 15 % on the displacement at 0.3 ms, 6 % on the RMS, 10 % on both peaks: the measured gaps with
-    about half again as margin; the 3D run cannot reach the plate's maximum (it stops at 0.345 ms, the deck's
-    header), so this is the loading phase only, not issue 15's comparison of the peak deflection."""
+    """Both at 5 mm to the deck's 0.8 ms (the 3D run 315 s CPU). The 3D run reaches it, past both plates' maxima
+    (before the fog nodes' zero velocity between the remap sweeps, issue 15 b3b2, it stopped at 0.345 ms). Measured
+    7 December 2026 (3D / r-z), the loading phase: centre displacement at 0.3 ms 1.088, RMS of the displacement
+    difference over 0-0.3 ms 3.2 % of the r-z value at 0.3 ms, plate_pressure peak 0.985, standoff_pressure peak
+    0.947 (before: 1.096, 3.4 %, 0.985, 0.947). Tolerances: 15 % on the displacement at 0.3 ms, 6 % on the RMS, 10 %
+    on both peaks: the measured gaps with about half again as margin. The maximum: 3D 22.31 mm at 0.466 ms, r-z
+    32.44 mm at 0.610 ms (0.688): the 3D plate stops being driven after 0.28 ms, which is issue 15's open gap
+    (docs/studies/underwater_explosion.md, "The plate scene in 3D"); asserted here only that both maxima lie inside
+    the run, so that the comparison of the peak is made."""
     solid = api.run(DECK_3D, tmp_path / "solid", solid_scene(0.005), threads=1)
     twin = api.run(DECK_RZ, tmp_path / "rz", rz_scene(0.005), threads=1)
     assert solid.completed, solid.message
     assert twin.completed, twin.message
     h3, h2 = _histories(solid.folder), _histories(twin.folder)
+    t3, t2 = h3["centre"]["time"], h2["centre"]["time"]
     u3, u2 = h3["centre"]["displacement_z"], h2["centre"]["displacement_y"]
-    ratio = u3[-1] / u2[-1]
-    rms = np.sqrt(np.mean((u3 - np.interp(h3["centre"]["time"], h2["centre"]["time"], u2)) ** 2)) / u2.max()
+    u3_03, u2_03 = np.interp(LOADING, t3, u3), np.interp(LOADING, t2, u2)
+    ratio = u3_03 / u2_03
+    early = t3 <= LOADING * (1 + 1e-9)
+    rms = np.sqrt(np.mean((u3[early] - np.interp(t3[early], t2, u2)) ** 2)) / u2_03
     plate = h3["plate_pressure"]["pressure"].max() / h2["plate_pressure"]["pressure"].max()
     free = h3["standoff_pressure"]["pressure"].max() / h2["standoff_pressure"]["pressure"].max()
-    print(f"3D / r-z at 5 mm: u(0.3 ms) {ratio:.4f}, RMS {rms:.4f}, plate pressure {plate:.4f}, standoff {free:.4f}")
+    i3, i2 = int(np.argmax(u3)), int(np.argmax(u2))
+    print(f"3D / r-z at 5 mm: u(0.3 ms) {ratio:.4f}, RMS {rms:.4f}, plate pressure {plate:.4f}, standoff {free:.4f}; "
+          f"u_max {u3[i3] * 1e3:.2f} / {u2[i2] * 1e3:.2f} mm at {t3[i3] * 1e3:.3f} / {t2[i2] * 1e3:.3f} ms")
     assert abs(ratio - 1.0) < 0.15
     assert rms < 0.06
     assert abs(plate - 1.0) < 0.10
     assert abs(free - 1.0) < 0.10
+    # both maxima inside the run, at least 0.1 ms before its end (not the end value of a plate still rising): measured
+    # 0.466 and 0.610 ms, the end 0.8 ms
+    assert t3[-1] >= 0.8e-3 * (1 - 1e-9) and t3[i3] < t3[-1] - 1e-4 and t2[i2] < t2[-1] - 1e-4
