@@ -114,14 +114,21 @@ def _fill_fractions_3d(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable,
     for k in range(3):
         others = [j for j in range(3) if j != k]
         dshape[k] = 0.125 * sn[None, :, k] * lin[:, :, others[0]] * lin[:, :, others[1]]
+    n_s = len(xi)
     out = np.empty(len(conn))
-    chunk = max(1, 200_000 // max(1, xi.shape[0]))
+    chunk = max(1, 200_000 // n_s)
     for lo in range(0, len(conn), chunk):
         x = nodes[conn[lo:lo + chunk]]  # (e, 8, 3)
-        pts = np.einsum("sa,eak->esk", shape, x)
-        jac = np.einsum("jsa,eak->esjk", dshape, x)  # d x_k / d xi_j
-        det = np.linalg.det(jac)
-        inside = np.asarray(inside_fn(pts[..., 0], pts[..., 1], pts[..., 2]), dtype=bool)
+        corners = [[np.ascontiguousarray(x[:, a, k])[:, None] for k in range(3)] for a in range(8)]  # (e, 1) each
+        # the map's values and derivatives at the points, corner by corner in corner order (elementwise numpy: the
+        # same bits on every machine, which a matrix product through BLAS does not promise)
+        pts = [sum(shape[:, a] * corners[a][k] for a in range(8)) for k in range(3)]  # x_k at s, (e, S)
+        a = [[sum(dshape[j, :, c] * corners[c][k] for c in range(8)) for j in range(3)] for k in range(3)]
+        # det(d x_k / d xi_j) by cofactors along the first row
+        det = (a[0][0] * (a[1][1] * a[2][2] - a[1][2] * a[2][1])
+               - a[0][1] * (a[1][0] * a[2][2] - a[1][2] * a[2][0])
+               + a[0][2] * (a[1][0] * a[2][1] - a[1][1] * a[2][0]))
+        inside = np.asarray(inside_fn(pts[0], pts[1], pts[2]), dtype=bool)
         out[lo:lo + chunk] = (det * inside).sum(axis=1) / det.sum(axis=1)
     return out
 

@@ -153,10 +153,20 @@ def corner_jacobians(nodes: np.ndarray, elements: np.ndarray) -> np.ndarray:
                 out[lo:lo + len(part), a] = ((cx[nxt] - cx[a]) * (cy[prv] - cy[a])
                                              - (cy[nxt] - cy[a]) * (cx[prv] - cx[a]))
         return out
-    x = nodes[elements]  # (E, corners, dim)
-    e = x[:, _HEX_CORNER_EDGES, :] - x[:, :, None, :]  # (E, 8, 3 edges, 3)
-    u, v, w = e[:, :, 0], e[:, :, 1], e[:, :, 2]
-    return np.einsum("eci,eci->ec", u, np.cross(v, w))
+    # hex8 as quad4: corner by corner on contiguous coordinate columns, by chunks of elements
+    xyz = [np.ascontiguousarray(nodes[:, k]) for k in range(3)]
+    out = np.empty(elements.shape)
+    for lo in range(0, len(elements), 1 << 15):
+        part = elements[lo:lo + (1 << 15)]
+        corner = [np.ascontiguousarray(part[:, a]) for a in range(8)]
+        px, py, pz = ([col[c] for c in corner] for col in xyz)
+        for a, (i, j, k) in enumerate(_HEX_CORNER_EDGES):
+            ux, uy, uz = px[i] - px[a], py[i] - py[a], pz[i] - pz[a]
+            vx, vy, vz = px[j] - px[a], py[j] - py[a], pz[j] - pz[a]
+            wx, wy, wz = px[k] - px[a], py[k] - py[a], pz[k] - pz[a]
+            out[lo:lo + len(part), a] = (ux * (vy * wz - vz * wy) + uy * (vz * wx - vx * wz)
+                                         + uz * (vx * wy - vy * wx))  # u . (v x w)
+    return out
 
 
 def _grid_quads(idx: np.ndarray) -> np.ndarray:

@@ -38,8 +38,8 @@ from numba import njit
 
 from .kernel_functions import kernel_f
 from .search import cell_range
-from .slots import (D_MK, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_HMAX, GF_OX, GF_OY, GF_OZ, GI_NX, GI_NY,
-                    GI_NZ, KIND_FLUID, SI_DIM, SI_KERNEL)
+from .slots import (D_MK, D_RHO, D_VOL, D_VX, D_VY, D_VZ, GF_CELL, GF_OX, GF_OY, GF_OZ, GI_NX, GI_NY,
+                    GI_NZ, KIND_FLUID, SI_CONTINUITY, SI_DIM, SI_KERNEL, CONTINUITY_MASS)
 
 
 @njit(cache=True)
@@ -88,12 +88,16 @@ def renormalised_divergence(a, m, dim):
 @njit(cache=True)
 def renormalise_continuity(sx, sd, perm, cell_start, sreach, settings_i, grid_f, grid_i, flag, drho):
     """Replace the plain divergence in ``drho`` by the renormalised one for every fluid slot whose
-    particle ``perm[k]`` has ``flag`` set: drho_i += rho_i (plain sum - div_i), the plain sum
-    sum_j V_j v_ij . grad_i W_ij being what ``fluid_rates`` put in drho_i / rho_i. Returns the
-    number of particles corrected."""
+    particle ``perm[k]`` has ``flag`` set: the plain sum that ``fluid_rates`` put in drho_i is taken out and
+    -rho_i div_i put in. The plain sum is the continuity form's (``SI_CONTINUITY``): the volume form's
+    drho_i = rho_i sum_j V_j v_ij . grad_i W_ij, the mass form's sum_j m_j v_ij . grad_i W_ij (m_j = rho_j V_j);
+    the mass form's was taken out as the volume form's before 7 December 2026, which left
+    sum_j (rho_j - rho_i) V_j v_ij . grad_i W_ij in the products' rate (as ``axisymmetric``'s ring version did).
+    Returns the number of particles corrected."""
     kernel, dim = settings_i[SI_KERNEL], settings_i[SI_DIM]
+    mform = settings_i[SI_CONTINUITY] == CONTINUITY_MASS
     nx, ny, nz = grid_i[GI_NX], grid_i[GI_NY], grid_i[GI_NZ]
-    hmax, cell = grid_f[GF_HMAX], grid_f[GF_CELL]
+    cell = grid_f[GF_CELL]
     ox, oy, oz = grid_f[GF_OX], grid_f[GF_OY], grid_f[GF_OZ]
     inv_cell = 1.0 / cell
     n = flag.shape[0]
@@ -131,16 +135,18 @@ def renormalise_continuity(sx, sd, perm, cell_start, sreach, settings_i, grid_f,
                         continue
                     f = kernel_f(kernel, dim, np.sqrt(dist2), 0.5 * hs)  # grad_i W_ij = f r_ij
                     vol = sd[D_VOL, j]
+                    weight = vol * sd[D_RHO, j] if mform else vol  # the rates' first sum: m_j or V_j
                     u[0] = sd[D_VX, k] - sd[D_VX, j]
                     u[1] = sd[D_VY, k] - sd[D_VY, j]
                     u[2] = sd[D_VZ, k] - sd[D_VZ, j]
                     for p in range(dim):
-                        plain += vol * u[p] * f * r[p]
+                        plain += weight * u[p] * f * r[p]
                         for q in range(dim):
                             # (v_j - v_i)_p (grad W)_q and (x_j - x_i)_p (grad W)_q
                             a[p, q] -= vol * u[p] * f * r[q]
                             m[p, q] -= vol * r[p] * f * r[q]
         div = renormalised_divergence(a, m, dim)
-        drho[i] -= sd[D_RHO, k] * (plain + div)
+        rhoi = sd[D_RHO, k]
+        drho[i] -= (plain + rhoi * div) if mform else rhoi * (plain + div)  # the volume form's arithmetic as before
         done += 1
     return done

@@ -15,8 +15,8 @@ mutations to the tree and writes it back as YAML (`emit` below):
 `check` (click's CliRunner, in process) sees FUZZ_CHECK_CASES mutants (FUZZ_CHECK_CASES_LONG more under
 `-m validation`); bases with more than 3000
 nodes and particles are drawn a quarter as often as the others (the largest ALE decks take 0.2 to
-0.6 s a check, the small decks about 20 ms). Each must exit 0, or 65 with exactly one line ``file:line:col: path: message`` whose line
-lies in the file, within MUTANT_SECONDS. The deck bounds are lowered for the fuzzing
+3 s a check, the small decks about 20 ms). Each must exit 0, or 65 with exactly one line ``file:line:col: path: message`` whose line
+lies in the file, within MUTANT_SECONDS of CPU time. The deck bounds are lowered for the fuzzing
 (SPHFEM_MAX_DECK_NODES, SPHFEM_MAX_DECK_BYTES: module fixture) so that bombs and huge files stop
 after milliseconds; the default bounds have their own tests in test_deck_errors.py.
 `run` sees mutants of the small decks, capped at RUN_STEP_CAP steps: exit 0 (every output finite),
@@ -47,7 +47,8 @@ RUN_DECKS = sorted(FUZZ_DIR.glob("*.yaml"))
 RUN_STEP_CAP = 60
 FUZZ_CHECK_CASES = 500  # default suite: about 12 s of CPU
 FUZZ_CHECK_CASES_LONG = 3000  # -m validation
-MUTANT_SECONDS = 20.0  # per mutant, generous for a loaded machine; a hang would take forever
+MUTANT_SECONDS = 20.0  # CPU seconds per mutant (the process's, so the machine's load does not count); a spin never ends
+MUTANT_WALL_SECONDS = 300.0  # and wall seconds, for a hang that waits without computing
 FUZZ_LIMITS = {"SPHFEM_MAX_DECK_NODES": "5000", "SPHFEM_MAX_DECK_BYTES": "262144"}
 ONE_LINE = r":(\d+):(\d+): .+"  # then "path: message"; a path may hold any name, spaces included
 
@@ -282,16 +283,23 @@ class MutantTimeout(BaseException):
 
 @contextmanager
 def _budget(seconds: float, what: str):
+    """Raise MutantTimeout after `seconds` of this process's CPU time (ITIMER_PROF) or MUTANT_WALL_SECONDS of
+    wall time (ITIMER_REAL), whichever comes first: a budget in wall time alone failed on a machine at load 6
+    (a 3D deck's check took 20 s of wall for a few of CPU)."""
     def expire(signum, frame):
-        raise MutantTimeout(f"{what}: more than {seconds:g} s")
+        kind = "CPU" if signum == signal.SIGPROF else "wall"
+        raise MutantTimeout(f"{what}: more than {seconds if kind == 'CPU' else MUTANT_WALL_SECONDS:g} s of {kind} time")
 
-    previous = signal.signal(signal.SIGALRM, expire)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    previous = {sig: signal.signal(sig, expire) for sig in (signal.SIGPROF, signal.SIGALRM)}
+    signal.setitimer(signal.ITIMER_PROF, seconds)
+    signal.setitimer(signal.ITIMER_REAL, MUTANT_WALL_SECONDS)
     try:
         yield
     finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
         signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, previous)
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 @pytest.fixture(scope="module", autouse=True)
