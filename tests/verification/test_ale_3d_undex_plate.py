@@ -49,15 +49,13 @@ def test_3d_deck_pushes_the_plate_early(tmp_path):
 
 @pytest.mark.validation
 def test_3d_quarter_against_rz_twin_at_5mm(tmp_path):
-    """Both at 5 mm to the deck's 0.8 ms (the 3D run 315 s CPU). The 3D run reaches it, past both plates' maxima
-    (before the fog nodes' zero velocity between the remap sweeps, issue 15 b3b2, it stopped at 0.345 ms). Measured
-    7 December 2026 (3D / r-z), the loading phase: centre displacement at 0.3 ms 1.088, RMS of the displacement
-    difference over 0-0.3 ms 3.2 % of the r-z value at 0.3 ms, plate_pressure peak 0.985, standoff_pressure peak
-    0.947 (before: 1.096, 3.4 %, 0.985, 0.947). Tolerances: 15 % on the displacement at 0.3 ms, 6 % on the RMS, 10 %
-    on both peaks: the measured gaps with about half again as margin. The maximum: 3D 22.31 mm at 0.466 ms, r-z
-    32.44 mm at 0.610 ms (0.688): the 3D plate stops being driven after 0.28 ms, which is issue 15's open gap
-    (docs/studies/underwater_explosion.md, "The plate scene in 3D"); asserted here only that both maxima lie inside
-    the run, so that the comparison of the peak is made."""
+    """Both at 5 mm to the deck's 0.9 ms, both plates with the 3D deck's viscous hourglass form (the twin's override in
+    rz_scene). The 3D run reaches the end, past both plates' maxima (before the fog nodes' zero velocity between the
+    remap sweeps, issue 15 b3b2, it stopped at 0.345 ms). Tolerances: 15 % on the displacement at 0.3 ms, 6 % on the
+    RMS of the displacement difference over 0-0.3 ms (of the r-z value at 0.3 ms), 10 % on the plate and standoff
+    pressure peaks, 5 % on the maximum and 5 % on its time. Measured: the figures in the deck's header (7 December
+    2026; with the stiffness form the 3D plate's maximum was 0.688 of the twin's, its hourglass stiffness:
+    docs/studies/underwater_explosion.md, "The two plates dry")."""
     solid = api.run(DECK_3D, tmp_path / "solid", solid_scene(0.005), threads=1)
     twin = api.run(DECK_RZ, tmp_path / "rz", rz_scene(0.005), threads=1)
     assert solid.completed, solid.message
@@ -78,6 +76,6 @@ def test_3d_quarter_against_rz_twin_at_5mm(tmp_path):
     assert rms < 0.06
     assert abs(plate - 1.0) < 0.10
     assert abs(free - 1.0) < 0.10
-    # both maxima inside the run, at least 0.1 ms before its end (not the end value of a plate still rising): measured
-    # 0.466 and 0.610 ms, the end 0.8 ms
-    assert t3[-1] >= 0.8e-3 * (1 - 1e-9) and t3[i3] < t3[-1] - 1e-4 and t2[i2] < t2[-1] - 1e-4
+    # both maxima inside the run, at least 0.1 ms before its end (not the end value of a plate still rising)
+    assert t3[-1] >= 0.9e-3 * (1 - 1e-9) and t3[i3] < t3[-1] - 1e-4 and t2[i2] < t2[-1] - 1e-4
+    assert abs(u3[i3] / u2[i2] - 1.0) < 0.05 and abs(t3[i3] / t2[i2] - 1.0) < 0.05
