@@ -1,6 +1,6 @@
 """Start-up figures of issue 17: CPU seconds before the first step, each against its peer.
 
-    python benchmarks/startup.py [--repeat 3] [--cases check,run,cold,ale2,ale1,sph] [--threads 1]
+    python benchmarks/startup.py [--repeat 3] [--cases check,run,cold,ale2,ale1,sph] [--threads 1] [--against TREE]
 
 Every figure is the CPU time (user + system, from the child's rusage) of a fresh process, so imports,
 numba's cache loads and the model build all count (the package is byte-compiled first, as an
@@ -20,6 +20,17 @@ round r + 1), and min and median over the rounds are printed with the load avera
   (goal <= 2 s).
 * ``sph``: the same for the SPH dam break (``decks/dam_break_2d.yaml``) at spacing 1.144e-4 m,
   5.0e5 particles (goal <= 2 s).
+
+* ``check3d`` / ``checkale`` / ``checkbird``: ``sphfem check`` of ``decks/cantilever_3d.yaml`` (hex8 solid at
+  rest), ``decks/water_air_shock_tube.yaml`` (plane ALE at rest, two materials) and
+  ``decks/bird_strike_axisymmetric_ale.yaml`` (r-z ALE bird in motion, an axisymmetric solid disc), warm cache;
+  ``cold-check3d`` / ``cold-checkale`` / ``cold-checkbird`` the same with an empty numba cache (a fresh
+  ``NUMBA_CACHE_DIR`` per run): what the initial-state passes ``fem.at_rest`` and ``ale.at_rest`` save (not in
+  the default cases: the empty-cache runs of a tree that compiles the force kernels cost 20-35 s each).
+
+``--against TREE``: every case also runs on the source tree TREE (e.g. a ``git archive`` copy of main: its
+``sphfem_cli`` on ``PYTHONPATH``, its own numba cache), the two trees alternating within each round (which goes
+first alternates between rounds); each case prints its min / median for both trees and the ratio of the medians.
 
 No peer is run for the set-up figures (CloverLeaf reads its deck and generates its mesh in well
 under a second; it is not built here).
@@ -47,6 +58,18 @@ After the startup17 branch (2 December 2026, same machine; CPU seconds min / med
   check 1.15 / 1.18 -> 0.39 / 0.39, ALE two materials 1.98 / 2.08 -> 1.44 / 1.71, one material
   1.44 / 1.49 -> 1.30 / 1.36; a second at load 3.3 -> 2.9: ALE two materials 2.60 / 2.65 ->
   1.35 / 1.61, tiny run 1.01 / 1.15 -> 1.06 / 1.11, unchanged).
+
+``check`` without the force kernels (branch ckale, 7 December 2026, 14:07-14:20 UTC): ``--cases
+check3d,checkale,checkbird,cold-check3d,cold-checkale,cold-checkbird --repeat 3 --against`` a ``git archive``
+copy of main b813973, load average 3.99 before and 5.25 after, CPU seconds min / median:
+
+* warm cache, main -> branch: cantilever_3d 1.40 / 1.54 -> 1.40 / 1.53, water_air_shock_tube 1.51 / 1.70 ->
+  1.57 / 1.73, bird_strike_axisymmetric_ale 1.82 / 2.02 -> 1.71 / 1.90 (unchanged: loading the cached force
+  kernels was not what a warm check cost);
+* empty cache, main -> branch: cantilever_3d 36.0 / 39.0 -> 4.48 / 4.76, water_air_shock_tube 21.1 / 22.7 ->
+  4.98 / 5.19, bird_strike_axisymmetric_ale 33.1 / 34.7 -> 6.57 / 6.90. What the branch still compiles is the
+  model's set-up: the hex8 initial volumes (``fem.geometry.hex8_volumes``), the ALE topology maps, fill
+  sampling, nodal masses and ring volumes, and the EOS sound speed of ``materials.tables.pack_material``.
 
 ``check`` of a plane-strain solid deck at rest no longer loads numba (``fem.at_rest``). The ALE
 set-up's CPU is now mostly system time: first touches of fresh memory (page faults, transparent
@@ -119,12 +142,14 @@ SETUPS = {
 }
 GOALS = {"check": "<= 3x numpy", "run": "<= 1.5 s", "cold": "<= 15 s", "ale2": "<= 2 s", "ale1": "<= 2 s",
          "sph": "<= 2 s"}
+CHECKS = {"check3d": "decks/cantilever_3d.yaml", "checkale": "decks/water_air_shock_tube.yaml",
+          "checkbird": "decks/bird_strike_axisymmetric_ale.yaml"}
 
 
-def child_cpu(cmd: list[str], env: dict | None = None) -> tuple[float, str]:
+def child_cpu(cmd: list[str], env: dict | None = None, cwd: Path = ROOT) -> tuple[float, str]:
     """(user + system CPU seconds of the child, its stdout + stderr)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    done = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True)
+    done = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} exited {done.returncode}:\n{done.stdout}{done.stderr}")
@@ -136,55 +161,79 @@ def main() -> None:
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--cases", default="check,run,cold,ale2,ale1,sph")
     ap.add_argument("--threads", type=int, default=1, help="NUMBA_NUM_THREADS of the children")
+    ap.add_argument("--against", type=Path, default=None, help="a second source tree, run alternately (module docstring)")
     args = ap.parse_args()
     cases = args.cases.split(",")
-    env = dict(os.environ, NUMBA_NUM_THREADS=str(args.threads))
+    trees = [ROOT] + ([args.against.resolve()] if args.against else [])
     tmp = Path(tempfile.mkdtemp(prefix="sphfem-startup-"))
     tiny = tmp / "tiny.yaml"
     tiny.write_text(TINY)
     sphfem = [sys.executable, "-m", "sphfem_cli.cli"]
     run_cmd = sphfem + ["run", str(tiny), "-o", str(tmp / "out"), "--overwrite", "--threads", "1"]
-    # the package's bytecode, as an installed package has it (pip byte-compiles; an editable
-    # checkout under PYTHONDONTWRITEBYTECODE=1 would compile every module in every child)
-    subprocess.run([sys.executable, "-m", "compileall", "-q", str(ROOT / "sphfem_cli")], check=True,
-                   capture_output=True)
-    child_cpu(run_cmd, env)  # a warm cache for every kernel of the tiny deck
-    results: dict[str, list[float]] = {c: [] for c in cases}
-    results["numpy"] = []
+    envs = {}
+    for tree in trees:
+        envs[tree] = dict(os.environ, NUMBA_NUM_THREADS=str(args.threads), PYTHONPATH=str(tree))
+        # the package's bytecode, as an installed package has it (pip byte-compiles; an editable
+        # checkout under PYTHONDONTWRITEBYTECODE=1 would compile every module in every child)
+        subprocess.run([sys.executable, "-m", "compileall", "-q", str(tree / "sphfem_cli")], check=True,
+                       capture_output=True)
+        child_cpu(run_cmd, envs[tree], tree)  # a warm cache for every kernel of the tiny deck
+        for case in cases:
+            if case in CHECKS:
+                child_cpu(sphfem + ["check", CHECKS[case]], envs[tree], tree)  # and of the checked decks
+    results: dict[tuple[str, Path], list[float]] = {(c, t): [] for c in cases + ["numpy"] for t in trees}
     notes: dict[str, str] = {}
     load0 = os.getloadavg()
+    cold = 0
     for r in range(args.repeat):
         for case in cases:
-            if case == "check":
-                results["numpy"].append(child_cpu([sys.executable, "-c", "import numpy"], env)[0])
-                results["check"].append(child_cpu(sphfem + ["check", "decks/cantilever_2d.yaml"], env)[0])
-            elif case == "run":
-                results["run"].append(child_cpu(run_cmd, env)[0])
-            elif case == "cold":
-                cold_env = dict(env, NUMBA_CACHE_DIR=str(tmp / f"cold-cache-{r}"))
-                cpu, out = child_cpu(run_cmd, cold_env)
-                results["cold"].append(cpu)
-                notes["cold"] = "says it compiles" if "compiling kernels" in out else "SILENT (no compile notice)"
-            else:
-                deck, overrides = SETUPS[case]
-                cpu, out = child_cpu([sys.executable, "-c", SETUP, deck, repr(overrides)], env)
-                total, load, build = (float(v) for v in out.split()[-3:])
-                results[case].append(total)
-                notes[case] = f"last: load {load:.2f} s + Simulation {build:.2f} s"
+            for tree in (trees if r % 2 == 0 else trees[::-1]):
+                env, key = envs[tree], (case, tree)
+                if case == "check":
+                    results["numpy", tree].append(child_cpu([sys.executable, "-c", "import numpy"], env, tree)[0])
+                    results[key].append(child_cpu(sphfem + ["check", "decks/cantilever_2d.yaml"], env, tree)[0])
+                elif case in CHECKS or case.startswith("cold-"):
+                    if case.startswith("cold-"):
+                        cold += 1
+                        env = dict(env, NUMBA_CACHE_DIR=str(tmp / f"cold-cache-{cold}"))
+                    cpu, out = child_cpu(sphfem + ["check", CHECKS[case.removeprefix("cold-")]], env, tree)
+                    results[key].append(cpu)
+                    notes[case] = next((line.strip() for line in out.splitlines() if "stable time step" in line), "")
+                elif case == "run":
+                    results[key].append(child_cpu(run_cmd, env, tree)[0])
+                elif case == "cold":
+                    cold += 1
+                    cold_env = dict(env, NUMBA_CACHE_DIR=str(tmp / f"cold-cache-{cold}"))
+                    cpu, out = child_cpu(run_cmd, cold_env, tree)
+                    results[key].append(cpu)
+                    notes["cold"] = "says it compiles" if "compiling kernels" in out else "SILENT (no compile notice)"
+                else:
+                    deck, overrides = SETUPS[case]
+                    cpu, out = child_cpu([sys.executable, "-c", SETUP, deck, repr(overrides)], env, tree)
+                    total, load, build = (float(v) for v in out.split()[-3:])
+                    results[key].append(total)
+                    notes[case] = f"last: load {load:.2f} s + Simulation {build:.2f} s"
     load1 = os.getloadavg()
     print(f"load average {load0[0]:.2f} before, {load1[0]:.2f} after; {args.repeat} interleaved rounds; "
           f"CPU seconds of each process, NUMBA_NUM_THREADS={args.threads}")
-    print(f"{'case':8s} {'min':>8s} {'median':>8s}  goal")
+    if len(trees) > 1:
+        print(f"trees: this {trees[0]}, against {trees[1]}")
+    print(f"{'case':24s} {'min':>8s} {'median':>8s}  goal")
     for case in ["numpy"] + cases if "check" in cases else cases:
-        v = results[case]
-        line = f"{case:8s} {min(v):8.3f} {statistics.median(v):8.3f}  {GOALS.get(case, 'peer')}"
-        if case == "check":
-            ratios = [c / n for c, n in zip(results["check"], results["numpy"])]
-            line += (f"; ratio to numpy: min {min(ratios):.2f}, median {statistics.median(ratios):.2f}, "
-                     f"min/min {min(v) / min(results['numpy']):.2f}")
-        if case in notes:
-            line += f"; {notes[case]}"
-        print(line)
+        for tree in trees:
+            v = results[case, tree]
+            name = case if len(trees) == 1 else f"{case}{'' if tree == ROOT else ' (against)'}"
+            line = f"{name:24s} {min(v):8.3f} {statistics.median(v):8.3f}  {GOALS.get(case, '-' if case != 'numpy' else 'peer')}"
+            if case == "check":
+                numpy = results["numpy", tree]
+                ratios = [c / n for c, n in zip(v, numpy)]
+                line += (f"; ratio to numpy: min {min(ratios):.2f}, median {statistics.median(ratios):.2f}, "
+                         f"min/min {min(v) / min(numpy):.2f}")
+            if len(trees) > 1 and tree != ROOT:
+                line += f"; median this / against {statistics.median(results[case, ROOT]) / statistics.median(v):.3f}"
+            elif case in notes:
+                line += f"; {notes[case]}"
+            print(line)
 
 
 if __name__ == "__main__":

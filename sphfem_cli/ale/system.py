@@ -65,6 +65,7 @@ import numpy as np
 
 from ..materials.burn import burn_fraction, lighting_time, quad_size
 from . import kernels as K
+from .at_rest import initial_element_pass
 from .fill import inflow_state, material_state, material_tables
 from .motion import MeshMover
 from .options import AleOptions
@@ -171,7 +172,8 @@ class AleSystem:
         self.q_elem = np.zeros(n_elem)
         self.dt_elem = np.zeros(n_elem)
         self.work_elem = np.zeros(n_elem)
-        self._fresh = False
+        self._fresh = False  # f_elem, pres_m, bulk_m, q_elem, dt_elem are the force kernel's of the current state
+        self._fresh_state = False  # pres_m, bulk_m, q_elem, dt_elem are (from the initial pass, ``_state``)
         nf = len(self.topo["face_nodes"])
         self._fvol = np.zeros((nf, n_mat))
         self._fmass = np.zeros((nf, n_mat))
@@ -230,6 +232,7 @@ class AleSystem:
         self.burn = [(int(m), lighting_time(centroids, detonations, float(d)), float(d), delta)
                      for m, d in zip(materials, velocities)] or None
         self._fresh = False
+        self._fresh_state = False
 
     # ---------------------------------------------------------------- boundaries
     def set_fixed(self, node_ids) -> None:
@@ -307,8 +310,7 @@ class AleSystem:
         mark[np.asarray(node_ids, dtype=np.int64)] = True
         fn = self.topo["face_nodes"]
         faces = np.flatnonzero((self.topo["face_elem"][:, 1] < 0) & mark[fn].all(axis=1))
-        if not self._fresh:
-            self._forces()
+        self._state()
         e = self.topo["face_elem"][faces, 0]
         vt = self.vol_m[e].sum(axis=1)
         self.face_far_pressure[faces] = (self.vol_m[e] * self.pres_m[e]).sum(axis=1) / vt
@@ -404,20 +406,46 @@ class AleSystem:
             self.velocity[i] = w
 
     # ---------------------------------------------------------------- stepping
-    def _forces(self) -> None:
+    def _burn_scale(self) -> None:
+        """pscale of the burning materials at the current time (``materials.burn``)."""
         if self.burn is not None:
             for m, t_light, d, delta in self.burn:
                 self.pscale[:, m] = burn_fraction(self.time, t_light, d, delta)
+
+    def _forces(self) -> None:
+        self._burn_scale()
         opt = self.options
         self._k_forces(self.x, self.velocity, self.conn, self.vol_m, self.mass_m, self.ener_m, self.e_lag,
                        self.mat_eos, self.mat_q, self.mat_rho0, opt.q1, opt.q2, opt.hourglass, opt.phi_eps,
                        self.pscale, self.pressure_cutoff, self.f_elem, self.pres_m, self.bulk_m, self.q_elem, self.dt_elem)
         self._fresh = True
 
+    def _initial_pass(self) -> bool:
+        """Before the first step: pres_m, bulk_m, q_elem and dt_elem of the state from ``at_rest`` (numpy, the
+        force kernel's bits; ``sphfem check`` then compiles no force kernel). False, nothing written, after the
+        first step or where the pass does not cover the state."""
+        if self.n_steps:
+            return False
+        self._burn_scale()
+        opt = self.options
+        return initial_element_pass(self.x, self.velocity, self.conn, self.vol_m, self.mass_m, self.ener_m, self.e_lag,
+                                    self.mat_eos, self.mat_q, self.mat_rho0, opt.q1, opt.q2, opt.phi_eps, self.pscale,
+                                    self.pressure_cutoff, self.axisymmetric, self.pres_m, self.bulk_m, self.q_elem,
+                                    self.dt_elem)
+
+    def _state(self) -> None:
+        """pres_m, bulk_m, q_elem and dt_elem of the current state, if they are not yet: the initial pass where it
+        applies (f_elem is then left to the first step's force kernel), else the force kernel."""
+        if self._fresh or self._fresh_state:
+            return
+        if self._initial_pass():
+            self._fresh_state = True
+        else:
+            self._forces()
+
     def stable_dt(self, scale: float = 0.5) -> float:
         """scale times the smallest element step l / (Q + sqrt(Q^2 + (c + |v|)^2)) (eq. 2.9)."""
-        if not self._fresh:
-            self._forces()
+        self._state()
         return float(scale * self.dt_elem.min())
 
     def _external_forces(self, dt: float) -> np.ndarray:
@@ -510,6 +538,7 @@ class AleSystem:
         self.time += dt
         self.n_steps += 1
         self._fresh = False
+        self._fresh_state = False
 
     def _inflow_fluxes(self, faces: np.ndarray, x_lag: np.ndarray, x_new: np.ndarray) -> None:
         """Replace the fluxes of inflow faces sweeping volume inwards by the ghost donor's.
@@ -627,7 +656,8 @@ class AleSystem:
 
     def pressure(self, mixture: bool = False) -> np.ndarray:
         """Material pressures (E, N) from the EOS at the current state, or the mixture (E,) value."""
-        self._forces()
+        if not self._initial_pass():
+            self._forces()
         if mixture:
             return (self.fractions() * self.pres_m).sum(axis=1)
         return self.pres_m.copy()

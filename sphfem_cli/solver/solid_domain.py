@@ -201,10 +201,10 @@ class SolidDomain(Domain):
         """Element stresses, forces and stable steps of state n+1 (the zero step of the initial state in
         numpy where ``fem.at_rest`` covers it, so that `sphfem check` loads no kernel)."""
         m = self.model
-        if not m.axisymmetric and at_rest_element_pass(
+        if at_rest_element_pass(
                 st.x, st.v, m.connectivity, m.element_active, m.element_material, m.element_section,
                 m.material_type, m.material_param, m.section_param, m.volume0, dt, st.stress, st.hg_force,
-                self._f_elem, self._dt_elem, st.volume, st.q_visc):
+                self._f_elem, self._dt_elem, st.volume, st.q_visc, m.axisymmetric):
             st.f_int[:] = 0.0  # the gather of zero element forces
         else:
             from ..fem import kernels as fem
