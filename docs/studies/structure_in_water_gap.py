@@ -51,7 +51,8 @@ pairs' gradient left plain).
 The ratio-5 diagnosis (section "The boundary particles at ratio 5"), each with its "...a01c01" twin, energy guard off:
 "sb0n" the sb0 deck (the control sb0_r5 stops at step 10 on the guard), "sb0nts" / "sbkats" the sb0 / sbka decks at
 half the deck's time step (timestep_scale 0.45), "sb0d" the sb0 deck with twice the boundary particles along the
-plate's faces at ratio 5 (structure_in_water_kgc.py "plain dense"); `--steps KIND ...` prints their peaks and energy.
+plate's faces at ratio 5 (structure_in_water_kgc.py "plain dense"); `--steps [r4] KIND ...` prints their peaks and
+energy at ratio 5 (or the one named).
 `--corners` prints u(t) on
 the rise and the water's speed next to the plate's lower corners.
 `--corner-figure` draws the water's speed round the plate's end
@@ -140,8 +141,8 @@ LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: l
 AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1}
 # the twins "<kind>a01c01" of these SPH kinds: the same change at a tenth of the drive and of the ambient pressure
 for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15", "sb0hr15", "hr15dp", "hr15d05", "d05", "d02", "d01",
-              "sbc", "tt", "ttc0", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan", "sb0d", "sb0n", "sb0nts",
-              "sbkats"):
+              "sbc", "tt", "ttc0", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan",
+              "sb0d", "sb0n", "sb0nts", "sbkats"):
     _twin = _kind + "a01c01"
     SPH_VARIANTS[_twin] = SPH_VARIANTS[_kind]
     if _kind in BOUNDARY_OPTIONS:
@@ -415,8 +416,11 @@ if __name__ == "__main__":
         summary()
     elif args[:1] == ["--pairs"]:
         pairs(args[1:])
-    elif args[:1] == ["--steps"]:
-        steps(args[1:])
+    elif args[:1] == ["--steps"]:  # --steps [rN] KIND ...: ratio N (default 5)
+        if args[1:2] and args[1][0] == "r" and args[1][1:].isdigit():
+            steps(args[2:], args[1])
+        else:
+            steps(args[1:])
     elif args[:1] == ["--corners"]:
         corners(args[1:])
     elif args == ["--corner-figure"]:
