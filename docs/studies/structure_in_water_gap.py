@@ -47,7 +47,13 @@ The last SPH wall candidates (section "mDBC's velocity and a first-order pressur
 (structure_in_water_mdbc_velocity.py, no-slip / slip; energy guard off), "sbk" the sb0 deck with the
 kernel-gradient-corrected pressure gradient and continuity for the water next to the plate (structure_in_water_kgc.py;
 energy guard off), "sbka" the same for every water point with a nearly full support ("sbkan": with the boundary
-pairs' gradient left plain). `--corners` prints u(t) on
+pairs' gradient left plain).
+The ratio-5 diagnosis (section "The boundary particles at ratio 5"), each with its "...a01c01" twin, energy guard off:
+"sb0n" the sb0 deck (the control sb0_r5 stops at step 10 on the guard), "sb0nts" / "sbkats" the sb0 / sbka decks at
+half the deck's time step (timestep_scale 0.45), "sb0d" the sb0 deck with twice the boundary particles along the
+plate's faces at ratio 5 (structure_in_water_kgc.py "plain dense"); `--steps [r4] KIND ...` prints their peaks and
+energy at ratio 5 (or the one named).
+`--corners` prints u(t) on
 the rise and the water's speed next to the plate's lower corners.
 `--corner-figure` draws the water's speed round the plate's end
 (structure_in_water_corner_flow.png) from cd0_r4_gap, cd0a01c01_r4_gap and ale_2.5_gap.
@@ -82,6 +88,7 @@ SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0
                 "hr15d05": {"smoothing_ratio": 1.5, "density_diffusion": 0.05},
                 "d02": {"density_diffusion": 0.02}, "d01": {"density_diffusion": 0.01}, "sbc": {}, "tt": {}, "ttc0": {},
                 "sbm": {}, "sbmc": {}, "sbs": {}, "sbmn": {}, "sbmf": {}, "sbk": {}, "sbka": {}, "sbkan": {},
+                "sb0d": {}, "sb0n": {}, "sb0nts": {}, "sbkats": {},
                 "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
 CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
@@ -90,7 +97,8 @@ CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
 # structure_in_water_corner_run.py: "tt" with each particle's pressure, "ttc0" with the water's ambient C0 (1 MPa;
 # 0.1 MPa in the a01c01 twin)
 CORNER_CORRECTION = {"tt": "particle", "ttc0": "ambient"}
-SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan"}
+SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan",
+                "sb0d", "sb0n", "sb0nts", "sbkats"}
 # the sb0 deck with particle shifting restricted to the water within CORNER_SHIFT[kind][1] spacings of the plate's lower
 # corners (A = CORNER_SHIFT[kind][0]), run through structure_in_water_corner_shift.py (section "mDBC at the corners")
 CORNER_SHIFT = {"sbs": ("2", "4")}  # boundary particles carried by the plate instead of the penalty contact
@@ -107,21 +115,34 @@ MDBC_VELOCITY = {"sbmn": "no_slip", "sbmf": "slip"}
 # the sb0 deck with the kernel-gradient-corrected pressure gradient and continuity next to the plate
 # (structure_in_water_kgc.py)
 KGC = {"sbk": [], "sbka": ["all"],  # "sbka": every water point with a nearly full support corrected
-       "sbkan": ["all", "nowall"]}  # "sbkan": the same with the boundary pairs' gradient plain
+       "sbkan": ["all", "nowall"],  # "sbkan": the same with the boundary pairs' gradient plain
+       # section "The boundary particles at ratio 5": "sb0d" the sb0 deck (through the wrapper, uncorrected) with the
+       # plate's boundary particles at no more than the water's spacing along each face (ceil(L / dx) per face
+       # instead of round(L / dx): 2 per 2.5 mm face at ratio 5, unchanged at ratios 3, 4, 6)
+       "sb0d": ["plain", "dense"],
+       "sbkats": ["all"]}  # sbka at half the deck's time step (as "sb0nts" is sb0n's)
 # the energy guard off: at a tenth the corners-once run stopped at 0.70 ms on the guard against negative contact
 # energy (the boundary's share of the pair work -0.021 J, 10 % of the energy in play) with the energy ratio 1.0005
 # and the tangential-only form of "tt" stopped at step 100 (34 us) on the same guard (contact -0.078 J of 0.40 J in
 # play, energy ratio 1.0014): the corner correction's work is booked as contact energy and is negative
 ENERGY_GUARD_OFF = {"sbca01c01", "tt", "tta01c01", "ttc0", "ttc0a01c01", "sbs", "sbsa01c01",
                     # the extrapolated boundary velocity's continuity and pair-work terms are not the nodes' work
-                    "sbmn", "sbmna01c01", "sbmf", "sbmfa01c01", "sbk", "sbka01c01", "sbka", "sbkaa01c01", "sbkan", "sbkana01c01"}
+                    "sbmn", "sbmna01c01", "sbmf", "sbmfa01c01", "sbk", "sbka01c01", "sbka", "sbkaa01c01", "sbkan", "sbkana01c01",
+                    "sb0d", "sb0da01c01",
+                    # "sb0n": sb0 with the guard off, the control of the corrected runs at ratio 5 (sb0_r5 stops at
+                    # step 10 on the guard: the ambient preload's start, contact -2.8e-3 J against 7.3e-3 J in play)
+                    "sb0n", "sb0na01c01", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01"}
+# half the deck's time step: "ts" (section "SPH's gap: ..."), and the ratio-5 boundary-particle decks of section "The
+# boundary particles at ratio 5" (the plain and the corrected gradient)
+HALF_STEP = {"ts", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01"}
 AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
 LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: linear water, no kernel)
 # the drive's velocity scaled (2 -> 0.2 m/s: the linear limit); "a01c01" / "a03c03" scale the ambient pressure with it
 AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3, "alesma01": 0.1}
 # the twins "<kind>a01c01" of these SPH kinds: the same change at a tenth of the drive and of the ambient pressure
 for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15", "sb0hr15", "hr15dp", "hr15d05", "d05", "d02", "d01",
-              "sbc", "tt", "ttc0", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan"):
+              "sbc", "tt", "ttc0", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan",
+              "sb0d", "sb0n", "sb0nts", "sbkats"):
     _twin = _kind + "a01c01"
     SPH_VARIANTS[_twin] = SPH_VARIANTS[_kind]
     if _kind in BOUNDARY_OPTIONS:
@@ -202,7 +223,7 @@ def variant(name: str) -> Path:
             d["control"]["energy_band"] = None
         if kind == "xs05":  # XSPH moves particles by a velocity the contact's work is not booked against
             d["control"]["energy_band"] = None
-        if kind == "ts":  # half the deck's time step (timestep_scale 0.9 -> 0.45)
+        if kind in HALF_STEP:  # half the deck's time step (timestep_scale 0.9 -> 0.45)
             d["control"]["timestep_scale"] = 0.45
         if kind in AMBIENT:
             d["equations_of_state"]["water"]["c0"] = AMBIENT[kind]
@@ -341,6 +362,28 @@ def corners(names: list[str], scale: float = 1.0) -> None:
               f"{' / '.join(f'{a:.0f}' for a in sum2)}")
 
 
+def steps(kinds: list[str], level: str = "r5") -> None:
+    """Per kind at `level` (deck drive and its a01c01 twin, peak x 10): the peak mid-height displacement against
+    REFERENCE_PEAK, the energy ratio at 1.5 / 2.0 ms and its largest value after 0.1 ms, the first time after 0.1 ms
+    it leaves 1 +- 0.01 (the start's preload excepted), and the contact energy at 2 ms."""
+    print("case | peak mm (vs ref) | energy ratio 1.5 / 2.0 ms (max) | leaves 1 +- 0.01 at ms | contact J at 2 ms")
+    for kind in kinds:
+        for name, scale in ((f"{kind}_{level}_gap", 1.0), (f"{kind}a01c01_{level}_gap", 10.0)):
+            if not (WORK / name / "histories" / "mid.csv").exists():
+                continue
+            u = scale * 1e3 * np.abs(history(name, "mid")["displacement_x"]).max()
+            e = history(name, "glstat")
+            late = e["time"] > 1.0e-4
+            if not late.any():
+                continue
+            r = e["energy_ratio"]
+            at = [float(np.interp(t, e["time"], r)) for t in (1.5e-3, 2.0e-3)]
+            out = np.flatnonzero(late & (np.abs(r - 1.0) > 0.01))
+            leave = f"{1e3 * e['time'][out[0]]:.2f}" if len(out) else "-"
+            print(f"{name} | {u:.4f} ({100.0 * (u / REFERENCE_PEAK - 1.0):+.2f} %) | {at[0]:.4f} / {at[1]:.4f} "
+                  f"({r[late].max():.4f}) | {leave} | {e['contact'][-1]:.3f}")
+
+
 def corner_figure(path: str = "structure_in_water_corner_flow.png") -> None:
     """Water speed round the plate's lower end at 0.5 and 1.0 ms: SPH ratio 4 at the deck's drive and at a tenth
     (velocities x 10), and the Lagrangian ALE at 2.5 mm (its mesh nodes); runs cd0_r4_gap, cd0a01c01_r4_gap and
@@ -373,6 +416,11 @@ if __name__ == "__main__":
         summary()
     elif args[:1] == ["--pairs"]:
         pairs(args[1:])
+    elif args[:1] == ["--steps"]:  # --steps [rN] KIND ...: ratio N (default 5)
+        if args[1:2] and args[1][0] == "r" and args[1][1:].isdigit():
+            steps(args[2:], args[1])
+        else:
+            steps(args[1:])
     elif args[:1] == ["--corners"]:
         corners(args[1:])
     elif args == ["--corner-figure"]:
