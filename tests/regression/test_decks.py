@@ -26,8 +26,10 @@ def test_decks_are_shipped():
 
 @pytest.mark.parametrize("deck", DECKS, ids=lambda p: p.stem)
 def test_check(deck):
+    """`sphfem check` passes, and no material of a shipped deck gets a units warning (its output holds stderr)."""
     result = CliRunner().invoke(main, ["check", str(deck)])
     assert result.exit_code == 0, result.output
+    assert "warning:" not in result.output, result.output
 
 
 @pytest.mark.parametrize("deck", DECKS, ids=lambda p: p.stem)

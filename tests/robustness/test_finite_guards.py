@@ -173,13 +173,6 @@ def test_check_warns_of_constants_in_other_units(tmp_path):
     assert "warning: material steel: Young's modulus 210000 Pa" in result.output
 
 
-def test_no_shipped_deck_gets_a_units_warning():
-    for deck in sorted(DECKS.glob("*.yaml")):
-        result = CliRunner().invoke(main, ["check", str(deck)])
-        assert result.exit_code == 0, f"{deck.name}: {result.output}"
-        assert "warning:" not in result.output, f"{deck.name}: {result.output}"
-
-
 def test_threads_count_ale_elements(tmp_path):
     deck = decks.write(tmp_path, "ale")
     tree = yaml.safe_load(deck.read_text())

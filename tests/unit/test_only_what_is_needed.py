@@ -184,7 +184,7 @@ _FORCE_KERNELS = {"solid_element_forces", "axisymmetric_element_forces", "lagran
 
 
 @pytest.mark.parametrize("deck", ["cantilever_3d.yaml", "water_air_shock_tube.yaml", "bird_strike_axisymmetric_ale.yaml",
-                                  "underwater_explosion_plate_3d_ale.yaml"])
+                                  pytest.param("underwater_explosion_plate_3d_ale.yaml", marks=pytest.mark.validation)])
 def test_check_takes_the_initial_stable_step_without_the_force_kernels(deck):
     """`sphfem check` of a hex8 solid deck at rest, of ALE decks at rest (plane; hex8 with a hex8 plate and
     non-reflecting sides, whose far-field pressure needs the initial pressures) and of the r-z ALE bird in motion
