@@ -40,36 +40,18 @@ import math
 
 import numpy as np
 
+from ..fem.tables import HEX_DV, HEX_FACES
 from ..materials.ids import EOS_GRUNEISEN, EOS_IDEAL_GAS, EOS_JWL, EOS_LINEAR_POLYNOMIAL, EOS_STIFFENED_GAS, EOS_TAIT
 from ..materials.slots import (Q_GR_A, Q_GR_C, Q_GR_GAMMA0, Q_GR_S1, Q_GR_S2, Q_GR_S3, Q_IG_GAMMA, Q_JWL_A, Q_JWL_B,
                                Q_JWL_OMEGA, Q_JWL_R1, Q_JWL_R2, Q_LP_C0, Q_LP_C1, Q_LP_C2, Q_LP_C3, Q_LP_C4, Q_LP_C5,
                                Q_LP_C6, Q_RHO0, Q_SG_GAMMA, Q_SG_PINF, Q_TAIT_B, Q_TAIT_C0, Q_TAIT_GAMMA, Q_TAIT_PB,
                                Q_TAIT_RHO_REF)
 
-# lagrange.RHO_VOID, lagrange.RHO_CAVITATED, ring_geometry.PI_3 and fem.geometry.HEX_DV, HEX_FACES (those modules
-# load numba; tests/unit/test_at_rest_pass.py checks the copies are equal)
+# lagrange.RHO_VOID, lagrange.RHO_CAVITATED and ring_geometry.PI_3 (those modules load numba;
+# tests/unit/test_at_rest_pass.py checks the copies are equal)
 RHO_VOID = 1e-9
 RHO_CAVITATED = 0.5
 PI_3 = math.pi / 3.0
-HEX_DV = (
-    (0, 1, 2, -1), (0, 1, 3, -1), (0, 1, 4, 1), (0, 1, 5, 1), (0, 2, 3, -1), (0, 3, 4, -1),
-    (0, 3, 7, -1), (0, 4, 5, -1), (0, 4, 7, 1),
-    (1, 0, 2, 1), (1, 0, 3, 1), (1, 0, 4, -1), (1, 0, 5, -1), (1, 2, 3, -1), (1, 2, 5, 1),
-    (1, 2, 6, 1), (1, 4, 5, -1), (1, 5, 6, -1),
-    (2, 0, 1, -1), (2, 0, 3, 1), (2, 1, 3, 1), (2, 1, 5, -1), (2, 1, 6, -1), (2, 3, 6, 1),
-    (2, 3, 7, 1), (2, 5, 6, -1), (2, 6, 7, -1),
-    (3, 0, 1, -1), (3, 0, 2, -1), (3, 0, 4, 1), (3, 0, 7, 1), (3, 1, 2, -1), (3, 2, 6, -1),
-    (3, 2, 7, -1), (3, 4, 7, 1), (3, 6, 7, -1),
-    (4, 0, 1, 1), (4, 0, 3, -1), (4, 0, 5, 1), (4, 0, 7, -1), (4, 1, 5, 1), (4, 3, 7, -1),
-    (4, 5, 6, 1), (4, 5, 7, 1), (4, 6, 7, 1),
-    (5, 0, 1, 1), (5, 0, 4, -1), (5, 1, 2, 1), (5, 1, 4, -1), (5, 1, 6, 1), (5, 2, 6, 1),
-    (5, 4, 6, -1), (5, 4, 7, -1), (5, 6, 7, 1),
-    (6, 1, 2, 1), (6, 1, 5, -1), (6, 2, 3, 1), (6, 2, 5, -1), (6, 2, 7, 1), (6, 3, 7, 1),
-    (6, 4, 5, 1), (6, 4, 7, -1), (6, 5, 7, -1),
-    (7, 0, 3, -1), (7, 0, 4, 1), (7, 2, 3, 1), (7, 2, 6, -1), (7, 3, 4, 1), (7, 3, 6, -1),
-    (7, 4, 5, 1), (7, 4, 6, 1), (7, 5, 6, 1),
-)
-HEX_FACES = ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
 KNOWN_EOS = (EOS_LINEAR_POLYNOMIAL, EOS_GRUNEISEN, EOS_TAIT, EOS_IDEAL_GAS, EOS_STIFFENED_GAS, EOS_JWL)
 
 

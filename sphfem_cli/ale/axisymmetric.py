@@ -52,7 +52,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..fem.geometry import QUAD_GAMMA
+from ..fem.tables import QUAD_GAMMA
 from .force_lanes import (_CX_U, _CX_W, _CX_X, _CX_Y, _ST_AREA, _ST_B, _ST_BLOCK, _ST_C, _ST_GX, _ST_HQ, _ST_LONG2, _ST_M,
                           _ST_P, _ST_ROWS, _ST_VMAX2, gather_block, geometry_block, one_gas)
 from .lagrange import N_CHUNKS, chunk_range, state_block, viscosity_and_step

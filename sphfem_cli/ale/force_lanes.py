@@ -33,7 +33,7 @@ import math
 
 from numba import njit
 
-from ..fem.geometry import QUAD_GAMMA
+from ..fem.tables import QUAD_GAMMA
 from ..materials.ids import EOS_IDEAL_GAS, EOS_STIFFENED_GAS
 from ..materials.slots import Q_IG_GAMMA, Q_SG_GAMMA, Q_SG_PINF
 

@@ -15,7 +15,8 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..fem.geometry import QUAD_GAMMA, bulk_viscosity, quad4_gradient, stable_dt
+from ..fem.geometry import bulk_viscosity, quad4_gradient, stable_dt
+from ..fem.tables import QUAD_GAMMA
 from ..materials.kernels import EOS_GRUNEISEN, eos_state
 from .force_lanes import (_ST_AREA, _ST_B, _ST_BLOCK, _ST_C, _ST_COEF, _ST_GX, _ST_HQ, _ST_LONG2, _ST_M, _ST_P, _ST_RHO,
                           _ST_ROWS, _ST_S, _ST_TRACE, _ST_VMAX2, gas_block, gas_material, gather_block, geometry_block,

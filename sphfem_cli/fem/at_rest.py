@@ -35,14 +35,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..materials.ids import EOS_NONE, ELASTIC, ELASTIC_PLASTIC, JOHNSON_COOK
+from .tables import HEX_FACES
 from .slots import PLANE_STRESS, SEC_FORMULATION
 from ..materials.slots import P_EOS_TYPE, P_G, P_K, P_RHO0
 
 AT_REST_TYPES = (ELASTIC, ELASTIC_PLASTIC, JOHNSON_COOK)
 TWO_PI = 2.0 * np.pi  # fem.axisymmetric.TWO_PI
 
-# ``fem.geometry.HEX_FACES`` (that module loads numba; tests/unit/test_at_rest_pass.py checks they are equal)
-HEX_FACES = ((0, 3, 2, 1), (4, 5, 6, 7), (0, 1, 5, 4), (1, 2, 6, 5), (2, 3, 7, 6), (3, 0, 4, 7))
 # ``fem.geometry.hex8_gradient_faces``: per node I, its three faces' edge pairs (a + b, b + c) as
 # ((j, k), (k, l)) node pairs, in that function's order (the x component of dV/dx_I is all the volume needs)
 _HEX_NODE_FACES = (

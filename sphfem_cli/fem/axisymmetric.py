@@ -41,8 +41,9 @@ from numba import njit, prange
 
 from ..materials.kernels import sound_speed, update_stress
 from ..materials.slots import P_G, P_RHO0
-from .geometry import QUAD_GAMMA, bulk_viscosity, quad4_char_length, quad4_gradient, stable_dt
+from .geometry import bulk_viscosity, quad4_char_length, quad4_gradient, stable_dt
 from .kernels import HG_VISCOUS, INVERTED, SEC_HG_COEF, SEC_HG_TYPE, SEC_Q1, SEC_Q2, rotate_stress
+from .tables import QUAD_GAMMA
 
 TWO_PI = 2.0 * np.pi
 

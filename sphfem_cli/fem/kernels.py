@@ -38,12 +38,13 @@ from ..materials.ids import ELASTIC, EOS_NONE
 from ..materials.kernels import (elastic_plane_stress_update, elastic_sound_speed, elastic_stress_update,
                                  plane_stress_sound_speed, plane_stress_update, sound_speed, update_stress)
 from ..materials.slots import H_THICKNESS_STRAIN, P_EOS_TYPE, P_G, P_RHO0
-from .geometry import (HEX_GAMMA, QUAD_GAMMA, bulk_viscosity, hex8_char_length, hex8_gradient, hex8_gradient_faces,
-                       quad4_char_length, quad4_gradient, stable_dt)
+from .geometry import (bulk_viscosity, hex8_char_length, hex8_gradient, hex8_gradient_faces, quad4_char_length,
+                       quad4_gradient, stable_dt)
 from .slots import (  # noqa: F401  (re-exported: declared in fem.slots)
     HG_STIFFNESS, HG_VISCOUS, INVERTED, NSEC, PLANE_STRAIN, PLANE_STRESS, SEC_FORMULATION, SEC_HG_COEF, SEC_HG_TYPE,
     SEC_Q1, SEC_Q2,
 )
+from .tables import HEX_GAMMA, QUAD_GAMMA
 
 
 @njit(cache=True)

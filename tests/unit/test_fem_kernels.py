@@ -4,9 +4,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sphfem_cli.fem.geometry import (HEX_DV, HEX_FACES, hex8_gradient, hex8_gradient_faces, hex8_gradient_rows,
-                                     hex8_volume, hex8_volume_origin, quad4_gradient)
+from sphfem_cli.fem.geometry import (hex8_gradient, hex8_gradient_faces, hex8_gradient_rows, hex8_volume,
+                                     hex8_volume_origin, quad4_gradient)
 from sphfem_cli.fem.kernels import rotate_stress
+from sphfem_cli.fem.tables import HEX_DV, HEX_FACES
 
 HEX_SIGNS = np.array([(-1, -1, -1), (1, -1, -1), (1, 1, -1), (-1, 1, -1),
                       (-1, -1, 1), (1, -1, 1), (1, 1, 1), (-1, 1, 1)], dtype=float)
