@@ -1,7 +1,7 @@
 """Issues 15 (B3b) / 18: the hourglass control of the shipped r-z plates, chosen by a dry convergence study.
 
     python docs/studies/rz_plate_hourglass_dry.py --scene undex                    # levels 1, 2, 4: ~90 s CPU
-    python docs/studies/rz_plate_hourglass_dry.py --scene bird --levels 0.5 1 2    # ~200 s CPU (level 4: ~600 s a run)
+    python docs/studies/rz_plate_hourglass_dry.py --scene bird --levels 0.5 1 2    # ~200 s CPU (level 4: ~380 s a run)
     python docs/studies/rz_plate_hourglass_dry.py --table            # the tables and GCI from the runs made
 
 The plates are taken from the shipped wet decks (material, section, element size, clamp are theirs by
@@ -23,7 +23,7 @@ construction); the fluid, the bird, couplings, contacts and probes are removed:
   rho v^2 A L / v = m v = 157.1 N s (the wet decks transfer 1.05-1.12 m v). End 5 ms, the decks' end.
 
 Levels: the shipped mesh and 2x and 4x finer in both directions (undex 60 x 4, 120 x 8, 240 x 16; for the bird
-plate, whose 4x level costs about 600 s CPU a run, 0.5x / 1x / 2x: 50 x 2, 100 x 4, 200 x 8), each with the
+plate, whose 4x level costs about 380 s CPU a run, 0.5x / 1x / 2x: 50 x 2, 100 x 4, 200 x 8), each with the
 stiffness form 0.1 (shipped before 7 December 2026) and the viscous form 0.1, and the stiffness form 0.03 at the
 shipped level. Measured: the centre's (axis, mid-thickness node) displacement maximum, its
 time, its value at the end (undex u(1 ms); bird w(5 ms) and the permanent deflection, the mean over 3.5-5 ms
