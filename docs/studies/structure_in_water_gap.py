@@ -88,7 +88,7 @@ SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0
                 "hr15d05": {"smoothing_ratio": 1.5, "density_diffusion": 0.05},
                 "d02": {"density_diffusion": 0.02}, "d01": {"density_diffusion": 0.01}, "sbc": {}, "tt": {}, "ttc0": {},
                 "sbm": {}, "sbmc": {}, "sbs": {}, "sbmn": {}, "sbmf": {}, "sbk": {}, "sbka": {}, "sbkan": {},
-                "sb0d": {}, "sb0n": {}, "sb0nts": {}, "sbkats": {},
+                "sb0d": {}, "sb0n": {}, "sb0nts": {}, "sbkats": {}, "sb0nt8": {}, "sb0nm4": {}, "sb0ncb": {}, "sb0nt9": {},
                 "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
 CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
@@ -98,7 +98,7 @@ CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
 # 0.1 MPa in the a01c01 twin)
 CORNER_CORRECTION = {"tt": "particle", "ttc0": "ambient"}
 SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan",
-                "sb0d", "sb0n", "sb0nts", "sbkats"}
+                "sb0d", "sb0n", "sb0nts", "sbkats", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9"}
 # the sb0 deck with particle shifting restricted to the water within CORNER_SHIFT[kind][1] spacings of the plate's lower
 # corners (A = CORNER_SHIFT[kind][0]), run through structure_in_water_corner_shift.py (section "mDBC at the corners")
 CORNER_SHIFT = {"sbs": ("2", "4")}  # boundary particles carried by the plate instead of the penalty contact
@@ -131,10 +131,18 @@ ENERGY_GUARD_OFF = {"sbca01c01", "tt", "tta01c01", "ttc0", "ttc0a01c01", "sbs", 
                     "sb0d", "sb0da01c01",
                     # "sb0n": sb0 with the guard off, the control of the corrected runs at ratio 5 (sb0_r5 stops at
                     # step 10 on the guard: the ambient preload's start, contact -2.8e-3 J against 7.3e-3 J in play)
-                    "sb0n", "sb0na01c01", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01"}
+                    "sb0n", "sb0na01c01", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9"}
 # half the deck's time step: "ts" (section "SPH's gap: ..."), and the ratio-5 boundary-particle decks of section "The
 # boundary particles at ratio 5" (the plain and the corrected gradient)
 HALF_STEP = {"ts", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01"}
+# section "A stable step for the coupling": sb0n at 0.8 of the deck's step (timestep_scale 0.72), where the water's
+# c dt / h at ratio 5 is ratio 4's at the deck's step (0.169), and "sb0nt9" at 0.9 of it (timestep_scale 0.81)
+STEP_SCALE = {"sb0nt8": 0.72, "sb0nt9": 0.81}
+# and sb0n with the plate's density x 4 at the deck's step (dt_max 3.4174e-7 s, the plate's step of sb0n; the water's own
+# limit 3.66e-7, the heavier plate's 6.8e-7): the face nodes' S_i / m_i a quarter at the same step (a diagnostic)
+# "sb0ncb": the deck's plate at the combined Gershgorin step of plate and coupling, 0.9 (dt_p^-2 + dt_c^-2)^-1/2 =
+# 3.3727e-7 s (dt_p = 3.4174e-7 / 0.9, dt_c = 2.0910e-6 / 0.9, SphBoundaryCoupling.stable_dt)
+PLATE_DENSITY = {"sb0nm4": (4.0, 3.4174e-7), "sb0ncb": (1.0, 3.3727e-7)}
 AMBIENT = {"c2": 2.0e6, "c3": 3.0e6, "alec3": 3.0e6, "a01c01": 1.0e5, "a03c03": 3.0e5}  # the water's ambient pressure C0 instead of the decks' 1 MPa
 LEVELS["alec3"] = LEVELS["ale"]  # the ALE deck at 3 MPa ambient (the control: linear water, no kernel)
 # the drive's velocity scaled (2 -> 0.2 m/s: the linear limit); "a01c01" / "a03c03" scale the ambient pressure with it
@@ -225,6 +233,11 @@ def variant(name: str) -> Path:
             d["control"]["energy_band"] = None
         if kind in HALF_STEP:  # half the deck's time step (timestep_scale 0.9 -> 0.45)
             d["control"]["timestep_scale"] = 0.45
+        if kind in STEP_SCALE:
+            d["control"]["timestep_scale"] = STEP_SCALE[kind]
+        if kind in PLATE_DENSITY:
+            d["materials"]["aluminium"]["density"] *= PLATE_DENSITY[kind][0]
+            d["control"]["dt_max"] = PLATE_DENSITY[kind][1]
         if kind in AMBIENT:
             d["equations_of_state"]["water"]["c0"] = AMBIENT[kind]
         for contact in d["contacts"]:

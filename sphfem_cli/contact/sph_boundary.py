@@ -34,8 +34,12 @@ import math
 import numpy as np
 
 from ..deck.schema.interaction import SphBoundary
-from ..materials.kernels import P_RHO0
+from ..materials.kernels import EOS_OFFSET, P_EOS_TYPE, P_RHO0
+from ..materials.slots import Q_E0
 from ..sph import structure_walls as sw
+from ..sph.eos import sound_speed
+from ..sph.kernel_functions import kernel_w
+from ..sph.slots import SI_KERNEL
 from .surface import master_segments
 
 
@@ -176,9 +180,65 @@ class SphBoundaryCoupling:
 
     # ----------------------------------------------------------------------------- loop
 
+    def face_stiffness(self) -> float:
+        """k = K W1(0) [N/m per m of face, per unit depth]: the normal stiffness the boundary particles put on a face.
+
+        Linearised about rest (the pressure's own geometric term p grad grad W dropped: p << K), for a face moved by
+        delta along its normal against a fluid half-space at rest: the continuity term of ``wall_pairs`` changes a
+        fluid point's density at distance z by sum_w m_w delta . grad W_iw = rho_0 W1(z) delta (the wall's layers a
+        half-space of density rho_0 m_w / (dx^2) = rho_0 reaching past 2 h: ``layers`` >= 2 h / dx; W1(z) =
+        int W(sqrt(z^2 + y^2)) dy, the kernel projected on the normal), its pressure by K rho W1 delta / rho_0 = K W1(z)
+        delta (K = rho_0 c^2), and Adami's p_w, a Shepard mean of those, by no more than K W1(0) delta. The normal
+        force on the face, sum_i sum_w m_i m_w (dp_i + dp_w) / rho_0^2 dW/dz, is per unit length then
+        K delta int_0^inf W1(z)^2 dz + K delta W1(0) int_0^inf W1 dz <= K delta W1(0) (W1 <= W1(0), int_0^inf W1 = 1/2).
+        W1(0) = 2 int_0^{2h} W(r) dr (15 / (7 pi h) for the 2D cubic spline), h = smoothing_ratio dx; c the largest of
+        the reference sound speed and the boundary particles' of the last step."""
+        ps = self.sim.particles.system
+        if getattr(self, "_w1", None) is None:
+            h = float(self.ws[0, sw.W_H]) if len(self.ws) else 1.0
+            kernel = int(ps.settings_i[SI_KERNEL])
+            r = (np.arange(400) + 0.5) * (2.0 * h / 400)  # midpoint rule on [0, 2h]
+            self._w1 = 2.0 * sum(kernel_w(kernel, 2, float(ri), h) for ri in r) * (2.0 * h / 400)
+            eos, q = int(ps.params[self.material, P_EOS_TYPE]), ps.params[self.material, EOS_OFFSET:]
+            self._c_ref = float(sound_speed(eos, q, 1.0, q[Q_E0]))
+        rho0 = float(ps.params[self.material, P_RHO0])
+        c = max(self._c_ref, float(self.ws[:, sw.W_C].max()) if len(self.ws) else 0.0)
+        return rho0 * c * c * self._w1
+
+    def node_stiffness(self, x: np.ndarray) -> np.ndarray:
+        """(n_nodes,) S_i = sum over the faces of node i of k L_f / 2 (L_f the face's length at x): the row sum of
+        the coupling's stiffness on the node (a face's force k L_f (u_a + u_b) . n / 2 goes half to each node, its
+        boundary particles at s and 1 - s symmetric)."""
+        length = np.linalg.norm(x[self.faces[:, 1]] - x[self.faces[:, 0]], axis=1)
+        share = 0.5 * self.face_stiffness() * length
+        stiff = np.zeros(x.shape[0])
+        np.add.at(stiff, self.faces[:, 0], share)
+        np.add.at(stiff, self.faces[:, 1], share)
+        return stiff
+
     def stable_dt(self) -> float:
-        """No step of its own: the boundary particles carry the fluid's sound speed (the fluid's CFL)."""
-        return np.inf
+        """min_i sqrt(2 m_i / S_i) over the face nodes (the loop multiplies it by timestep_scale).
+
+        The Gershgorin bound of ``ElementCoupling.stable_dt`` (contact/coupling.py) with S_i of ``node_stiffness``:
+        k = K W1(0) per unit face length, K = rho_0 c^2 the fluid's bulk modulus, W1(0) = 2 int_0^{2h} W dr ~ 1 / dx
+        (so the step scales as sqrt(dx)); m_i the structure's nodal mass, or for a rigid body its mass against the
+        sum over its nodes. The fluid particles' side of the pairs is the fluid's CFL (the SPH domain's step).
+        inf when the coupling has no boundary particles."""
+        if not len(self.ws):
+            return np.inf
+        model = self.sim.model
+        stiff = self.node_stiffness(self.sim.state.x)
+        rigid = np.zeros(model.n_nodes, dtype=bool)
+        ratios = [np.zeros(0)]
+        for b in model.rigid_bodies:
+            rigid[b.nodes] = True
+            total = stiff[b.nodes].sum()
+            if total > 0:
+                ratios.append(np.array([total / b.mass]))
+        free = (~rigid) & (stiff > 0) & (model.mass > 0)
+        ratios.append(stiff[free] / model.mass[free])
+        top = max(float(r.max()) if r.size else 0.0 for r in ratios)
+        return math.sqrt(2.0 / top) if top > 0 else np.inf
 
     def forces(self, st) -> None:
         """Place the particles at state n, extrapolate their pressures, add the pair terms to the fluid's

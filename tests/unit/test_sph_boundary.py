@@ -174,3 +174,29 @@ def test_free_plate_conserves_momentum_with_corners_once(tmp_path):
     np.testing.assert_allclose(_momentum(sim), p0, rtol=0.0, atol=1e-12 * np.linalg.norm(p0))
     row = sim.energy_row()
     assert abs(row.ratio - 1.0) < 1e-3, row
+
+
+def test_stable_dt_gershgorin_bound_by_hand(tmp_path):
+    """SphBoundaryCoupling.stable_dt = min_i sqrt(2 m_i / S_i), S_i = k (L_1 + L_2) / 2 over node i's two faces,
+    k = K W1(0): on the free plate (5 mm square quad4, aluminium 2700 kg/m^3, every outer face 5 mm) the corner node
+    is the lightest, m = 2700 x 0.005^2 / 4 = 0.016875 kg/m, with S = k x 0.005; K = c1 = 2.2e9 Pa (linear
+    polynomial, rho_0 c^2 = c1), W1(0) = 15 / (7 pi h) for the 2D cubic spline (2 int_0^2h W dr: sigma 10 / (7 pi h^2),
+    int_0^2 theta = 3/4), h = 1.2 x 0.005. Tolerance 1e-6 relative: the midpoint rule's error on W1(0)."""
+    sim = _sim(tmp_path, FREE_PLATE)
+    coupling = sim.interactions[0]
+    h = 1.2 * 0.005
+    k = 2.2e9 * 15.0 / (7.0 * np.pi * h)
+    m_corner = 2700.0 * 0.005 ** 2 / 4.0
+    assert sim.model.mass.min() == pytest.approx(m_corner, rel=1e-12)
+    assert coupling.face_stiffness() == pytest.approx(k, rel=1e-6)
+    assert coupling.stable_dt() == pytest.approx(np.sqrt(2.0 * m_corner / (k * 0.005)), rel=1e-6)
+    # the loop takes it times timestep_scale (0.5 here) when it is the smallest
+    assert sim.stable_dt() <= 0.5 * coupling.stable_dt() * (1.0 + 1e-12)
+
+
+def test_stable_dt_scales_as_sqrt_dx(tmp_path):
+    """Halving the fluid's spacing (the plate unchanged) doubles k = K W1(0) ~ 1 / dx: the bound falls by sqrt(2)
+    (to round-off: the midpoint rule's relative error is the same at every h)."""
+    coarse = _sim(tmp_path, FREE_PLATE).interactions[0].stable_dt()
+    fine = _sim(tmp_path, FREE_PLATE.replace("spacing: 0.005", "spacing: 0.0025")).interactions[0].stable_dt()
+    assert fine / coarse == pytest.approx(1.0 / np.sqrt(2.0), rel=1e-9)
