@@ -108,7 +108,7 @@ def axisymmetric_against_plane(n: int, steps: int, rounds: int) -> dict[str, tup
 
     from sphfem_cli.driver import load_model
     from sphfem_cli.fem.axisymmetric import axisymmetric_element_forces
-    from sphfem_cli.fem.kernels import solid_element_forces
+    from sphfem_cli.fem.kernels import quad4_element_forces
     from sphfem_cli.solver.explicit import Simulation
 
     numba.set_num_threads(1)
@@ -118,7 +118,7 @@ def axisymmetric_against_plane(n: int, steps: int, rounds: int) -> dict[str, tup
             deck = Path(tmp) / f"box_{dim}.yaml"
             deck.write_text(QUAD_DECK.format(n=n, dimension=dim))
             sims[dim] = Simulation(load_model(str(deck)).model)
-    kernels = {"2": solid_element_forces, "axisymmetric": axisymmetric_element_forces}
+    kernels = {"2": quad4_element_forces, "axisymmetric": axisymmetric_element_forces}
     for sim in sims.values():
         for _ in range(20):  # warm-up: compiles on a cold cache, the plastic front forms
             sim.step()

@@ -38,7 +38,7 @@ from ..materials.ids import ELASTIC, EOS_NONE
 from ..materials.kernels import (elastic_plane_stress_update, elastic_sound_speed, elastic_stress_update,
                                  plane_stress_sound_speed, plane_stress_update, sound_speed, update_stress)
 from ..materials.slots import H_THICKNESS_STRAIN, P_EOS_TYPE, P_G, P_RHO0
-from .geometry import (bulk_viscosity, hex8_char_length, hex8_gradient, hex8_gradient_faces, quad4_char_length,
+from .geometry import (bulk_viscosity, hex8_char_length, hex8_gradient_faces, quad4_char_length,
                        quad4_gradient, stable_dt)
 from .slots import (  # noqa: F401  (re-exported: declared in fem.slots)
     HG_STIFFNESS, HG_VISCOUS, INVERTED, NSEC, PLANE_STRAIN, PLANE_STRESS, SEC_FORMULATION, SEC_HG_COEF, SEC_HG_TYPE,
@@ -97,7 +97,6 @@ def _stress_power(s, d):
     return s[0] * d[0] + s[1] * d[1] + s[2] * d[2] + 2.0 * (s[3] * d[3] + s[4] * d[4] + s[5] * d[5])
 
 
-@njit(parallel=True, cache=True)
 def solid_element_forces(
     x, v, conn, active, elem_mat, elem_sec, mat_type, mat_param, sec_param,
     vol0, dt, stress, hist, energy, hg_energy, hg_force, f_elem, dt_elem, vol, q_visc,
@@ -112,25 +111,47 @@ def solid_element_forces(
     Written: f_elem (E, nodes, dim) force on each element node, dt_elem (E,) stable step
     (INVERTED where the volume is not positive), vol (E,), q_visc (E,) bulk viscosity.
 
-    hex8 meshes go to ``_hex8_elements`` (the same operations in the same order with the dimension
-    and node count as constants, except the factored mean gradient ``hex8_gradient_faces``, equal
-    up to round-off); the loop below is the quad4 one (and any dimension). In both, an elastic
-    material without an equation of state takes ``elastic_stress_update`` / ``elastic_sound_speed``
-    (the same bits as ``update_stress`` / ``sound_speed``). A quad4 of a plane-stress section
-    (``sec[SEC_FORMULATION] == PLANE_STRESS``) solves its thickness strain (module docstring); vol is
-    then A h/h0, the volume per unit initial thickness.
+    hex8 meshes go to ``hex8_element_forces`` (``_hex8_elements``: the same operations in the same
+    order with the dimension and node count as constants, except the factored mean gradient
+    ``hex8_gradient_faces``, equal up to round-off), quad4 meshes to ``quad4_element_forces``. In both,
+    an elastic material without an equation of state takes ``elastic_stress_update`` /
+    ``elastic_sound_speed`` (the same bits as ``update_stress`` / ``sound_speed``). A quad4 of a
+    plane-stress section (``sec[SEC_FORMULATION] == PLANE_STRESS``) solves its thickness strain (module
+    docstring); vol is then A h/h0, the volume per unit initial thickness.
+
+    This function, plain Python, only picks the kernel, so that a plane deck compiles no hex8 code and a
+    3D deck no quad4 code (issue 17: a cold cache's first run).
     """
+    kernel = hex8_element_forces if conn.shape[1] == 8 and x.shape[1] == 3 else quad4_element_forces
+    kernel(x, v, conn, active, elem_mat, elem_sec, mat_type, mat_param, sec_param,
+           vol0, dt, stress, hist, energy, hg_energy, hg_force, f_elem, dt_elem, vol, q_visc)
+
+
+@njit(parallel=True, cache=True)
+def hex8_element_forces(
+    x, v, conn, active, elem_mat, elem_sec, mat_type, mat_param, sec_param,
+    vol0, dt, stress, hist, energy, hg_energy, hg_force, f_elem, dt_elem, vol, q_visc,
+):
+    """``solid_element_forces`` of a hex8 mesh: ``_hex8_elements`` over chunks of elements."""
+    n_elem = conn.shape[0]
+    n_chunks = min(n_elem, 64 * 8)
+    for chunk in prange(n_chunks):
+        _hex8_elements(
+            chunk * n_elem // n_chunks, (chunk + 1) * n_elem // n_chunks,
+            x, v, conn, active, elem_mat, elem_sec, mat_type, mat_param, sec_param,
+            vol0, dt, stress, hist, energy, hg_energy, hg_force, f_elem, dt_elem, vol, q_visc,
+        )
+
+
+@njit(parallel=True, cache=True)
+def quad4_element_forces(
+    x, v, conn, active, elem_mat, elem_sec, mat_type, mat_param, sec_param,
+    vol0, dt, stress, hist, energy, hg_energy, hg_force, f_elem, dt_elem, vol, q_visc,
+):
+    """``solid_element_forces`` of a quad4 mesh (plane strain or plane stress)."""
     n_elem, npe = conn.shape
     dim = x.shape[1]
     n_chunks = min(n_elem, 64 * 8)
-    if npe == 8 and dim == 3:
-        for chunk in prange(n_chunks):
-            _hex8_elements(
-                chunk * n_elem // n_chunks, (chunk + 1) * n_elem // n_chunks,
-                x, v, conn, active, elem_mat, elem_sec, mat_type, mat_param, sec_param,
-                vol0, dt, stress, hist, energy, hg_energy, hg_force, f_elem, dt_elem, vol, q_visc,
-            )
-        return
     for chunk in prange(n_chunks):
         start = chunk * n_elem // n_chunks
         stop = (chunk + 1) * n_elem // n_chunks
@@ -160,12 +181,8 @@ def solid_element_forces(
                     xe[a, k] = x[n, k]
                     ve[a, k] = v[n, k]
                     xm[a, k] = x[n, k] - 0.5 * dt * v[n, k]
-            if dim == 2:
-                vm = quad4_gradient(xm, bm)
-                ve_new = quad4_gradient(xe, b)
-            else:
-                vm = hex8_gradient(xm, bm)
-                ve_new = hex8_gradient(xe, b)
+            vm = quad4_gradient(xm, bm)
+            ve_new = quad4_gradient(xe, b)
             vol[e] = ve_new
             if not (ve_new > 0.0 and vm > 0.0):
                 dt_elem[e] = INVERTED
@@ -181,12 +198,6 @@ def solid_element_forces(
                 lxy += ve[a, 0] * bm[1, a]
                 lyx += ve[a, 1] * bm[0, a]
                 lyy += ve[a, 1] * bm[1, a]
-                if dim == 3:
-                    lxz += ve[a, 0] * bm[2, a]
-                    lzx += ve[a, 2] * bm[0, a]
-                    lyz += ve[a, 1] * bm[2, a]
-                    lzy += ve[a, 2] * bm[1, a]
-                    lzz += ve[a, 2] * bm[2, a]
             d[0] = lxx
             d[1] = lyy
             d[2] = lzz
@@ -207,7 +218,7 @@ def solid_element_forces(
             # Thickness over initial thickness h/h0 at mid-step and end of step (1: plane strain, 3D).
             thick_mid = 1.0
             thick_new = 1.0
-            if dim == 2 and sec[SEC_FORMULATION] == PLANE_STRESS:
+            if sec[SEC_FORMULATION] == PLANE_STRESS:
                 eps_zz = hist[e, H_THICKNESS_STRAIN]
                 if mat_type[m] == ELASTIC:
                     elastic_plane_stress_update(p, sig, deps)
@@ -228,10 +239,7 @@ def solid_element_forces(
             vol_t = ve_new * thick_new  # the volume per unit initial thickness (A h/h0); V in 3D
             vol[e] = vol_t
             rho = p[P_RHO0] / rel_volume
-            if dim == 2:
-                length = quad4_char_length(xe, ve_new)
-            else:
-                length = hex8_char_length(xe, ve_new)
+            length = quad4_char_length(xe, ve_new)
             q = bulk_viscosity(rho, length, c_snd, trace_d, sec[SEC_Q1], sec[SEC_Q2])
             q_visc[e] = q
             dt_elem[e] = stable_dt(length, c_snd, trace_d, sec[SEC_Q1], sec[SEC_Q2])
@@ -244,20 +252,14 @@ def solid_element_forces(
             # f_I = -V (sigma - q I) . b_I
             sxx = sig[0] - q
             syy = sig[1] - q
-            szz = sig[2] - q
             for a in range(npe):
-                if dim == 2:
-                    f_elem[e, a, 0] = -vol_t * (sxx * b[0, a] + sig[3] * b[1, a])
-                    f_elem[e, a, 1] = -vol_t * (sig[3] * b[0, a] + syy * b[1, a])
-                else:
-                    f_elem[e, a, 0] = -vol_t * (sxx * b[0, a] + sig[3] * b[1, a] + sig[5] * b[2, a])
-                    f_elem[e, a, 1] = -vol_t * (sig[3] * b[0, a] + syy * b[1, a] + sig[4] * b[2, a])
-                    f_elem[e, a, 2] = -vol_t * (sig[5] * b[0, a] + sig[4] * b[1, a] + szz * b[2, a])
+                f_elem[e, a, 0] = -vol_t * (sxx * b[0, a] + sig[3] * b[1, a])
+                f_elem[e, a, 1] = -vol_t * (sig[3] * b[0, a] + syy * b[1, a])
 
             # Flanagan-Belytschko hourglass control.
             qm = sec[SEC_HG_COEF]
             if qm > 0.0:
-                n_modes = 1 if dim == 2 else 4
+                n_modes = 1
                 if sec[SEC_HG_TYPE] == HG_VISCOUS:
                     scale = ve_new ** ((dim - 1.0) / dim)
                     coef = 0.25 * qm * rho * c_snd * scale * thick_new
@@ -272,11 +274,11 @@ def solid_element_forces(
                     gx[0] = gx[1] = gx[2] = 0.0
                     qv[0] = qv[1] = qv[2] = 0.0
                     for a in range(npe):
-                        g = QUAD_GAMMA[a] if dim == 2 else HEX_GAMMA[mode, a]
+                        g = QUAD_GAMMA[a]
                         for k in range(dim):
                             gx[k] += g * xe[a, k]
                     for a in range(npe):
-                        g = QUAD_GAMMA[a] if dim == 2 else HEX_GAMMA[mode, a]
+                        g = QUAD_GAMMA[a]
                         for k in range(dim):
                             g -= gx[k] * b[k, a]
                         gam[a] = g
@@ -304,11 +306,12 @@ def _hex8_elements(
     start, stop, x, v, conn, active, elem_mat, elem_sec, mat_type, mat_param, sec_param,
     vol0, dt, stress, hist, energy, hg_energy, hg_force, f_elem, dt_elem, vol, q_visc,
 ):
-    """Elements start..stop-1 of a hex8 mesh: ``solid_element_forces``'s loop for dim = 3, npe = 8.
+    """Elements start..stop-1 of a hex8 mesh: ``quad4_element_forces``' loop for dim = 3, npe = 8.
 
-    Every value is computed by the same operations in the same order as the generic loop except the
-    mean gradients, which take the factored ``hex8_gradient_faces`` (the same numbers up to round-off,
-    a third of the operations; the generic loop keeps ``hex8_gradient``); the loops over nodes (8) and
+    Every value is computed by the operations of that loop, written for three dimensions (the z terms
+    of the velocity gradient and of the forces, four hourglass modes), except the mean gradients,
+    which take the factored ``hex8_gradient_faces`` (``hex8_gradient``'s numbers up to round-off, a
+    third of the operations); the loops over nodes (8) and
     components (3) have constant trip counts that LLVM unrolls; a loop over the 4 hourglass modes
     stays a loop (its body is too large to unroll), so the sums Gamma_m . x_k are written out with
     HEX_GAMMA's signs (the same bits: a product by +-1 is exact; 4-6 % of the element kernel,

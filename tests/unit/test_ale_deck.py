@@ -46,7 +46,7 @@ from sphfem_cli.solver.explicit import Simulation
 sim = Simulation(load_model({str(DECK)!r}).model)
 sim.step()
 from sphfem_cli.fem import kernels as fem
-print(json.dumps([\"sphfem_cli.sph.rates\" in sys.modules, bool(fem.solid_element_forces.signatures)]))
+print(json.dumps([\"sphfem_cli.sph.rates\" in sys.modules, bool(fem.quad4_element_forces.signatures or fem.hex8_element_forces.signatures)]))
 """
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
     assert json.loads(out.stdout.strip().splitlines()[-1]) == [False, False]

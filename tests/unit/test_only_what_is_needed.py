@@ -78,15 +78,17 @@ def test_an_ale_deck_compiles_only_its_dimension(deck, dim):
 
 
 _AXISYMMETRIC = {"axisymmetric_element_forces", "ring_volumes"}  # fem/axisymmetric.py
+_SOLID_ELEMENTS = {"quad4_element_forces", "hex8_element_forces"}  # fem/kernels.py, the plane and 3D elements
 
 
 @pytest.mark.parametrize("deck, axisymmetric", [("cantilever_2d.yaml", False), ("taylor_bar_axisymmetric.yaml", True)])
 def test_only_an_axisymmetric_deck_compiles_the_axisymmetric_element(deck, axisymmetric):
     compiled = set(_compiled(DECKS / deck)["fem"]["compiled"])
     if axisymmetric:
-        assert _AXISYMMETRIC <= compiled and "solid_element_forces" not in compiled, sorted(compiled)
-    else:
+        assert _AXISYMMETRIC <= compiled and not compiled & _SOLID_ELEMENTS, sorted(compiled)
+    else:  # and the plane element alone: no hex8 code
         assert not (compiled & _AXISYMMETRIC), f"{deck} compiled axisymmetric kernels {sorted(compiled & _AXISYMMETRIC)}"
+        assert "quad4_element_forces" in compiled and "hex8_element_forces" not in compiled, sorted(compiled)
 
 
 # ale/axisymmetric.py: the ring forces (a twin) and ring_volumes; the other ring kernels are the quad4 ones' ring flag
@@ -179,7 +181,7 @@ def test_check_of_a_solid_deck_at_rest_loads_no_kernel():
 
 
 # the element force kernels: FEM plane / hex8 and axisymmetric, ALE plane, r-z and hex8
-_FORCE_KERNELS = {"solid_element_forces", "axisymmetric_element_forces", "lagrange_forces", "lagrange_forces_rz",
+_FORCE_KERNELS = {"quad4_element_forces", "hex8_element_forces", "axisymmetric_element_forces", "lagrange_forces", "lagrange_forces_rz",
                   "lagrange_forces_3d"}
 
 

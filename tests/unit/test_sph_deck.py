@@ -89,7 +89,7 @@ from sphfem_cli.fem import kernels as fem
 print(json.dumps({{
     "sph_imported": "sphfem_cli.sph.rates" in sys.modules,
     "ale_imported": "sphfem_cli.ale.kernels" in sys.modules,
-    "fem_compiled": bool(fem.solid_element_forces.signatures),
+    "fem_compiled": bool(fem.quad4_element_forces.signatures or fem.hex8_element_forces.signatures),
 }}))
 """
     out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)

@@ -17,6 +17,7 @@ import pytest
 from conftest import load_deck
 from sphfem_cli.deck.schema.materials import Elastic
 from sphfem_cli.fem import kernels as fem
+from sphfem_cli.fem.geometry import hex8_gradient, quad4_gradient
 from sphfem_cli.materials.slots import NHIST
 from sphfem_cli.materials.tables import pack_material
 from sphfem_cli.model.mesh import box_mesh
@@ -98,7 +99,7 @@ def element_pass(x, v, conn, dt, s0, hg_type, hg_coef):
     q = np.zeros(n_elem)
     x0 = x - dt * v
     b = np.empty((dim, npe))
-    grad = fem.quad4_gradient if dim == 2 else fem.hex8_gradient
+    grad = quad4_gradient if dim == 2 else hex8_gradient
     vol0 = np.array([grad(np.ascontiguousarray(x0[c]), b) for c in conn])
     fem.solid_element_forces(
         x, v, conn, np.ones(n_elem, dtype=np.bool_), np.zeros(n_elem, dtype=np.int64),
