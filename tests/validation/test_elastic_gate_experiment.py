@@ -54,12 +54,13 @@ def history(request, tmp_path_factory):
     assert result.exit_code == 0, result.output
     h = np.genfromtxt(out / "histories" / "gate_tip.csv", delimiter=",", names=True)
     assert h["time"][-1] == pytest.approx(0.4)
-    return request.param, h["time"], h["displacement_x"], h["displacement_y"]
+    g = np.genfromtxt(out / "histories" / "glstat.csv", delimiter=",", names=True)
+    return request.param, h["time"], h["displacement_x"], h["displacement_y"], g
 
 
 @pytest.mark.validation
 def test_opening(history):
-    method, t, ux, uy = history
+    method, t, ux, uy, _ = history
     d = study.load_data()
     err = np.interp(d["t_x"][:3], t, ux) - d["x"][:3]
     print(method, "x - measured, frames 1-3 [mm]:", np.round(1e3 * err, 2))
@@ -71,7 +72,7 @@ def test_opening(history):
 
 @pytest.mark.validation
 def test_peak_miss(history):
-    method, t, ux, uy = history
+    method, t, ux, uy, _ = history
     c = study.compare(t, ux, uy)
     print(method, {k: round(v, 4) for k, v in c.items() if "peak" in k})
     assert c["x peak model"] == pytest.approx(c["x peak measured"], rel=PEAK_X_TOL[method])
@@ -83,8 +84,20 @@ def test_peak_miss(history):
 @pytest.mark.xfail(strict=True, reason="issue 18: after 0.12 s the modelled gate stops opening and closes to "
                    "24-27 mm; the measured one opens to 46 mm and eases back to 37 mm by 0.36 s")
 def test_later_phase(history):
-    method, t, ux, uy = history
+    method, t, ux, uy, _ = history
     d = study.load_data()
     err = np.interp(d["t_x"][4:], t, ux) - d["x"][4:]
     print(method, "x - measured, frames 5-10 [mm]:", np.round(1e3 * err, 2))
     assert np.all(np.abs(err) <= OPENING_TOL)
+
+
+@pytest.mark.validation
+def test_energy_balance_and_coupling_energy(history):
+    """ALE: energy ratio within 1 % of 1 at every output after the first, the coupling's energy never negative
+    and under 5 % of the total; the free end rises as the clamped gate bends (its y at the x peak > 0)."""
+    method, t, ux, uy, g = history
+    assert uy[int(np.argmax(ux))] > 0.0
+    if method != "ale":
+        pytest.skip("measured for the ALE deck (the SPH deck's contact energy is not bounded here)")
+    assert np.all(np.abs(g["energy_ratio"][1:] - 1.0) < 0.01)
+    assert g["contact"].min() >= 0.0 and g["contact"].max() < 0.05 * g["total"].max()
