@@ -1,10 +1,7 @@
-"""SPH parts through the deck and the explicit loop: run output, probes, what gets compiled, deck errors."""
+"""SPH parts through the deck and the explicit loop: run output, probes, deck errors (what a scene compiles: test_only_what_is_needed.py)."""
 from __future__ import annotations
 
-import json
 import re
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -74,35 +71,6 @@ def test_tank_runs_and_writes_particles(tmp_path):
     reference = glstat["total"][-1] / glstat["energy_ratio"][-1]
     scale = 1000 * 0.1 * 0.05 * 9.81 * 0.05 / 2
     assert abs(glstat["total"][-1] - reference) < 0.01 * scale
-
-
-def _compiled_report(deck: Path) -> dict:
-    """Run a deck in a fresh interpreter; report which kernel families it imported and compiled."""
-    script = f"""
-import json, sys
-from sphfem_cli.driver import load_model
-from sphfem_cli.solver.explicit import Simulation
-sim = Simulation(load_model({str(deck)!r}).model)
-for _ in range(3):
-    sim.step()
-from sphfem_cli.fem import kernels as fem
-print(json.dumps({{
-    "sph_imported": "sphfem_cli.sph.rates" in sys.modules,
-    "ale_imported": "sphfem_cli.ale.kernels" in sys.modules,
-    "fem_compiled": bool(fem.quad4_element_forces.signatures or fem.hex8_element_forces.signatures),
-}}))
-"""
-    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, check=True)
-    return json.loads(out.stdout.strip().splitlines()[-1])
-
-
-def test_each_scene_compiles_only_what_it_uses(tmp_path):
-    deck = tmp_path / "tank.yaml"
-    deck.write_text(TANK)
-    sph_only = _compiled_report(deck)
-    assert sph_only == {"sph_imported": True, "ale_imported": False, "fem_compiled": False}
-    solid_only = _compiled_report(DECKS / "elastic_bar_wave.yaml")
-    assert solid_only == {"sph_imported": False, "ale_imported": False, "fem_compiled": True}
 
 
 @pytest.mark.parametrize("change, where", [
