@@ -8,11 +8,12 @@ What is checked, with the tolerance and where it comes from:
 
 * energy balance of the SPH deck (no outflow there): |energy ratio - 1| <= 1 % at every glstat row
   (measured at most 0.02 %, 7 December 2026);
-* the peak centre deflection against the SPH deck at dx 1.25 mm (the finest fluid level, 30.31 mm): within
-  3 % (the fluid series 30.40 / 29.99 / 30.31 mm is not monotone; the shipped 5 mm is +0.3 %; soft_scale
-  0.03-1.0 moves it by 1.0 %, the deck's header);
-* the permanent centre deflection (mean over 3.5-5 ms) against the same run's 22.56 mm: within 8 % (the
-  shipped 5 mm reads +4.7 %; the series 23.63 / 22.59 / 22.56 mm converges, GCI 0.00 % on the finest);
+* the peak centre deflection against the SPH deck at dx 1.25 mm (the finest fluid level, 30.04 mm with the
+  viscous plate): within 3 % (the fluid series 30.48 / 29.89 / 30.04 mm is not monotone; the shipped 5 mm is
+  +1.5 %; soft_scale 0.03-1.0 moves it by 1.0 %, the deck's header);
+* the permanent centre deflection (mean over 3.5-5 ms) against the same run's 22.48 mm: within 8 % (the
+  shipped 5 mm reads +4.8 %; the series 23.56 / 22.56 / 22.48 mm converges, order 3.7, GCI 0.04 % on the
+  finest; tests/data/bird_strike_axisymmetric_plate.md);
 * the peak against the rigid-plastic membrane estimate (study, "Independent estimate"): 26.6-35.7 mm over
   the flow stresses 496-369 MPa;
 * the impulse of the bird on the plate within 15 % of m v = 157.1 N s (measured 1.05-1.10 m v over the fluid series: the plate's
