@@ -13,8 +13,8 @@ mutations to the tree and writes it back as YAML (`emit` below):
 - bytes: random bytes spliced into the file, the file truncated, the file padded past the size bound.
 
 `check` (click's CliRunner, in process) sees FUZZ_CHECK_CASES mutants (FUZZ_CHECK_CASES_LONG more under
-`-m validation`); bases with more than 3000
-nodes and particles are drawn a quarter as often as the others (the largest ALE decks take 0.2 to
+`-m validation`); bases with more than about 3000
+elements and particles (``_size``, from the deck's geometry counts) are drawn a quarter as often as the others (the largest ALE decks take 0.2 to
 3 s a check, the small decks about 20 ms). Each must exit 0, or 65 with exactly one line ``file:line:col: path: message`` whose line
 lies in the file, within MUTANT_SECONDS of CPU time. The deck bounds are lowered for the fuzzing
 (SPHFEM_MAX_DECK_NODES, SPHFEM_MAX_DECK_BYTES: module fixture) so that bombs and huge files stop
@@ -150,17 +150,29 @@ def _parse(deck: Path):
 BASES = {deck: _parse(deck) for deck in DECKS}
 
 
-def _size(deck: Path) -> int:
-    """Nodes (Lagrangian and ALE) and particles of a base's model."""
-    from sphfem_cli.driver import load_model
-
-    model = load_model(str(deck)).model
-    return (model.n_nodes + (len(model.ale.nodes) if model.ale is not None else 0)
-            + (model.particles.n if model.particles is not None else 0))
+def _size(tree) -> float:
+    """About how many elements and particles a base's parts make (sampling weights only, so that no model is
+    built at import): per part, the product of its geometry's ``divisions`` or ``elements_*`` counts, or the
+    extent of its box or polygon over its ``element_size`` or ``spacing``."""
+    total = 0.0
+    for part in (tree.get("parts") or {}).values():
+        geometry = part.get("geometry") if isinstance(part, dict) else None
+        for shape in (geometry.values() if isinstance(geometry, dict) else ()):
+            if not isinstance(shape, dict):
+                continue
+            counts = [v for k, v in shape.items() if k == "divisions" or k.startswith("elements_")]
+            counts = [n for c in counts for n in (c if isinstance(c, list) else [c])]
+            corners = shape.get("vertices") or [shape[k] for k in ("min", "max") if k in shape]
+            step = shape.get("element_size") or part.get("spacing")
+            if counts:
+                total += math.prod(counts)
+            elif step and corners:
+                total += math.prod(max(c) - min(c) for c in zip(*corners)) / step ** len(corners[0])
+    return total
 
 
 # Bases sampled with weights: an ALE box of thousands of elements costs ten times a small deck's check.
-WEIGHTED = [d for d in DECKS for _ in range(1 if _size(d) > 3000 else 4)]
+WEIGHTED = [d for d in DECKS for _ in range(1 if _size(BASES[d]) > 3000 else 4)]
 
 
 def _copy(node):
