@@ -94,9 +94,6 @@ def _solve_renormalised(m, b, dim):
         b[:] = 0.0
         return
     s = tr / dim
-    if dim == 1:
-        b[0] /= m[0, 0]
-        return
     if dim == 2:
         det = m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]
         if det < 0.25 * s * s:

@@ -27,11 +27,11 @@ def update_particle_state(rho, e, m, mat, active, params, eta, dim, pressure_cut
     computed once), h = eta (m/rho)^(1/dim). ``e`` is the specific internal energy (per unit
     mass), so the EOS's energy per reference volume is rho0 e. Returns the largest h.
 
-    A table of one Tait material (the water of most decks) in 1D or 2D takes ``_tait_state``: the
+    A table of one Tait material (the water of most decks) in 2D takes ``_tait_state``: the
     same operations in three loops, so that the divisions and square roots are vectorised (issue 17).
     """
-    if params.shape[0] == 1 and int(params[0, P_EOS_TYPE]) == EOS_TAIT and dim != 3:
-        return _tait_state(rho, m, active, params, eta, dim, pressure_cutoff, p, c, h)
+    if params.shape[0] == 1 and int(params[0, P_EOS_TYPE]) == EOS_TAIT and dim == 2:
+        return _tait_state(rho, m, active, params, eta, pressure_cutoff, p, c, h)
     hmax = 0.0
     for i in range(rho.shape[0]):
         if not active[i]:
@@ -56,20 +56,15 @@ def update_particle_state(rho, e, m, mat, active, params, eta, dim, pressure_cut
         c2 = (dpdmu + pr * dpde / (r * r)) / qr0  # as eos_sound_speed
         c[i] = math.sqrt(c2) if c2 > 0.0 else 0.0
         vol = m[i] / rho[i]
-        if dim == 2:
-            hi = eta * math.sqrt(vol)
-        elif dim == 1:
-            hi = eta * vol
-        else:
-            hi = eta * np.cbrt(vol)
+        hi = eta * math.sqrt(vol) if dim == 2 else eta * np.cbrt(vol)
         h[i] = hi
         hmax = max(hmax, hi)
     return hmax
 
 
 @njit(cache=True, error_model="numpy")
-def _tait_state(rho, m, active, params, eta, dim, pressure_cutoff, p, c, h):
-    """``update_particle_state`` for a table of one Tait material in 1D or 2D, bit-identical to it.
+def _tait_state(rho, m, active, params, eta, pressure_cutoff, p, c, h):
+    """``update_particle_state`` for a table of one Tait material in 2D, bit-identical to it.
 
     The operations of its Tait branch, in three loops over the particles instead of one: (1) the
     compression x = rho0_q (rho/rho0) / rho_ref and x^(gamma - 1) (libm ``pow``, a call LLVM does not
@@ -101,7 +96,7 @@ def _tait_state(rho, m, active, params, eta, dim, pressure_cutoff, p, c, h):
         c2 = (dpdmu + pr * dpde / (r * r)) / qr0  # as eos_sound_speed
         cn = math.sqrt(c2) if c2 > 0.0 else 0.0
         vol = m[i] / rho[i]
-        hn = eta * math.sqrt(vol) if dim == 2 else eta * vol
+        hn = eta * math.sqrt(vol)
         act = active[i]
         p[i] = pn if act else xg1
         c[i] = cn if act else xt

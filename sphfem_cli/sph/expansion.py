@@ -54,8 +54,6 @@ def renormalised_divergence(a, m, dim):
     if tr_m <= 0.0:
         return tr_a
     s = tr_m / dim
-    if dim == 1:
-        return a[0, 0] / m[0, 0]
     if dim == 2:
         det = m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]
         if det < 0.25 * s * s:

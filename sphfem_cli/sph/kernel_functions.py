@@ -1,4 +1,4 @@
-"""SPH smoothing kernels: W(r, h), F(r, h) = (1/r) dW/dr and the normalisation sigma_d.
+"""SPH smoothing kernels: W(r, h), F(r, h) = (1/r) dW/dr and the normalisation sigma_d (d = 2, 3).
 
 W = sigma_d / h^d theta(r/h) with support 2h: the cubic spline (Monaghan & Lattanzio 1985) and
 the Wendland C2 kernel (Wendland 1995; Dehnen & Aly 2012). Equations in docs/theory/sph.md
@@ -22,13 +22,9 @@ WENDLAND_C2 = 1
 def kernel_sigma(kernel, dim):
     """Normalisation constant sigma_d of W = sigma_d / h^d theta(r/h) (support 2h)."""
     if kernel == WENDLAND_C2:
-        if dim == 1:
-            return 5.0 / 8.0
         if dim == 2:
             return 7.0 / (4.0 * math.pi)
         return 21.0 / (16.0 * math.pi)
-    if dim == 1:
-        return 2.0 / 3.0
     if dim == 2:
         return 10.0 / (7.0 * math.pi)
     return 1.0 / math.pi
@@ -36,14 +32,13 @@ def kernel_sigma(kernel, dim):
 
 @njit(cache=True, fastmath=False)
 def kernel_shape(kernel, dim, q):
-    """Kernel shape theta(q) and (1/q) dtheta/dq for 0 <= q < 2 (both 0 beyond)."""
+    """Kernel shape theta(q) and (1/q) dtheta/dq for 0 <= q < 2 (both 0 beyond); the same in 2D and 3D
+    (``dim`` is not read: the callers' signature is that of ``kernel_sigma``)."""
     if q >= 2.0:
         return 0.0, 0.0
     if kernel == WENDLAND_C2:
         t = 1.0 - 0.5 * q
         t2 = t * t
-        if dim == 1:
-            return t2 * t * (1.5 * q + 1.0), -3.0 * t2
         return t2 * t2 * (2.0 * q + 1.0), -5.0 * t2 * t
     t = 2.0 - q
     inner = q < 1.0  # both branches computed, then selected: no misprediction in pair loops
@@ -54,9 +49,7 @@ def kernel_shape(kernel, dim, q):
 
 @njit(cache=True, fastmath=False)
 def inv_pow(inv, dim):
-    """inv^dim for dim 1, 2, 3 (1/h^d of the normalisation)."""
-    if dim == 1:
-        return inv
+    """inv^dim for dim 2, 3 (1/h^d of the normalisation)."""
     if dim == 2:
         return inv * inv
     return inv * inv * inv

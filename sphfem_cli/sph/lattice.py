@@ -27,7 +27,7 @@ def _grid(lo, hi, dx) -> np.ndarray:
 
 
 def box(lo: Sequence[float], hi: Sequence[float], dx: float) -> np.ndarray:
-    """Cell centres of the lattice of spacing dx tiling [lo, hi] (1D, 2D or 3D); (N, dim)."""
+    """Cell centres of the lattice of spacing dx tiling [lo, hi] (2D or 3D); (N, dim)."""
     if len(lo) != len(hi):
         raise ValueError("box corners of different dimension")
     return _grid(lo, hi, dx)

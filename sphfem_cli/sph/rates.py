@@ -140,15 +140,12 @@ def _pair_terms(j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui
     dim = dshape.ndim
     full = tshape.ndim == 1
     wend = kernel == WENDLAND_C2
-    one_d = dim == 1
     dx = xi - sx[0, j]
-    dy = yi - sx[1, j] if dim > 1 else 0.0
+    dy = yi - sx[1, j]
     dz = zi - sx[2, j] if dim > 2 else 0.0
     hs = hi + sx[3, j]
     hij = 0.5 * hs
-    r2 = dx * dx
-    if dim > 1:
-        r2 += dy * dy
+    r2 = dx * dx + dy * dy
     if dim > 2:
         r2 += dz * dz
     ok = (r2 < hs * hs) & (j != k) & (j < e)
@@ -160,30 +157,27 @@ def _pair_terms(j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui
     if wend:
         tw = max(1.0 - 0.5 * q, 0.0)
         tw2 = tw * tw
-        th = tw2 * tw * (1.5 * q + 1.0) if one_d else tw2 * tw2 * (2.0 * q + 1.0)
-        dth = -3.0 * tw2 if one_d else -5.0 * tw2 * tw
+        th = tw2 * tw2 * (2.0 * q + 1.0)
+        dth = -5.0 * tw2 * tw
     else:
         tc = max(2.0 - q, 0.0)
         inner = q < 1.0
         th = 1.0 - q * q * (1.5 - 0.75 * q) if inner else 0.25 * tc * tc * tc
         dth = -3.0 + 2.25 * q if inner else -0.75 * tc * tc * hij * hij * a  # -0.75 (2-q)^2 / q
-    invd = inv * (inv if dim >= 2 else 1.0) * (inv if dim >= 3 else 1.0)
+    invd = inv * inv * (inv if dim >= 3 else 1.0)
     norm = sig * invd
     f = norm * inv * inv * dth
     wgx = f * dx
     wgy = f * dy
     wgz = f * dz
     du = ui - sd[D_VX, j]
-    dv = vi - sd[D_VY, j] if dim > 1 else 0.0
+    dv = vi - sd[D_VY, j]
     dw = wi - sd[D_VZ, j] if dim > 2 else 0.0
     rhoj = sd[D_RHO, j]
     vol = sd[D_VOL, j]
     mj = vol * rhoj
-    vdotg = du * wgx
-    vdr = du * dx
-    if dim > 1:
-        vdotg += dv * wgy
-        vdr += dv * dy
+    vdotg = du * wgx + dv * wgy
+    vdr = du * dx + dv * dy
     if dim > 2:
         vdotg += dw * wgz
         vdr += dw * dz
@@ -209,9 +203,7 @@ def _pair_terms(j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui
     same = 1.0 if tshape.ndim == 3 else (notwall if matj == fmati else 0.0)
     psi = rhoj - rhoi
     if dhydro:
-        gr = gx * dx
-        if dim > 1:
-            gr += gy * dy
+        gr = gx * dx + gy * dy
         if dim > 2:
             gr += gz * dz
         psi += rij * gr / (cij * cij) if cij > 0.0 else 0.0  # c_ij = 0: no diffusion, no correction (0/0)
@@ -263,8 +255,7 @@ def _row_sums(s, e, k, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, 
             j, k, e, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, vi, wi, rhoi, pri, ci, fmati,
             alpha, beta, eps, gx, gy, gz, dhydro, mform, ashape, salpha, ai, bpa)
         ax -= tx
-        if dim > 1:
-            ay -= ty
+        ay -= ty
         if dim > 2:
             az -= tz
         cont += tc
@@ -273,8 +264,7 @@ def _row_sums(s, e, k, sx, sd, kshape, dshape, tshape, sig, xi, yi, zi, hi, ui, 
         if full:
             wall_work += tww
             sxu -= tu
-            if dim > 1:
-                sxv -= tv
+            sxv -= tv
             if dim > 2:
                 sxw -= tws
     return ax, ay, az, cont, work, wall_work, diff, sxu, sxv, sxw
@@ -399,9 +389,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i,
                         base = (cz * ny + cy) * nx
                         for j in range(cell_start[base + x0], cell_start[base + x1 + 1]):
                             dx, dy, dz = xi - sx[0, j], yi - sx[1, j], zi - sx[2, j]
-                            r2 = dx * dx
-                            if dim > 1:
-                                r2 += dy * dy
+                            r2 = dx * dx + dy * dy
                             if dim > 2:
                                 r2 += dz * dz
                             hs = hi + sx[3, j]
@@ -430,8 +418,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i,
                                 work -= (ui - sd[D_VX, j]) * tx + (vi - sd[D_VY, j]) * ty + (wi - sd[D_VZ, j]) * tz
             i = perm[k]
             acc[i, 0] = ax
-            if dim > 1:
-                acc[i, 1] = ay
+            acc[i, 1] = ay
             if dim > 2:
                 acc[i, 2] = az
             drho[i] = (cont if mform else rhoi * cont) - 2.0 * delta * diff
@@ -439,8 +426,7 @@ def _fluid_rates(sx, sd, stau, perm, cell_start, sreach, settings_f, settings_i,
             de[i] = 0.5 * work
             wall_power[i] = 0.5 * sd[D_VOL, k] * rhoi * wall_work
             xsph[i, 0] = exsph * sxu
-            if dim > 1:
-                xsph[i, 1] = exsph * sxv
+            xsph[i, 1] = exsph * sxv
             if dim > 2:
                 xsph[i, 2] = exsph * sxw
 

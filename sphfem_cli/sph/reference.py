@@ -18,11 +18,11 @@ from .kernel_functions import CUBIC_SPLINE, WENDLAND_C2, kernel_sigma
 
 
 def kernel_w(kernel: int, dim: int, r, h):
-    """W(r, h), vectorised."""
+    """W(r, h), vectorised (dim 2 or 3)."""
     q = np.asarray(r, dtype=float) / h
     if kernel == WENDLAND_C2:
         t = np.maximum(1.0 - 0.5 * q, 0.0)
-        th = t**3 * (1.5 * q + 1.0) if dim == 1 else t**4 * (2.0 * q + 1.0)
+        th = t**4 * (2.0 * q + 1.0)
     else:
         th = np.where(q < 1.0, 1.0 - 1.5 * q**2 + 0.75 * q**3, 0.25 * np.maximum(2.0 - q, 0.0) ** 3)
     return kernel_sigma(kernel, dim) / h**dim * th
@@ -33,7 +33,7 @@ def kernel_f(kernel: int, dim: int, r, h):
     q = np.asarray(r, dtype=float) / h
     if kernel == WENDLAND_C2:
         t = np.maximum(1.0 - 0.5 * q, 0.0)
-        d = -3.0 * t**2 if dim == 1 else -5.0 * t**3
+        d = -5.0 * t**3
     else:
         with np.errstate(divide="ignore", invalid="ignore"):
             d = np.where(q < 1.0, -3.0 + 2.25 * q, -0.75 * np.maximum(2.0 - q, 0.0) ** 2 / q)

@@ -86,35 +86,6 @@ def dam_break(a: float = 1.0, dx: float = 0.025, tank_length: float | None = Non
     return SphSystem(x, np.zeros_like(x), mass, rho, mat, mats, opt)
 
 
-SOD_LEFT = (1.0, 1.0)  # (rho, p)
-SOD_RIGHT = (0.125, 0.1)
-
-
-def sod_tube(n_left: int = 400, gamma: float = 1.4, **options) -> SphSystem:
-    """1D Sod shock tube on [0, 1], diaphragm at 0.5, equal-mass particles (the right state is 8
-    times coarser), reflecting ghost walls at both ends; Monaghan viscosity alpha = 1, beta = 2."""
-    (rl, pl), (rr, pr) = SOD_LEFT, SOD_RIGHT
-    m = 0.5 * rl / n_left
-    dxl, dxr = m / rl, m / rr
-    xl = (np.arange(n_left) + 0.5) * dxl
-    n_right = int(round(0.5 / dxr))
-    xr = 0.5 + (np.arange(n_right) + 0.5) * dxr
-    x = np.concatenate([xl, xr])[:, None]
-    rho = np.where(x[:, 0] < 0.5, rl, rr)
-    p = np.where(x[:, 0] < 0.5, pl, pr)
-    e = p / ((gamma - 1.0) * rho)
-    mats = ideal_gas(gamma)
-    walls = box_walls([0.0], [1.0], ["left", "right"])
-    opt = _options({"alpha": 1.0, "beta": 2.0, "walls": walls}, options)
-    return SphSystem(x, np.zeros_like(x), np.full(len(x), m), rho, np.zeros(len(x), dtype=np.int64),
-                          mats, opt, energy=e)
-
-
-SOD_STAR = {"p": 0.303130, "u": 0.927453, "rho_left": 0.426319, "rho_right": 0.265574,
-            "head": 0.26336, "tail": 0.48595, "contact": 0.68549, "shock": 0.85043}
-"""Exact Sod solution at t = 0.2 (../shared/reference/README.md)."""
-
-
 def ring_particles(x: np.ndarray, dx: float, rho: np.ndarray) -> np.ndarray:
     """Ring masses of lattice particles in the meridian plane (axisymmetric): m = 2 pi r rho dx^2, full 2 pi."""
     return 2.0 * math.pi * x[:, 0] * np.asarray(rho, dtype=np.float64) * dx * dx

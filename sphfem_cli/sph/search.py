@@ -127,7 +127,7 @@ def bin_points(x, h, active, gpos, gsrc, wpos, wh, max_cells_per_point):
             if not active[pid]:
                 continue
             c0 = int((x[pid, 0] - lo[0]) * inv)
-            c1 = int((x[pid, 1] - lo[1]) * inv) if dim > 1 else 0
+            c1 = int((x[pid, 1] - lo[1]) * inv)
             c2 = int((x[pid, 2] - lo[2]) * inv) if dim > 2 else 0
         else:
             if pid < n + ng:
@@ -136,10 +136,10 @@ def bin_points(x, h, active, gpos, gsrc, wpos, wh, max_cells_per_point):
             else:
                 w = pid - n - ng
                 a0 = wpos[w, 0]
-                a1 = wpos[w, 1] if dim > 1 else 0.0
+                a1 = wpos[w, 1]
                 a2 = wpos[w, 2] if dim > 2 else 0.0
             c0 = int((a0 - lo[0]) * inv)
-            c1 = int((a1 - lo[1]) * inv) if dim > 1 else 0
+            c1 = int((a1 - lo[1]) * inv)
             c2 = int((a2 - lo[2]) * inv) if dim > 2 else 0
         c0 = min(max(c0, 0), nx - 1)
         c1 = min(max(c1, 0), ny - 1)
@@ -175,11 +175,11 @@ def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr,
         if pid < n:
             i = pid
             sx[0, k] = x[i, 0]
-            sx[1, k] = x[i, 1] if dim > 1 else 0.0
+            sx[1, k] = x[i, 1]
             sx[2, k] = x[i, 2] if dim > 2 else 0.0
             sx[3, k] = h[i]
             sd[D_VX, k] = v[i, 0]
-            sd[D_VY, k] = v[i, 1] if dim > 1 else 0.0
+            sd[D_VY, k] = v[i, 1]
             sd[D_VZ, k] = v[i, 2] if dim > 2 else 0.0
             r = rho[i]
             sd[D_RHO, k] = r
@@ -202,11 +202,11 @@ def gather_points(perm, x, v, rho, m, p, c, h, mat, gpos, gvel, gsrc, gdp, gdr,
         else:
             w = pid - n - ng
             sx[0, k] = wpos[w, 0]
-            sx[1, k] = wpos[w, 1] if dim > 1 else 0.0
+            sx[1, k] = wpos[w, 1]
             sx[2, k] = wpos[w, 2] if dim > 2 else 0.0
             sx[3, k] = wh[w]
             sd[D_VX, k] = wvel[w, 0]
-            sd[D_VY, k] = wvel[w, 1] if dim > 1 else 0.0
+            sd[D_VY, k] = wvel[w, 1]
             sd[D_VZ, k] = wvel[w, 2] if dim > 2 else 0.0
             sd[D_RHO, k] = wrho[w]
             sd[D_VOL, k] = wm[w] / wrho[w]
@@ -245,7 +245,7 @@ def search_reach(sx, cell_start, cell, ox, oy, oz, nx, ny, nz, dim, hmax, hmin, 
         cz = key // (nx * ny)
         w = 2.0 * hc + 0.01 * cell
         x0, x1 = cell_range(ox + (cx + 0.5) * cell, 0.5 * cell + w, ox, inv, nx)
-        y0, y1 = cell_range(oy + (cy + 0.5) * cell, 0.5 * cell + w, oy, inv, ny) if dim > 1 else (0, 0)
+        y0, y1 = cell_range(oy + (cy + 0.5) * cell, 0.5 * cell + w, oy, inv, ny)
         z0, z1 = cell_range(oz + (cz + 0.5) * cell, 0.5 * cell + w, oz, inv, nz) if dim > 2 else (0, 0)
         for bz in range(z0, z1 + 1):
             for by in range(y0, y1 + 1):
@@ -363,9 +363,8 @@ def neighbour_list(nbj, k, xi, yi, zi, hi, reach, sx, cell_start, grid_o, inv_ce
             for j in range(np.uint64(cell_start[base + x0]), np.uint64(cell_start[base + x1 + 1])):
                 dx = xi - sx[0, j]
                 r2 = dx * dx
-                if dim > 1:
-                    dy = yi - sx[1, j]
-                    r2 += dy * dy
+                dy = yi - sx[1, j]
+                r2 += dy * dy
                 if dim > 2:
                     dz = zi - sx[2, j]
                     r2 += dz * dz

@@ -326,9 +326,8 @@ def wall_pairs(ws, twins, slip, sx, sd, mine, perm, cell_start, settings_f, sett
                     c = mi * mwk * s
                     f_fluid[i, 0] -= c * gx
                     fx += c * gx
-                    if dim > 1:
-                        f_fluid[i, 1] -= c * gy
-                        fy += c * gy
+                    f_fluid[i, 1] -= c * gy
+                    fy += c * gy
                     if dim > 2:
                         f_fluid[i, 2] -= c * gz
                         fz += c * gz

@@ -42,7 +42,7 @@ class SphSystem:
 
     Parameters
     ----------
-    x, v : (N, dim) positions and velocities (dim 1, 2 or 3).
+    x, v : (N, dim) positions and velocities (dim 2 or 3: a deck's ``dimension``).
     mass, density : (N,) particle masses and densities.
     material : (N,) int index into ``materials``.
     materials : ``(type ids (M,), rows (M, NPARAM))`` as ``materials.tables.pack_material``
@@ -56,8 +56,8 @@ class SphSystem:
                  energy=None, wall_particles: WallParticles | None = None):
         self.options = opt = options or SphOptions()
         self.x = np.array(x, dtype=np.float64, order="C")
-        if self.x.ndim != 2 or self.x.shape[1] not in (1, 2, 3):
-            raise ValueError(f"positions must be (N, dim) with dim 1, 2 or 3, got shape {self.x.shape}")
+        if self.x.ndim != 2 or self.x.shape[1] not in (2, 3):
+            raise ValueError(f"positions must be (N, dim) with dim 2 or 3, got shape {self.x.shape}")
         n, dim = self.x.shape
         self.dim = dim
         self.v = np.array(v, dtype=np.float64, order="C").reshape(n, dim)

@@ -62,7 +62,7 @@ class Wall:
 def box_walls(lo: Sequence[float], hi: Sequence[float], sides: Sequence[str], condition: str = "slip",
               source: Sequence[float] | None = None) -> list[Wall]:
     """Walls on the named faces of the box [lo, hi]: 'left'/'right' (x), 'bottom'/'top' (y),
-    'back'/'front' (z); in 2D 'bottom'/'top' are y, in 1D 'left'/'right' are x. ``source``:
+    'back'/'front' (z); in 2D 'bottom'/'top' are y. ``source``:
     non_reflecting sides only (``Wall``)."""
     from ..deck.schema.boundaries import BOX_FACES
 
@@ -141,10 +141,10 @@ def fill_ghosts(x, v, rho, c, d0, active, walls, valid, reach, offsets, gravity,
             continue
         mask = _near_mask(x, d0, i, walls, reach)
         x0 = x[i, 0]
-        x1 = x[i, 1] if dim > 1 else 0.0
+        x1 = x[i, 1]
         x2 = x[i, 2] if dim > 2 else 0.0
         v0 = v[i, 0]
-        v1 = v[i, 1] if dim > 1 else 0.0
+        v1 = v[i, 1]
         v2 = v[i, 2] if dim > 2 else 0.0
         for s in range(1, valid.shape[0]):
             if not (valid[s] and (s & mask) == s):
@@ -379,8 +379,7 @@ def ghost_friction(sx, sd, svf, slots, perm, cell_start, sreach, settings_f, set
                     power += coef * (ui * dx + vi * dy + wi * dz)
         i = perm[k]
         acc[i, 0] += ax
-        if dim > 1:
-            acc[i, 1] += ay
+        acc[i, 1] += ay
         if dim > 2:
             acc[i, 2] += az
         de[i] += power

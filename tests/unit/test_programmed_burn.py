@@ -113,19 +113,24 @@ def test_detonation_front_in_an_ale_strip_arrives_at_r_over_d():
 
 
 def test_detonation_front_on_a_line_of_sph_particles():
-    """SPH particles on a line (1D), lit at x = 0: the burn fraction of each particle rises from 0
-    at t_L = x / D; its pressure becomes positive within one step of x / D and not before."""
+    """SPH particles in a channel three spacings high between slip walls (a plane flow along x), each row lit
+    at x = 0 (a detonation point at the row's start: t_L = x / D): the burn fraction of each particle rises
+    from 0 at t_L; its pressure becomes positive within one step of x / D and not before."""
+    from sphfem_cli.sph import lattice
     from sphfem_cli.sph.options import SphOptions
     from sphfem_cli.sph.system import SphSystem
+    from sphfem_cli.sph.walls import box_walls
 
     row = tnt_row()
-    dx = 1e-3
-    x = (np.arange(60) + 0.5)[:, None] * dx
-    ps = SphSystem(x, np.zeros_like(x), np.full(60, RHO0 * dx), np.full(60, RHO0), np.zeros(60, dtype=np.int64),
-                        (np.array([mk.FLUID]), row[None, :]), SphOptions(alpha=1.0, beta=2.0))
-    ps.set_burn([([0.0], 0.0)])
+    dx, n, rows = 1e-3, 60, 3
+    x = lattice.box([0.0, 0.0], [n * dx, rows * dx], dx)  # x first: particle k is at column k // rows
+    m = len(x)
+    walls = box_walls([0.0, 0.0], [n * dx, rows * dx], ["bottom", "top"])
+    ps = SphSystem(x, np.zeros_like(x), np.full(m, RHO0 * dx * dx), np.full(m, RHO0), np.zeros(m, dtype=np.int64),
+                   (np.array([mk.FLUID]), row[None, :]), SphOptions(alpha=1.0, beta=2.0, walls=tuple(walls)))
+    ps.set_burn([([0.0, (j + 0.5) * dx], 0.0) for j in range(rows)])
     assert np.all(ps.p == 0.0)
-    first = np.full(60, np.nan)
+    first = np.full(m, np.nan)
     t_prev = 0.0
     while ps.time < 0.05 / D:
         ps.compute_rates()
@@ -136,7 +141,7 @@ def test_detonation_front_on_a_line_of_sph_particles():
         ps.step(dt)
     t_light = x[:, 0] / D
     lit = ~np.isnan(first)
-    assert lit[:40].all()
+    assert lit[: 40 * rows].all()
     assert np.all(first[lit] > t_light[lit])  # not before t_L
     assert np.all(first[lit] - t_light[lit] <= 1.5 * (ps.time - t_prev) + 1e-15)  # within a step of t_L
     ps.time = 1.0  # burnt, at rest

@@ -13,18 +13,18 @@ KERNELS = [k.CUBIC_SPLINE, k.WENDLAND_C2]
 
 
 @pytest.mark.parametrize("kernel", KERNELS)
-@pytest.mark.parametrize("dim", [1, 2, 3])
+@pytest.mark.parametrize("dim", [2, 3])
 def test_kernel_integrates_to_one(kernel, dim):
     h = 0.37
     r = np.linspace(0.0, 2.0 * h, 20001)
     w = ref.kernel_w(kernel, dim, r, h)
-    shell = {1: 2.0 * np.ones_like(r), 2: 2.0 * math.pi * r, 3: 4.0 * math.pi * r**2}[dim]
+    shell = {2: 2.0 * math.pi * r, 3: 4.0 * math.pi * r**2}[dim]
     assert np.trapezoid(shell * w, r) == pytest.approx(1.0, abs=1e-7)
     assert ref.kernel_w(kernel, dim, 2.0 * h, h) == 0.0
 
 
 @pytest.mark.parametrize("kernel", KERNELS)
-@pytest.mark.parametrize("dim", [1, 2, 3])
+@pytest.mark.parametrize("dim", [2, 3])
 def test_numba_kernel_matches_reference_and_derivative(kernel, dim):
     h = 0.8
     r = np.linspace(1e-3, 2.2 * h, 301)

@@ -28,7 +28,7 @@ def random_state(dim, seed, mixed=True, n_side=None):
     """Jittered lattice in [0, L]^dim with random masses, densities, velocities and energies."""
     rng = np.random.default_rng(seed)
     dx = 0.1
-    n_side = n_side or {1: 30, 2: 8, 3: 5}[dim]
+    n_side = n_side or {2: 8, 3: 5}[dim]
     L = n_side * dx
     x = lattice.box([0.0] * dim, [L] * dim, dx) + rng.uniform(-0.2, 0.2, (n_side**dim, dim)) * dx
     n = len(x)
@@ -43,7 +43,7 @@ def random_state(dim, seed, mixed=True, n_side=None):
 
 
 def full_options(dim, L):
-    walls = box_walls([0.0] * dim, [L] * dim, ["left", "bottom"][:dim], "slip")
+    walls = box_walls([0.0] * dim, [L] * dim, ["left", "bottom"], "slip")
     walls += box_walls([0.0] * dim, [L] * dim, ["right"], "no_slip")
     return SphOptions(alpha=0.3, beta=0.5, delta=0.1, delta_hydrostatic=True, xsph=0.5, ghost_hydrostatic=True,
                       gravity=[0.0] * (dim - 1) + [-9.81], walls=walls, dilatational_viscosity=0.1,
@@ -55,12 +55,12 @@ def build(s, opt, wall=None):
                           wall_particles=None if wall is None else WallParticles(*wall))
 
 
-@pytest.mark.parametrize("dim", [1, 2, 3])
+@pytest.mark.parametrize("dim", [2, 3])
 def test_neighbour_search_equals_brute_force(dim, single_thread):
     s = random_state(dim, seed=10 + dim)
     # spread the smoothing lengths: masses vary by a factor 3
     s["m"] *= np.random.default_rng(3).uniform(0.5, 1.5, len(s["m"])) ** dim
-    wx = lattice.box_wall_particles([0.0] * dim, [s["L"]] * dim, s["dx"], 2, ["left"] if dim == 1 else ["top"])
+    wx = lattice.box_wall_particles([0.0] * dim, [s["L"]] * dim, s["dx"], 2, ["top"])
     ps = build(s, full_options(dim, s["L"]), (wx, s["dx"], 0))
     ps.compute_rates()
     offsets, nb, perm = ps.neighbour_lists()
@@ -76,19 +76,19 @@ def test_neighbour_search_equals_brute_force(dim, single_thread):
 def large_h_state(dim, seed):
     """``random_state`` with a few particles of 3-4 times the others' h (an explosive's products
     among water): hmax > search.SPREAD hmin, so the search uses the fine grid and local reaches."""
-    s = random_state(dim, seed=seed, mixed=False, n_side={1: 80, 2: 20, 3: 7}[dim])  # 3D 7^3: the O(N^2) reference took 20 s at 9^3
+    s = random_state(dim, seed=seed, mixed=False, n_side={2: 20, 3: 7}[dim])  # 3D 7^3: the O(N^2) reference took 20 s at 9^3
     big = np.random.default_rng(seed).choice(len(s["m"]), max(2, len(s["m"]) // 50), replace=False)
     s["m"][big] *= np.linspace(3.0, 4.0, len(big)) ** dim
     return s
 
 
-@pytest.mark.parametrize("dim", [1, 2, 3])
+@pytest.mark.parametrize("dim", [2, 3])
 def test_neighbour_search_with_large_h_equals_brute_force(dim, single_thread):
     from sphfem_cli.sph import search
     from sphfem_cli.sph.slots import GF_CELL, GF_HMAX
 
     s = large_h_state(dim, seed=40 + dim)
-    wx = lattice.box_wall_particles([0.0] * dim, [s["L"]] * dim, s["dx"], 2, ["left"] if dim == 1 else ["top"])
+    wx = lattice.box_wall_particles([0.0] * dim, [s["L"]] * dim, s["dx"], 2, ["top"])
     ps = build(s, full_options(dim, s["L"]), (wx, s["dx"], 0))
     ps.compute_rates()
     assert ps.h.max() > search.SPREAD * ps.h.min()
@@ -118,7 +118,7 @@ def test_numba_rates_equal_numpy_reference_with_large_h(dim, single_thread):
         np.testing.assert_allclose(got, r[key], rtol=0, atol=1e-12 * np.abs(r[key]).max(), err_msg=key)
 
 
-@pytest.mark.parametrize("dim", [1, 2, 3])
+@pytest.mark.parametrize("dim", [2, 3])
 @pytest.mark.parametrize("mixed", [False, True])
 def test_numba_rates_equal_numpy_reference(dim, mixed, single_thread):
     """Every term on: Monaghan viscosity with beta, delta-SPH with the hydrostatic correction,
@@ -126,7 +126,7 @@ def test_numba_rates_equal_numpy_reference(dim, mixed, single_thread):
     hydrostatic ghosts, Adami dummy walls, gravity; one or two materials."""
     s = random_state(dim, seed=dim + (7 if mixed else 0), mixed=mixed)
     opt = full_options(dim, s["L"])
-    wx = lattice.box_wall_particles([0.0] * dim, [s["L"]] * dim, s["dx"], 2, ["left"] if dim == 1 else ["top"])
+    wx = lattice.box_wall_particles([0.0] * dim, [s["L"]] * dim, s["dx"], 2, ["top"])
     ps = build(s, opt, (wx, s["dx"], 0))
     ps.compute_rates()
     r = ref.rates_reference(s["x"], s["v"], s["rho"], s["e"], s["m"], s["mat"], s["mats"][1], opt,
@@ -142,8 +142,8 @@ def test_numba_rates_equal_numpy_reference(dim, mixed, single_thread):
 def test_numba_rates_equal_numpy_reference_wendland_cutoff(dim, single_thread):
     """Wendland C2 at h/dx = 1.5 with a pressure cut-off (plain ghosts, plain delta-SPH). Plane 2D only:
     each (kernel, dimension) pair is its own compile of the rates loop (rates._fluid_rates), no shipped
-    deck uses Wendland, its normalisation in 1D/2D/3D is checked in test_sph_kernels.py and the
-    dimension-dependent parts of the loop by the cubic-spline tests above in 1D/2D/3D."""
+    deck uses Wendland, its normalisation in 2D/3D is checked in test_sph_kernels.py and the
+    dimension-dependent parts of the loop by the cubic-spline tests above in 2D/3D."""
     s = random_state(dim, seed=20 + dim)
     s["rho"] *= np.where(np.arange(len(s["rho"])) % 3 == 0, 0.97, 1.0)  # some tension to cut off
     opt = full_options(dim, s["L"])
@@ -216,7 +216,7 @@ def test_reordering_changes_only_the_storage_order(single_thread):
         np.testing.assert_allclose(a, b, rtol=1e-9, atol=1e-12)
 
 
-@pytest.mark.parametrize("dim", [1, 2, 3])
+@pytest.mark.parametrize("dim", [2, 3])
 def test_rates_neighbour_list_is_the_csr_list_in_order_padded_with_the_sentinel(dim, single_thread):
     """``search.neighbour_list`` (the scan of the rates loops) gives, slot by slot, exactly the
     neighbours of ``SphSystem.neighbour_lists`` in the same order, pads to a multiple of the vector
