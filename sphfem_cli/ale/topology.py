@@ -1,13 +1,12 @@
 """Topology of an ALE mesh (quad4 or hex8): faces, element-face and node-element maps, the dual
 node lines of the momentum remap, and the local face/edge tables of the two element types.
 
-Built once per mesh: numpy, and a kernel for the quad4 dual node lines; the kernels take the arrays
+Built once per mesh, in numpy (no kernel to compile at set-up); the kernels take the arrays
 ``build_topology`` returns.
 """
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
 
 # local faces of a quad4: face k joins corners k and k+1. Sweep direction 0 (xi) crosses faces
 # 3 (side "a") and 1 (side "b"); direction 1 (eta) crosses faces 0 (a) and 2 (b).
@@ -50,32 +49,22 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
     conn = np.ascontiguousarray(conn, dtype=np.int64)
     if conn.shape[1] == 8:
         return _build_topology_3d(conn, n_nodes)
-    n_elem = conn.shape[0]
     a = conn.ravel()
     b = conn[:, [1, 2, 3, 0]].ravel()  # face k joins corners k and k + 1
     first, inv = _unique_keys(np.minimum(a, b) * n_nodes + np.maximum(a, b))
-    n_faces = first.size
     face_nodes = np.stack([a[first], b[first]], axis=1)
-    face_elem = np.empty((n_faces, 2), dtype=np.int64)
-    face_local = np.empty((n_faces, 2), dtype=np.int64)
-    elem_face = np.empty((n_elem, 4), dtype=np.int64)
-    elem_sign = np.empty((n_elem, 4), dtype=np.int8)  # +1 / -1: 4 bytes an element for the sweeps to read, not 32
-    elem_nbr = np.empty((n_elem, 4), dtype=np.int64)
-    if _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
-        raise ValueError("a face is shared by more than two elements")
+    face_elem, face_local, elem_face, elem_sign, elem_nbr = _face_maps(first, inv, 4)
     face_dir = np.where(face_local[:, 0] % 2 == 1, 0, 1)
 
     node_elem_idx = np.argsort(a, kind="stable").astype(np.int64, copy=False)
     node_elem_ptr = np.zeros(n_nodes + 1, dtype=np.int64)
     node_elem_ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
 
-    node_line = np.empty((n_elem, 2, 2, 4), dtype=np.int64)
-    _quad_node_lines(conn, elem_nbr, np.array(QUAD_SIDE_A, dtype=np.int64), np.array(QUAD_SIDE_B, dtype=np.int64),
-                     QUAD_HALF_NODES, node_line)
+    node_line = _quad_node_lines(conn, elem_nbr, elem_face, elem_sign, face_local)
     return dict(
         face_nodes=face_nodes.astype(np.int64, copy=False), face_elem=face_elem, face_local=face_local,
         face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
-        node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line.astype(np.int32),
+        node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line,
         faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64, copy=False) for d in range(2)],
         side_a=QUAD_SIDE_A, side_b=QUAD_SIDE_B, corner_edge=QUAD_CORNER_HALF, corner_dst=QUAD_CORNER_DST,
     )
@@ -99,67 +88,83 @@ def _unique_keys(*keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return order[new], inverse
 
 
-@njit(cache=True)
-def _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
-    """The face maps of a quad4 mesh from its local faces' face numbers inv (4E,) (local face k of
-    element e at 4 e + k) and each face's first local face first (F,): face_elem, face_local (F, 2)
-    owner then neighbour (-1: none), elem_face, elem_sign (+1 on the owner's side, -1 on the
-    neighbour's), elem_nbr (-1: none) (E, 4). True when a face is met more than twice."""
-    for f in range(first.size):
-        face_elem[f, 0] = first[f] // 4
-        face_local[f, 0] = first[f] % 4
-        face_elem[f, 1] = -1
-        face_local[f, 1] = -1
-    too_many = False
-    for i in range(inv.size):
-        f = inv[i]
-        e, k = i // 4, i % 4
-        elem_face[e, k] = f
-        if first[f] == i:
-            elem_sign[e, k] = 1
-        else:
-            elem_sign[e, k] = -1
-            if face_elem[f, 1] >= 0:
-                too_many = True
-            face_elem[f, 1] = e
-            face_local[f, 1] = k
-    for e in range(elem_face.shape[0]):
-        for k in range(4):
-            f = elem_face[e, k]
-            elem_nbr[e, k] = face_elem[f, 1] if elem_sign[e, k] > 0 else face_elem[f, 0]
-    return too_many
+def _face_maps(first: np.ndarray, inv: np.ndarray, nf: int) -> tuple:
+    """The face maps of a mesh of elements with nf local faces, from each local face's face number inv
+    (nf E,) (local face k of element e at nf e + k) and each face's first local face first (F,):
+    face_elem, face_local (F, 2) owner (the first occurrence) then neighbour (-1: none), elem_face,
+    elem_sign (+1 on the owner's side, -1 on the neighbour's), elem_nbr (-1: none) (E, nf). Raises
+    ValueError when a face is met more than twice."""
+    n_local = inv.size
+    if n_local and np.bincount(inv).max() > 2:
+        raise ValueError("a face is shared by more than two elements")
+    owner = first[inv] == np.arange(n_local)
+    face_elem = np.full((first.size, 2), -1, dtype=np.int64)
+    face_local = np.full((first.size, 2), -1, dtype=np.int64)
+    face_elem[:, 0] = first // nf
+    face_local[:, 0] = first % nf
+    second = np.flatnonzero(~owner)
+    face_elem[inv[second], 1] = second // nf
+    face_local[inv[second], 1] = second % nf
+    elem_face = inv.reshape(-1, nf)
+    elem_sign = np.where(owner, 1, -1).astype(np.int8).reshape(-1, nf)
+    elem_nbr = np.where(elem_sign > 0, face_elem[elem_face, 1], face_elem[elem_face, 0])
+    return face_elem, face_local, elem_face, elem_sign, elem_nbr
 
 
-@njit(cache=True)
-def _quad_node_lines(conn, elem_nbr, side_a, side_b, half_nodes, node_line):
-    """node_line[e, d, h] = (before src, src, dst, after dst) of quad4 element e's half h along sweep
-    direction d (src, dst = half_nodes[d, h]): "before src" is the corner of the side-a neighbour
-    across face side_a[d] joined to src by the neighbour's edge that leaves the shared face, "after
-    dst" the same across side_b[d]; -1 without a neighbour."""
-    for e in range(conn.shape[0]):
+def _quad_node_lines(conn: np.ndarray, elem_nbr: np.ndarray, elem_face: np.ndarray, elem_sign: np.ndarray,
+                     face_local: np.ndarray) -> np.ndarray:
+    """node_line (E, 2, 2, 4) int32: node_line[e, d, h] = (before src, src, dst, after dst) of quad4 element e's
+    half h along sweep direction d (src, dst = QUAD_HALF_NODES[d, h]). "before src" is the corner of the side-a
+    neighbour nb across face k = QUAD_SIDE_A[d] joined to src by nb's edge that leaves the shared face: with src
+    at nb's corner c (its first), nb's corner c + 1 unless that is the shared face's other node, else its corner
+    c - 1; "after dst" the same across QUAD_SIDE_B[d]; -1 without a neighbour.
+
+    The shared face is nb's local face j (``face_local``), its corners j and j + 1: src at corner j gives corner
+    j - 1, at j + 1 corner j + 2, the same node as the rule above wherever nb's and e's corners are four distinct
+    nodes; elements with a repeated corner (a collapsed quad) and their neighbours take the rule itself.
+    """
+    n_elem = conn.shape[0]
+    node_line = np.empty((n_elem, 2, 2, 4), dtype=np.int32)
+    flat = conn.ravel()
+    repeated = np.zeros(n_elem, dtype=bool)
+    for i in range(4):
+        for j in range(i + 1, 4):
+            repeated |= conn[:, i] == conn[:, j]
+    for side, (col, faces) in enumerate(((0, QUAD_SIDE_A), (3, QUAD_SIDE_B))):
         for d in range(2):
+            k = faces[d]
+            nb = elem_nbr[:, k]
+            has = nb >= 0
+            f = elem_face[:, k]
+            j = np.where(elem_sign[:, k] > 0, face_local[f, 1], face_local[f, 0])  # the face in nb (-1: none)
+            base = 4 * np.where(has, nb, 0)
+            at_j = flat[base + np.where(has, j, 0)]
+            before = flat[base + (j + 3) % 4]  # nb's corner j - 1
+            after = flat[base + (j + 2) % 4]  # nb's corner j + 2
+            slow = np.flatnonzero(has & (repeated | repeated[np.where(has, nb, 0)]))
             for h in range(2):
-                src = conn[e, half_nodes[d, h, 0]]
-                dst = conn[e, half_nodes[d, h, 1]]
-                node_line[e, d, h, 1] = src
-                node_line[e, d, h, 2] = dst
-                for side in range(2):
-                    col = 0 if side == 0 else 3
-                    node = src if side == 0 else dst
-                    k = side_a[d] if side == 0 else side_b[d]
-                    nb = elem_nbr[e, k]
-                    if nb < 0:
-                        node_line[e, d, h, col] = -1
-                        continue
-                    fa = conn[e, k]
-                    other = conn[e, (k + 1) % 4] if fa == node else fa
-                    c = 0
-                    for j in range(4):
-                        if conn[nb, j] == node:
-                            c = j
-                            break
-                    c1 = conn[nb, (c + 1) % 4]
-                    node_line[e, d, h, col] = conn[nb, (c + 3) % 4] if c1 == other else c1
+                node = conn[:, QUAD_HALF_NODES[d, h, side]]
+                line = np.where(has, np.where(node == at_j, before, after), -1)
+                if len(slow):
+                    line[slow] = _node_line_rule(conn, slow, nb[slow], k, node[slow])
+                node_line[:, d, h, col] = line
+    for d in range(2):
+        for h in range(2):
+            node_line[:, d, h, 1] = conn[:, QUAD_HALF_NODES[d, h, 0]]
+            node_line[:, d, h, 2] = conn[:, QUAD_HALF_NODES[d, h, 1]]
+    return node_line
+
+
+def _node_line_rule(conn: np.ndarray, e: np.ndarray, nb: np.ndarray, k: int, node: np.ndarray) -> np.ndarray:
+    """``_quad_node_lines``' rule itself for elements e with neighbours nb across their face k: node at nb's
+    first corner c holding it, nb's corner c + 1 unless that is the face's other node, else corner c - 1."""
+    fa, fb = conn[e, k], conn[e, (k + 1) % 4]
+    other = np.where(fa == node, fb, fa)
+    cn = conn[nb]
+    c = np.argmax(cn == node[:, None], axis=1)
+    rows = np.arange(len(e))
+    c1 = cn[rows, (c + 1) % 4]
+    return np.where(c1 == other, cn[rows, (c + 3) % 4], c1)
 
 
 def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:
