@@ -1,12 +1,13 @@
 """Topology of an ALE mesh (quad4 or hex8): faces, element-face and node-element maps, the dual
 node lines of the momentum remap, and the local face/edge tables of the two element types.
 
-Built once per mesh, in numpy (no kernel to compile at set-up); the kernels take the arrays
-``build_topology`` returns.
+Built once per mesh: numpy, and for large quad4 meshes two kernels (``TOPOLOGY_KERNEL_ABOVE``); the solver's
+kernels take the arrays ``build_topology`` returns.
 """
 from __future__ import annotations
 
 import numpy as np
+from numba import njit
 
 # local faces of a quad4: face k joins corners k and k+1. Sweep direction 0 (xi) crosses faces
 # 3 (side "a") and 1 (side "b"); direction 1 (eta) crosses faces 0 (a) and 2 (b).
@@ -35,7 +36,7 @@ HEX_CORNER_NBR = np.array([[1, 3, 4], [0, 2, 5], [1, 3, 6], [0, 2, 7], [0, 5, 7]
                           dtype=np.int64)
 
 
-def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
+def build_topology(conn: np.ndarray, n_nodes: int, kernel: bool | None = None) -> dict:
     """Faces, element-face and node-element maps and dual node lines of a quad4 (or hex8) mesh.
 
     Besides the maps, per sweep direction d: ``side_a[d]``, ``side_b[d]`` the local faces it
@@ -43,24 +44,41 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
     whether it is that edge's far (side-b) end, ``faces_by_dir[d]`` the faces it sweeps.
     ``node_line`` is int32 (node numbers below 2^31): the dual fluxes read a quarter of it per sweep, and
     half the bytes measured 10.9 -> 7.9 ns per element-sweep of ``dual.dual_fluxes`` (480^2 gas, mostly at rest).
+    The quad4 face maps and node lines: numpy up to TOPOLOGY_KERNEL_ABOVE elements, else (or with ``kernel``)
+    the kernels ``_quad_face_maps``, ``_quad_node_lines_kernel``; the same arrays (tests/unit/test_setup_numpy.py).
     """
     if n_nodes >= 2 ** 31:
         raise ValueError("ALE meshes are limited to 2^31 - 1 nodes (int32 node lines)")
     conn = np.ascontiguousarray(conn, dtype=np.int64)
     if conn.shape[1] == 8:
         return _build_topology_3d(conn, n_nodes)
+    n_elem = conn.shape[0]
     a = conn.ravel()
     b = conn[:, [1, 2, 3, 0]].ravel()  # face k joins corners k and k + 1
     first, inv = _unique_keys(np.minimum(a, b) * n_nodes + np.maximum(a, b))
     face_nodes = np.stack([a[first], b[first]], axis=1)
-    face_elem, face_local, elem_face, elem_sign, elem_nbr = _face_maps(first, inv, 4)
+    if (n_elem > TOPOLOGY_KERNEL_ABOVE) if kernel is None else kernel:
+        n_faces = first.size
+        face_elem = np.empty((n_faces, 2), dtype=np.int64)
+        face_local = np.empty((n_faces, 2), dtype=np.int64)
+        elem_face = np.empty((n_elem, 4), dtype=np.int64)
+        elem_sign = np.empty((n_elem, 4), dtype=np.int8)  # +1 / -1: 4 bytes an element for the sweeps, not 32
+        elem_nbr = np.empty((n_elem, 4), dtype=np.int64)
+        if _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
+            raise ValueError("a face is shared by more than two elements")
+        node_line = np.empty((n_elem, 2, 2, 4), dtype=np.int64)
+        _quad_node_lines_kernel(conn, elem_nbr, np.array(QUAD_SIDE_A, dtype=np.int64),
+                                np.array(QUAD_SIDE_B, dtype=np.int64), QUAD_HALF_NODES, node_line)
+        node_line = node_line.astype(np.int32)
+    else:
+        face_elem, face_local, elem_face, elem_sign, elem_nbr = _face_maps(first, inv, 4)
+        node_line = _quad_node_lines(conn, elem_nbr, elem_face, elem_sign, face_local)
     face_dir = np.where(face_local[:, 0] % 2 == 1, 0, 1)
 
     node_elem_idx = np.argsort(a, kind="stable").astype(np.int64, copy=False)
     node_elem_ptr = np.zeros(n_nodes + 1, dtype=np.int64)
     node_elem_ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
 
-    node_line = _quad_node_lines(conn, elem_nbr, elem_face, elem_sign, face_local)
     return dict(
         face_nodes=face_nodes.astype(np.int64, copy=False), face_elem=face_elem, face_local=face_local,
         face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
@@ -86,6 +104,76 @@ def _unique_keys(*keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     inverse = np.empty(n, dtype=np.int64)
     inverse[order] = np.cumsum(new) - 1
     return order[new], inverse
+
+
+TOPOLOGY_KERNEL_ABOVE = 1 << 16
+"""Quad4 meshes of more elements than this build their face maps and node lines with kernels (compiled once into
+numba's cache), smaller ones in numpy (nothing to compile or load before the first step: 0.9 s of an empty-cache
+``check``). At 960^2 the numpy passes cost about 0.2 s more user time and their fresh temporaries more system time
+(``startup.py`` ale2, 5 rounds, median 4.8 -> 6.5 s CPU, 7 December 2026)."""
+
+
+@njit(cache=True)
+def _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
+    """The face maps of a quad4 mesh from its local faces' face numbers inv (4E,) (local face k of
+    element e at 4 e + k) and each face's first local face first (F,): face_elem, face_local (F, 2)
+    owner then neighbour (-1: none), elem_face, elem_sign (+1 on the owner's side, -1 on the
+    neighbour's), elem_nbr (-1: none) (E, 4). True when a face is met more than twice."""
+    for f in range(first.size):
+        face_elem[f, 0] = first[f] // 4
+        face_local[f, 0] = first[f] % 4
+        face_elem[f, 1] = -1
+        face_local[f, 1] = -1
+    too_many = False
+    for i in range(inv.size):
+        f = inv[i]
+        e, k = i // 4, i % 4
+        elem_face[e, k] = f
+        if first[f] == i:
+            elem_sign[e, k] = 1
+        else:
+            elem_sign[e, k] = -1
+            if face_elem[f, 1] >= 0:
+                too_many = True
+            face_elem[f, 1] = e
+            face_local[f, 1] = k
+    for e in range(elem_face.shape[0]):
+        for k in range(4):
+            f = elem_face[e, k]
+            elem_nbr[e, k] = face_elem[f, 1] if elem_sign[e, k] > 0 else face_elem[f, 0]
+    return too_many
+
+
+@njit(cache=True)
+def _quad_node_lines_kernel(conn, elem_nbr, side_a, side_b, half_nodes, node_line):
+    """node_line[e, d, h] = (before src, src, dst, after dst) of quad4 element e's half h along sweep
+    direction d (src, dst = half_nodes[d, h]): "before src" is the corner of the side-a neighbour
+    across face side_a[d] joined to src by the neighbour's edge that leaves the shared face, "after
+    dst" the same across side_b[d]; -1 without a neighbour."""
+    for e in range(conn.shape[0]):
+        for d in range(2):
+            for h in range(2):
+                src = conn[e, half_nodes[d, h, 0]]
+                dst = conn[e, half_nodes[d, h, 1]]
+                node_line[e, d, h, 1] = src
+                node_line[e, d, h, 2] = dst
+                for side in range(2):
+                    col = 0 if side == 0 else 3
+                    node = src if side == 0 else dst
+                    k = side_a[d] if side == 0 else side_b[d]
+                    nb = elem_nbr[e, k]
+                    if nb < 0:
+                        node_line[e, d, h, col] = -1
+                        continue
+                    fa = conn[e, k]
+                    other = conn[e, (k + 1) % 4] if fa == node else fa
+                    c = 0
+                    for j in range(4):
+                        if conn[nb, j] == node:
+                            c = j
+                            break
+                    c1 = conn[nb, (c + 1) % 4]
+                    node_line[e, d, h, col] = conn[nb, (c + 3) % 4] if c1 == other else c1
 
 
 def _face_maps(first: np.ndarray, inv: np.ndarray, nf: int) -> tuple:

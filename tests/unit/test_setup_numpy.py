@@ -81,14 +81,20 @@ def test_quad_topology_maps_are_the_former_kernels(collapse):
     for name, value in ref.items():
         assert topo[name].dtype == (np.int32 if name == "node_line" else value.dtype), name
         assert np.array_equal(topo[name], value), name
+    large = build_topology(conn, len(nodes), kernel=True)  # the kernels that large meshes take
+    for name, value in topo.items():
+        for got, want in zip(large[name], value) if name == "faces_by_dir" else [(large[name], value)]:
+            got, want = np.asarray(got), np.asarray(want)
+            assert got.dtype == want.dtype and np.array_equal(got, want), name
     if not collapse:
         assert (topo["elem_nbr"] >= 0).sum() == 2 * (5 * 3 + 4 * 4)  # interior faces, each seen from both sides
 
 
 def test_quad_topology_rejects_a_face_of_three_elements():
     conn = np.array([[0, 1, 2, 3], [1, 0, 4, 5], [0, 1, 6, 7]], dtype=np.int64)
-    with pytest.raises(ValueError, match="more than two"):
-        build_topology(conn, 8)
+    for kernel in (False, True):
+        with pytest.raises(ValueError, match="more than two"):
+            build_topology(conn, 8, kernel=kernel)
 
 
 def test_quad_sample_points_are_the_former_kernel():
