@@ -21,10 +21,11 @@ round r + 1), and min and median over the rounds are printed with the load avera
 * ``sph``: the same for the SPH dam break (``decks/dam_break_2d.yaml``) at spacing 1.144e-4 m,
   5.0e5 particles (goal <= 2 s).
 
-* ``check3d`` / ``checkale`` / ``checkbird``: ``sphfem check`` of ``decks/cantilever_3d.yaml`` (hex8 solid at
-  rest), ``decks/water_air_shock_tube.yaml`` (plane ALE at rest, two materials) and
-  ``decks/bird_strike_axisymmetric_ale.yaml`` (r-z ALE bird in motion, an axisymmetric solid disc), warm cache;
-  ``cold-check3d`` / ``cold-checkale`` / ``cold-checkbird`` the same with an empty numba cache (a fresh
+* ``check3d`` / ``checkale`` / ``checkbird`` / ``checkdam``: ``sphfem check`` of ``decks/cantilever_3d.yaml``
+  (hex8 solid at rest), ``decks/water_air_shock_tube.yaml`` (plane ALE at rest, two materials),
+  ``decks/bird_strike_axisymmetric_ale.yaml`` (r-z ALE bird in motion, an axisymmetric solid disc) and
+  ``decks/dam_break_2d.yaml`` (SPH), warm cache;
+  ``cold-check3d`` / ``cold-checkale`` / ``cold-checkbird`` / ``cold-checkdam`` the same with an empty numba cache (a fresh
   ``NUMBA_CACHE_DIR`` per run): what the initial-state passes ``fem.at_rest`` and ``ale.at_rest`` save (not in
   the default cases: the empty-cache runs of a tree that compiles the force kernels cost 20-35 s each).
 
@@ -143,7 +144,7 @@ SETUPS = {
 GOALS = {"check": "<= 3x numpy", "run": "<= 1.5 s", "cold": "<= 15 s", "ale2": "<= 2 s", "ale1": "<= 2 s",
          "sph": "<= 2 s"}
 CHECKS = {"check3d": "decks/cantilever_3d.yaml", "checkale": "decks/water_air_shock_tube.yaml",
-          "checkbird": "decks/bird_strike_axisymmetric_ale.yaml"}
+          "checkbird": "decks/bird_strike_axisymmetric_ale.yaml", "checkdam": "decks/dam_break_2d.yaml"}
 
 
 def child_cpu(cmd: list[str], env: dict | None = None, cwd: Path = ROOT) -> tuple[float, str]:
@@ -181,6 +182,8 @@ def main() -> None:
         for case in cases:
             if case in CHECKS:
                 child_cpu(sphfem + ["check", CHECKS[case]], envs[tree], tree)  # and of the checked decks
+            elif case in SETUPS:  # and of the set-up cases (a fresh tree compiles what Simulation(model) calls)
+                child_cpu([sys.executable, "-c", SETUP, SETUPS[case][0], repr(SETUPS[case][1])], envs[tree], tree)
     results: dict[tuple[str, Path], list[float]] = {(c, t): [] for c in cases + ["numpy"] for t in trees}
     notes: dict[str, str] = {}
     load0 = os.getloadavg()

@@ -2,7 +2,7 @@
 state (volume, mass, internal energy per element and material) from fractions, densities and
 energies or pressures.
 
-Numpy, and one small kernel for the sample points of quad4 fills (model/ uses ``fill_fractions``
+Numpy, and one small kernel for the sample points of large quad4 fills (model/ uses ``fill_fractions``
 while it builds the ALE mesh; ``AleSystem`` the rest).
 """
 from __future__ import annotations
@@ -12,7 +12,6 @@ from collections.abc import Callable, Sequence
 import numpy as np
 from numba import njit
 
-from ..materials import kernels as mk
 from ..materials import slots as ms
 
 
@@ -41,7 +40,8 @@ def fill_fractions(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, sam
     for lo in range(0, len(conn), FILL_CHUNK):
         hi = min(lo + FILL_CHUNK, len(conn))
         if points is None:
-            px, py, jac, jac_sum = quad_sample_points(nodes, conn[lo:hi], samples)
+            px, py, jac, jac_sum = quad_sample_points(nodes, conn[lo:hi], samples,
+                                                      kernel=len(conn) > SAMPLES_KERNEL_ABOVE)
         else:
             px, py, jac, jac_sum = (a[lo:hi] for a in points)
         inside = np.asarray(inside_fn(px, py), dtype=bool)
@@ -57,9 +57,20 @@ FILL_CHUNK = 1 << 14
 """Elements per chunk of ``fill_fractions`` (quad4): 16384 x 9 points, 1.2 MB per coordinate array."""
 
 
-def quad_sample_points(nodes: np.ndarray, conn: np.ndarray, samples: int = 3) -> tuple:
+SAMPLES_KERNEL_ABOVE = 1 << 16
+"""Meshes of more quad4 than this sample their points with the kernel ``_quad_samples`` (compiled once into numba's
+cache), smaller ones in numpy (nothing to compile or load): the same bits. The numpy passes cost about 0.33 us
+more per element (960^2 quad4: 0.40 s against the kernel's 0.09 s, CPU, one fill), loading the cached kernel
+about 20 ms and compiling it 0.4-0.5 s (7 December 2026)."""
+
+
+def quad_sample_points(nodes: np.ndarray, conn: np.ndarray, samples: int = 3, kernel: bool = False) -> tuple:
     """The samples^2 points of each quad4 of ``fill_fractions`` and their Jacobian weights:
-    (x (E, S), y (E, S), J (E, S), sum of J over the points (E,))."""
+    (x (E, S), y (E, S), J (E, S), sum of J over the points (E,)).
+
+    x(s) = sum_a N_a(s) x_a and J = x_xi y_eta - x_eta y_xi, each sum over the corners a in order; in numpy, or
+    with ``kernel`` by ``_quad_samples`` (the same operations: the same bits, tests/unit/test_setup_numpy.py).
+    """
     t = (np.arange(samples) + 0.5) / samples * 2.0 - 1.0
     xi, eta = np.meshgrid(t, t, indexing="ij")
     xi = xi.ravel()
@@ -68,12 +79,37 @@ def quad_sample_points(nodes: np.ndarray, conn: np.ndarray, samples: int = 3) ->
     shape = 0.25 * (1 + np.outer(xi, sn[:, 0])) * (1 + np.outer(eta, sn[:, 1]))  # (S, 4)
     dxi = 0.25 * sn[:, 0][None, :] * (1 + np.outer(eta, sn[:, 1]))
     deta = 0.25 * sn[:, 1][None, :] * (1 + np.outer(xi, sn[:, 0]))
-    px = np.empty((len(conn), len(xi)))
-    py = np.empty_like(px)
-    jac = np.empty_like(px)
-    _quad_samples(np.ascontiguousarray(nodes, dtype=np.float64), np.ascontiguousarray(conn, dtype=np.int64),
-                  shape, dxi, deta, px, py, jac)
+    if kernel:
+        px = np.empty((len(conn), len(xi)))
+        py = np.empty_like(px)
+        jac = np.empty_like(px)
+        _quad_samples(np.ascontiguousarray(nodes, dtype=np.float64), np.ascontiguousarray(conn, dtype=np.int64),
+                      shape, dxi, deta, px, py, jac)
+        return px, py, jac, jac.sum(axis=1)
+    nodes = np.asarray(nodes, dtype=np.float64)
+    conn = np.asarray(conn, dtype=np.int64)
+    cx = [nodes[conn[:, a], 0][:, None] for a in range(4)]  # (E, 1) each
+    cy = [nodes[conn[:, a], 1][:, None] for a in range(4)]
+    tmp = np.empty((len(conn), len(xi)))
+    px, py = _corner_sum(shape, cx, tmp), _corner_sum(shape, cy, tmp)
+    # d/dxi at point s = (i, j) (xi_i, eta_j) depends on j alone, d/deta on i alone: each distinct value once
+    n = samples
+    tmp = np.empty((len(conn), n))
+    x_xi, y_xi = _corner_sum(dxi[:n], cx, tmp), _corner_sum(dxi[:n], cy, tmp)  # (E, n) over j
+    x_eta, y_eta = _corner_sum(deta[::n], cx, tmp), _corner_sum(deta[::n], cy, tmp)  # (E, n) over i
+    jac = x_xi[:, None, :] * y_eta[:, :, None]
+    jac -= x_eta[:, :, None] * y_xi[:, None, :]
+    jac = jac.reshape(len(conn), n * n)
     return px, py, jac, jac.sum(axis=1)
+
+
+def _corner_sum(weights: np.ndarray, corner: list, tmp: np.ndarray) -> np.ndarray:
+    """sum_a weights[s, a] c_a (E, S), the corners a added in order (elementwise: the same bits on every machine);
+    tmp (E, S) is scratch."""
+    out = np.multiply(weights[:, 0], corner[0])
+    for a in range(1, 4):
+        out += np.multiply(weights[:, a], corner[a], out=tmp)
+    return out
 
 
 @njit(cache=True)
@@ -100,6 +136,7 @@ def _quad_samples(nodes, conn, shape, dxi, deta, px, py, jac):
             px[e, s] = x
             py[e, s] = y
             jac[e, s] = x_xi * y_eta - x_eta * y_xi
+
 
 
 def _fill_fractions_3d(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, samples: int) -> np.ndarray:
@@ -136,11 +173,12 @@ def _fill_fractions_3d(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable,
 def energy_from_pressure(row: np.ndarray, rho: np.ndarray, p: np.ndarray) -> np.ndarray:
     """Specific internal energy e with p_eos(rho, e) = p (every EOS here is linear in e):
     e = (p - p0(rho)) / (dp/de)(rho) / rho0, with p0 and dp/de the EOS at (rho / rho0, e = 0)
-    (``materials.kernels.eos_state``); e = 0 where dp/de = 0.
+    (``materials.kernels.eos_state``, by ``materials.tables.eos_state_set_up``); e = 0 where dp/de = 0.
 
     The EOS is evaluated once per distinct density (a fill has one or a few; a hydrostatic one
     one per layer), the rest element-wise in the same order of operations as a scalar loop.
     """
+    from ..materials.tables import eos_state_set_up  # the deck schema's models: not at this module's import
     rho = np.asarray(rho, dtype=float)
     p = np.asarray(p, dtype=float)
     eos = int(row[ms.P_EOS_TYPE])
@@ -155,7 +193,7 @@ def energy_from_pressure(row: np.ndarray, rho: np.ndarray, p: np.ndarray) -> np.
     p0 = np.empty(len(values))
     dpde = np.empty(len(values))
     for i, value in enumerate(values):
-        p0[i], _, dpde[i] = mk.eos_state(eos, q, float(value) / rho0, 0.0)
+        p0[i], _, dpde[i] = eos_state_set_up(eos, q, float(value) / rho0, 0.0)
     p0, dpde = p0[inverse], dpde[inverse]
     out = np.zeros(len(inverse))
     live = dpde != 0.0
@@ -237,9 +275,10 @@ def inflow_state(eos: int, q: np.ndarray, rho0: float, density: float | None = N
     (p = p0(rho) + dp/de rho0 e, every EOS here linear in e), or the EOS's e0 per reference
     volume over rho0 (as a fill).
     """
+    from ..materials.tables import eos_state_set_up
     rho = rho0 if density is None else float(density)
     q = np.ascontiguousarray(q)
-    p0, _, dpde = mk.eos_state(int(eos), q, rho / rho0, 0.0)
+    p0, _, dpde = eos_state_set_up(int(eos), q, rho / rho0, 0.0)
     if energy is None and pressure is None:
         e = float(q[ms.Q_E0]) / rho0  # the EOS's e0 (per reference volume), as an initial fill
     elif energy is None:

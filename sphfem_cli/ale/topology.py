@@ -1,8 +1,8 @@
 """Topology of an ALE mesh (quad4 or hex8): faces, element-face and node-element maps, the dual
 node lines of the momentum remap, and the local face/edge tables of the two element types.
 
-Built once per mesh: numpy, and a kernel for the quad4 dual node lines; the kernels take the arrays
-``build_topology`` returns.
+Built once per mesh: numpy, and for large quad4 meshes two kernels (``TOPOLOGY_KERNEL_ABOVE``); the solver's
+kernels take the arrays ``build_topology`` returns.
 """
 from __future__ import annotations
 
@@ -36,7 +36,7 @@ HEX_CORNER_NBR = np.array([[1, 3, 4], [0, 2, 5], [1, 3, 6], [0, 2, 7], [0, 5, 7]
                           dtype=np.int64)
 
 
-def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
+def build_topology(conn: np.ndarray, n_nodes: int, kernel: bool | None = None) -> dict:
     """Faces, element-face and node-element maps and dual node lines of a quad4 (or hex8) mesh.
 
     Besides the maps, per sweep direction d: ``side_a[d]``, ``side_b[d]`` the local faces it
@@ -44,6 +44,8 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
     whether it is that edge's far (side-b) end, ``faces_by_dir[d]`` the faces it sweeps.
     ``node_line`` is int32 (node numbers below 2^31): the dual fluxes read a quarter of it per sweep, and
     half the bytes measured 10.9 -> 7.9 ns per element-sweep of ``dual.dual_fluxes`` (480^2 gas, mostly at rest).
+    The quad4 face maps and node lines: numpy up to TOPOLOGY_KERNEL_ABOVE elements, else (or with ``kernel``)
+    the kernels ``_quad_face_maps``, ``_quad_node_lines_kernel``; the same arrays (tests/unit/test_setup_numpy.py).
     """
     if n_nodes >= 2 ** 31:
         raise ValueError("ALE meshes are limited to 2^31 - 1 nodes (int32 node lines)")
@@ -54,28 +56,33 @@ def build_topology(conn: np.ndarray, n_nodes: int) -> dict:
     a = conn.ravel()
     b = conn[:, [1, 2, 3, 0]].ravel()  # face k joins corners k and k + 1
     first, inv = _unique_keys(np.minimum(a, b) * n_nodes + np.maximum(a, b))
-    n_faces = first.size
     face_nodes = np.stack([a[first], b[first]], axis=1)
-    face_elem = np.empty((n_faces, 2), dtype=np.int64)
-    face_local = np.empty((n_faces, 2), dtype=np.int64)
-    elem_face = np.empty((n_elem, 4), dtype=np.int64)
-    elem_sign = np.empty((n_elem, 4), dtype=np.int8)  # +1 / -1: 4 bytes an element for the sweeps to read, not 32
-    elem_nbr = np.empty((n_elem, 4), dtype=np.int64)
-    if _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
-        raise ValueError("a face is shared by more than two elements")
+    if (n_elem > TOPOLOGY_KERNEL_ABOVE) if kernel is None else kernel:
+        n_faces = first.size
+        face_elem = np.empty((n_faces, 2), dtype=np.int64)
+        face_local = np.empty((n_faces, 2), dtype=np.int64)
+        elem_face = np.empty((n_elem, 4), dtype=np.int64)
+        elem_sign = np.empty((n_elem, 4), dtype=np.int8)  # +1 / -1: 4 bytes an element for the sweeps, not 32
+        elem_nbr = np.empty((n_elem, 4), dtype=np.int64)
+        if _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
+            raise ValueError("a face is shared by more than two elements")
+        node_line = np.empty((n_elem, 2, 2, 4), dtype=np.int64)
+        _quad_node_lines_kernel(conn, elem_nbr, np.array(QUAD_SIDE_A, dtype=np.int64),
+                                np.array(QUAD_SIDE_B, dtype=np.int64), QUAD_HALF_NODES, node_line)
+        node_line = node_line.astype(np.int32)
+    else:
+        face_elem, face_local, elem_face, elem_sign, elem_nbr = _face_maps(first, inv, 4)
+        node_line = _quad_node_lines(conn, elem_nbr, elem_face, elem_sign, face_local)
     face_dir = np.where(face_local[:, 0] % 2 == 1, 0, 1)
 
     node_elem_idx = np.argsort(a, kind="stable").astype(np.int64, copy=False)
     node_elem_ptr = np.zeros(n_nodes + 1, dtype=np.int64)
     node_elem_ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
 
-    node_line = np.empty((n_elem, 2, 2, 4), dtype=np.int64)
-    _quad_node_lines(conn, elem_nbr, np.array(QUAD_SIDE_A, dtype=np.int64), np.array(QUAD_SIDE_B, dtype=np.int64),
-                     QUAD_HALF_NODES, node_line)
     return dict(
         face_nodes=face_nodes.astype(np.int64, copy=False), face_elem=face_elem, face_local=face_local,
         face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
-        node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line.astype(np.int32),
+        node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line,
         faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64, copy=False) for d in range(2)],
         side_a=QUAD_SIDE_A, side_b=QUAD_SIDE_B, corner_edge=QUAD_CORNER_HALF, corner_dst=QUAD_CORNER_DST,
     )
@@ -97,6 +104,13 @@ def _unique_keys(*keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     inverse = np.empty(n, dtype=np.int64)
     inverse[order] = np.cumsum(new) - 1
     return order[new], inverse
+
+
+TOPOLOGY_KERNEL_ABOVE = 1 << 16
+"""Quad4 meshes of more elements than this build their face maps and node lines with kernels (compiled once into
+numba's cache), smaller ones in numpy (nothing to compile or load before the first step: 0.9 s of an empty-cache
+``check``). At 960^2 the numpy passes cost about 0.2 s more user time and their fresh temporaries more system time
+(``startup.py`` ale2, 5 rounds, median 4.8 -> 6.5 s CPU, 7 December 2026)."""
 
 
 @njit(cache=True)
@@ -131,7 +145,7 @@ def _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, ele
 
 
 @njit(cache=True)
-def _quad_node_lines(conn, elem_nbr, side_a, side_b, half_nodes, node_line):
+def _quad_node_lines_kernel(conn, elem_nbr, side_a, side_b, half_nodes, node_line):
     """node_line[e, d, h] = (before src, src, dst, after dst) of quad4 element e's half h along sweep
     direction d (src, dst = half_nodes[d, h]): "before src" is the corner of the side-a neighbour
     across face side_a[d] joined to src by the neighbour's edge that leaves the shared face, "after
@@ -160,6 +174,85 @@ def _quad_node_lines(conn, elem_nbr, side_a, side_b, half_nodes, node_line):
                             break
                     c1 = conn[nb, (c + 1) % 4]
                     node_line[e, d, h, col] = conn[nb, (c + 3) % 4] if c1 == other else c1
+
+
+def _face_maps(first: np.ndarray, inv: np.ndarray, nf: int) -> tuple:
+    """The face maps of a mesh of elements with nf local faces, from each local face's face number inv
+    (nf E,) (local face k of element e at nf e + k) and each face's first local face first (F,):
+    face_elem, face_local (F, 2) owner (the first occurrence) then neighbour (-1: none), elem_face,
+    elem_sign (+1 on the owner's side, -1 on the neighbour's), elem_nbr (-1: none) (E, nf). Raises
+    ValueError when a face is met more than twice."""
+    n_local = inv.size
+    if n_local and np.bincount(inv).max() > 2:
+        raise ValueError("a face is shared by more than two elements")
+    owner = first[inv] == np.arange(n_local)
+    face_elem = np.full((first.size, 2), -1, dtype=np.int64)
+    face_local = np.full((first.size, 2), -1, dtype=np.int64)
+    face_elem[:, 0] = first // nf
+    face_local[:, 0] = first % nf
+    second = np.flatnonzero(~owner)
+    face_elem[inv[second], 1] = second // nf
+    face_local[inv[second], 1] = second % nf
+    elem_face = inv.reshape(-1, nf)
+    elem_sign = np.where(owner, 1, -1).astype(np.int8).reshape(-1, nf)
+    elem_nbr = np.where(elem_sign > 0, face_elem[elem_face, 1], face_elem[elem_face, 0])
+    return face_elem, face_local, elem_face, elem_sign, elem_nbr
+
+
+def _quad_node_lines(conn: np.ndarray, elem_nbr: np.ndarray, elem_face: np.ndarray, elem_sign: np.ndarray,
+                     face_local: np.ndarray) -> np.ndarray:
+    """node_line (E, 2, 2, 4) int32: node_line[e, d, h] = (before src, src, dst, after dst) of quad4 element e's
+    half h along sweep direction d (src, dst = QUAD_HALF_NODES[d, h]). "before src" is the corner of the side-a
+    neighbour nb across face k = QUAD_SIDE_A[d] joined to src by nb's edge that leaves the shared face: with src
+    at nb's corner c (its first), nb's corner c + 1 unless that is the shared face's other node, else its corner
+    c - 1; "after dst" the same across QUAD_SIDE_B[d]; -1 without a neighbour.
+
+    The shared face is nb's local face j (``face_local``), its corners j and j + 1: src at corner j gives corner
+    j - 1, at j + 1 corner j + 2, the same node as the rule above wherever nb's and e's corners are four distinct
+    nodes; elements with a repeated corner (a collapsed quad) and their neighbours take the rule itself.
+    """
+    n_elem = conn.shape[0]
+    node_line = np.empty((n_elem, 2, 2, 4), dtype=np.int32)
+    flat = conn.ravel()
+    repeated = np.zeros(n_elem, dtype=bool)
+    for i in range(4):
+        for j in range(i + 1, 4):
+            repeated |= conn[:, i] == conn[:, j]
+    for side, (col, faces) in enumerate(((0, QUAD_SIDE_A), (3, QUAD_SIDE_B))):
+        for d in range(2):
+            k = faces[d]
+            nb = elem_nbr[:, k]
+            has = nb >= 0
+            f = elem_face[:, k]
+            j = np.where(elem_sign[:, k] > 0, face_local[f, 1], face_local[f, 0])  # the face in nb (-1: none)
+            base = 4 * np.where(has, nb, 0)
+            at_j = flat[base + np.where(has, j, 0)]
+            before = flat[base + (j + 3) % 4]  # nb's corner j - 1
+            after = flat[base + (j + 2) % 4]  # nb's corner j + 2
+            slow = np.flatnonzero(has & (repeated | repeated[np.where(has, nb, 0)]))
+            for h in range(2):
+                node = conn[:, QUAD_HALF_NODES[d, h, side]]
+                line = np.where(has, np.where(node == at_j, before, after), -1)
+                if len(slow):
+                    line[slow] = _node_line_rule(conn, slow, nb[slow], k, node[slow])
+                node_line[:, d, h, col] = line
+    for d in range(2):
+        for h in range(2):
+            node_line[:, d, h, 1] = conn[:, QUAD_HALF_NODES[d, h, 0]]
+            node_line[:, d, h, 2] = conn[:, QUAD_HALF_NODES[d, h, 1]]
+    return node_line
+
+
+def _node_line_rule(conn: np.ndarray, e: np.ndarray, nb: np.ndarray, k: int, node: np.ndarray) -> np.ndarray:
+    """``_quad_node_lines``' rule itself for elements e with neighbours nb across their face k: node at nb's
+    first corner c holding it, nb's corner c + 1 unless that is the face's other node, else corner c - 1."""
+    fa, fb = conn[e, k], conn[e, (k + 1) % 4]
+    other = np.where(fa == node, fb, fa)
+    cn = conn[nb]
+    c = np.argmax(cn == node[:, None], axis=1)
+    rows = np.arange(len(e))
+    c1 = cn[rows, (c + 1) % 4]
+    return np.where(c1 == other, cn[rows, (c + 3) % 4], c1)
 
 
 def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:

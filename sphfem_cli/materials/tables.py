@@ -65,6 +65,24 @@ def pack_eos(eos, rho0: float) -> tuple[int, np.ndarray]:
     return EOS_IDS[eos.type], q
 
 
+def eos_state_set_up(eos_type: int, q: np.ndarray, r, e) -> tuple:
+    """``materials.kernels.eos_state`` (p, dp/dmu, dp/dE) at one state, run by the interpreter for the few calls
+    of a model's set-up: its Python body (``py_func``) on float64 scalars does the same IEEE operations in the
+    same order as the compiled kernel (libm's pow and exp in both; no fused multiply-add), so the same bits
+    (tests/unit/test_setup_numpy.py checks every EOS), with nothing to compile or load from numba's cache."""
+    from .kernels import eos_state
+    return eos_state.py_func(int(eos_type), q, np.float64(r), np.float64(e))
+
+
+def eos_sound_speed_set_up(eos_type: int, q: np.ndarray, r, e) -> float:
+    """``materials.kernels.eos_sound_speed`` at one state, by ``eos_state_set_up``: c^2 = (dp/dmu + p (dp/dE) /
+    (rho/rho0)^2) / rho0, 0 where c^2 <= 0 (the kernel's operations in its order: the same bits)."""
+    r = np.float64(r)
+    p, dpdmu, dpde = eos_state_set_up(eos_type, q, r, e)
+    c2 = (dpdmu + p * dpde / (r * r)) / q[Q_RHO0]
+    return float(np.sqrt(c2)) if c2 > 0.0 else 0.0
+
+
 def pack_material(material, eos=None) -> tuple[int, np.ndarray]:
     """Material type id and parameter row (``NPARAM`` float64) from the deck models.
 
@@ -86,9 +104,7 @@ def pack_material(material, eos=None) -> tuple[int, np.ndarray]:
         p[EOS_OFFSET :] = q
 
     if isinstance(material, (sm.Fluid, sm.HighExplosive)):
-        from .kernels import eos_sound_speed  # fluids only: a solid deck loads no kernel here
-
-        c0 = float(eos_sound_speed(int(p[P_EOS_TYPE]), p[EOS_OFFSET :], 1.0, p[EOS_OFFSET + Q_E0]))
+        c0 = float(eos_sound_speed_set_up(int(p[P_EOS_TYPE]), p[EOS_OFFSET :], 1.0, p[EOS_OFFSET + Q_E0]))
         p[P_E], p[P_NU], p[P_G], p[P_K] = 0.0, 0.5, 0.0, rho0 * c0 * c0
         if isinstance(material, sm.HighExplosive):
             p[P_DETONATION_VELOCITY] = material.detonation_velocity

@@ -37,7 +37,7 @@ def ale_mesh(model, deck: Deck, index: int, mesh: MeshData) -> AleMesh:
     """Lay out the materials of the ALE part ``model.parts[index]``, meshed (and checked) as ``mesh``:
     the part's material, then each fill in order."""
     from ..ale.fill import fill_fractions
-    from ..materials.kernels import eos_pressure
+    from ..materials.tables import eos_state_set_up
     from . import build  # ModelError, VOID (imported here: build imports this module)
     name = model.parts[index].name
     part = deck.parts[name]
@@ -52,8 +52,8 @@ def ale_mesh(model, deck: Deck, index: int, mesh: MeshData) -> AleMesh:
         row = model.material_param[m]
         if model.material_type[m] == build.VOID:
             return 0.0
-        return float(eos_pressure(int(row[P_EOS_TYPE]), row[EOS_OFFSET:], density / row[P_RHO0],
-                                  row[EOS_OFFSET + Q_E0]))
+        return float(eos_state_set_up(int(row[P_EOS_TYPE]), row[EOS_OFFSET:], density / row[P_RHO0],
+                                      row[EOS_OFFSET + Q_E0])[0])
 
     fractions = np.zeros((n_elem, n_mat))
     fractions[:, 0] = 1.0

@@ -219,14 +219,11 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     element_active = np.array([not parts[i].rigid for i in element_part])
 
     if dim == 3 and len(connectivity):
-        from ..fem.geometry import hex8_volumes  # a kernel: 3D decks load numba here
-
-        volume0 = hex8_volumes(coordinates, connectivity)
+        volume0 = meshgen.hex8_volumes(coordinates, connectivity)  # fem.geometry.hex8_gradient's bits, numpy
     else:
         volume0 = meshgen.element_jacobian_sign_check(coordinates, connectivity)  # exact quad4 areas
     if deck.axisymmetric and len(connectivity):
-        from ..fem.axisymmetric import ring_volumes  # 2 pi r_c A; compiled only for axisymmetric decks
-        volume0 = ring_volumes(coordinates, connectivity)
+        volume0 = meshgen.ring_volumes(coordinates, connectivity)  # 2 pi r_c A, fem.axisymmetric's bits, numpy
     mass = np.zeros(len(coordinates))
     np.add.at(mass, connectivity, (material_param[element_material, P_RHO0] * volume0 / npe)[:, None])
 

@@ -87,6 +87,48 @@ _QUAD_FLIP = np.array([0, 3, 2, 1])
 _HEX_FLIP = np.array([0, 3, 2, 1, 4, 7, 6, 5])
 
 
+def hex8_volumes(nodes: np.ndarray, elements: np.ndarray) -> np.ndarray:
+    """Exact trilinear volume of every hex8 (E,), the one ``fem.geometry.hex8_gradient`` computes, in numpy:
+    V = 0 + x_0 b_0 + ... + x_7 b_7 with b_I = dV/dx_I = 0 + s_1 c_1 + ... + s_9 c_9 over the rows (I, j, k, s)
+    of ``fem.tables.HEX_DV`` in table order, s = +-1/12 and c = y_j z_k - y_k z_j (``hex8_gradient_rows``,
+    which equals ``hex8_gradient`` bit for bit): the kernel's operations elementwise in its order, so the
+    same bits (tests/unit/test_setup_numpy.py), with no kernel to compile or load before the first step."""
+    from ..fem.tables import HEX_DV
+
+    nodes = np.asarray(nodes, dtype=np.float64)
+    elements = np.asarray(elements, dtype=np.int64)
+    out = np.empty(len(elements))
+    for lo in range(0, len(elements), _VOLUME_CHUNK):
+        conn = elements[lo:lo + _VOLUME_CHUNK]
+        x, y, z = ([nodes[conn[:, a], k] for a in range(8)] for k in range(3))
+        volume = np.zeros(len(conn))
+        for i in range(8):
+            b = np.zeros(len(conn))
+            for _, j, k, s in HEX_DV[HEX_DV[:, 0] == i]:
+                b += (s / 12.0) * (y[j] * z[k] - y[k] * z[j])
+            volume += x[i] * b
+        out[lo:lo + _VOLUME_CHUNK] = volume
+    return out
+
+
+def ring_volumes(nodes: np.ndarray, elements: np.ndarray) -> np.ndarray:
+    """One-point ring volume 2 pi r_c A of every quad4 of the meridian plane (x = r), (E,): r_c = 0 + r_0 / 4 + ...
+    + r_3 / 4 and A = ((x2 - x0)(y3 - y1) + (x1 - x3)(y2 - y0)) / 2, the operations of ``fem.axisymmetric.
+    ring_volumes`` (A as ``fem.geometry.quad4_gradient``) elementwise in their order: the same bits, no kernel."""
+    nodes = np.asarray(nodes, dtype=np.float64)
+    x = [nodes[elements[:, a], 0] for a in range(4)]
+    y = [nodes[elements[:, a], 1] for a in range(4)]
+    rc = np.zeros(len(elements))
+    for a in range(4):
+        rc += 0.25 * x[a]
+    area = 0.5 * ((x[2] - x[0]) * (y[3] - y[1]) + (x[1] - x[3]) * (y[2] - y[0]))
+    return 2.0 * np.pi * rc * area
+
+
+_VOLUME_CHUNK = 1 << 15
+"""Elements per chunk of ``hex8_volumes``: its 24 corner columns and temporaries stay in cache-sized arrays."""
+
+
 def element_jacobian_sign_check(nodes: np.ndarray, elements: np.ndarray) -> np.ndarray:
     """Signed measure of each element, float64 ``(E,)``.
 

@@ -80,7 +80,7 @@ def test_an_ale_deck_compiles_only_its_dimension(deck, dim):
     assert not report["fem"]["compiled"] and not report["sph"]["compiled"]
 
 
-_AXISYMMETRIC = {"axisymmetric_element_forces", "ring_volumes"}  # fem/axisymmetric.py
+_AXISYMMETRIC = {"axisymmetric_element_forces"}  # fem/axisymmetric.py (the initial ring volumes: numpy, model.mesh)
 _SOLID_ELEMENTS = {"quad4_element_forces", "hex8_element_forces"}  # fem/kernels.py, the plane and 3D elements
 
 

@@ -1,0 +1,174 @@
+"""The model set-up's numpy passes against the kernels they replaced (issue 17: no kernel to compile before the
+first step): the same numbers bit for bit (np.array_equal), on small distorted meshes.
+
+References: the former numba kernels' loops, run here as plain Python on scalars (``ale.topology``'s face maps and
+dual node lines, ``ale.fill``'s quad4 sample points), and the kernels' own Python bodies (``py_func``) of
+``fem.geometry.hex8_gradient_rows`` (equal to ``hex8_gradient`` bit for bit, tests/unit/test_fem_kernels.py),
+``fem.geometry.quad4_gradient`` and ``materials.kernels.eos_state``; the EOS is also checked against its compiled
+kernel.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from sphfem_cli.ale.fill import quad_sample_points
+from sphfem_cli.ale.topology import QUAD_HALF_NODES, QUAD_SIDE_A, QUAD_SIDE_B, build_topology
+from sphfem_cli.model.mesh import hex8_volumes, ring_volumes
+
+
+def _quad_mesh(nx=5, ny=4, seed=3):
+    """A distorted nx x ny quad4 mesh, elements shuffled and each element's corner list rotated (still
+    counter-clockwise): the maps must not lean on a structured numbering."""
+    rng = np.random.default_rng(seed)
+    gx, gy = np.meshgrid(np.linspace(0.0, 1.0, nx + 1), np.linspace(0.0, 0.8, ny + 1), indexing="ij")
+    nodes = np.stack([gx.ravel(), gy.ravel()], axis=1) + rng.uniform(-0.03, 0.03, ((nx + 1) * (ny + 1), 2))
+    nodes[:, 0] += 0.2  # x = r > 0 for the ring volumes
+    node = np.arange((nx + 1) * (ny + 1)).reshape(nx + 1, ny + 1)
+    conn = np.array([[node[i, j], node[i + 1, j], node[i + 1, j + 1], node[i, j + 1]]
+                     for i in range(nx) for j in range(ny)], dtype=np.int64)
+    conn = conn[rng.permutation(len(conn))]
+    shift = rng.integers(0, 4, len(conn))
+    return nodes, np.array([np.roll(c, -s) for c, s in zip(conn, shift)], dtype=np.int64)
+
+
+def _reference_quad_maps(conn, n_nodes):
+    """The former kernels ``_quad_face_maps`` and ``_quad_node_lines``, as scalar loops."""
+    a = conn.ravel()
+    b = conn[:, [1, 2, 3, 0]].ravel()
+    _, first, inv = np.unique(np.minimum(a, b) * n_nodes + np.maximum(a, b), return_index=True, return_inverse=True)
+    face_elem = np.full((first.size, 2), -1)
+    face_local = np.full((first.size, 2), -1)
+    face_elem[:, 0], face_local[:, 0] = first // 4, first % 4
+    elem_face = np.empty((len(conn), 4), dtype=np.int64)
+    elem_sign = np.empty((len(conn), 4), dtype=np.int8)
+    for i, f in enumerate(inv):
+        e, k = divmod(i, 4)
+        elem_face[e, k] = f
+        elem_sign[e, k] = 1 if first[f] == i else -1
+        if first[f] != i:
+            face_elem[f, 1], face_local[f, 1] = e, k
+    elem_nbr = np.array([[face_elem[elem_face[e, k], 1 if elem_sign[e, k] > 0 else 0] for k in range(4)]
+                         for e in range(len(conn))])
+    node_line = np.empty((len(conn), 2, 2, 4), dtype=np.int64)
+    for e in range(len(conn)):
+        for d in range(2):
+            for h in range(2):
+                src, dst = conn[e, QUAD_HALF_NODES[d, h, 0]], conn[e, QUAD_HALF_NODES[d, h, 1]]
+                node_line[e, d, h, 1:3] = src, dst
+                for col, node, k in ((0, src, QUAD_SIDE_A[d]), (3, dst, QUAD_SIDE_B[d])):
+                    nb = elem_nbr[e, k]
+                    if nb < 0:
+                        node_line[e, d, h, col] = -1
+                        continue
+                    fa = conn[e, k]
+                    other = conn[e, (k + 1) % 4] if fa == node else fa
+                    c = list(conn[nb]).index(node)
+                    c1 = conn[nb, (c + 1) % 4]
+                    node_line[e, d, h, col] = conn[nb, (c + 3) % 4] if c1 == other else c1
+    return dict(face_elem=face_elem, face_local=face_local, elem_face=elem_face, elem_sign=elem_sign,
+                elem_nbr=elem_nbr, node_line=node_line)
+
+
+@pytest.mark.parametrize("collapse", [False, True])
+def test_quad_topology_maps_are_the_former_kernels(collapse):
+    nodes, conn = _quad_mesh()
+    if collapse:  # merge two corners of an element on the boundary: a triangle written as a quad, and its neighbours
+        corner = conn[np.flatnonzero((conn == 0).any(axis=1))[0]]
+        conn = np.where(conn == corner[(list(corner).index(0) + 1) % 4], 0, conn)
+    topo = build_topology(conn, len(nodes))
+    ref = _reference_quad_maps(conn, len(nodes))
+    for name, value in ref.items():
+        assert topo[name].dtype == (np.int32 if name == "node_line" else value.dtype), name
+        assert np.array_equal(topo[name], value), name
+    large = build_topology(conn, len(nodes), kernel=True)  # the kernels that large meshes take
+    for name, value in topo.items():
+        for got, want in zip(large[name], value) if name == "faces_by_dir" else [(large[name], value)]:
+            got, want = np.asarray(got), np.asarray(want)
+            assert got.dtype == want.dtype and np.array_equal(got, want), name
+    if not collapse:
+        assert (topo["elem_nbr"] >= 0).sum() == 2 * (5 * 3 + 4 * 4)  # interior faces, each seen from both sides
+
+
+def test_quad_topology_rejects_a_face_of_three_elements():
+    conn = np.array([[0, 1, 2, 3], [1, 0, 4, 5], [0, 1, 6, 7]], dtype=np.int64)
+    for kernel in (False, True):
+        with pytest.raises(ValueError, match="more than two"):
+            build_topology(conn, 8, kernel=kernel)
+
+
+def test_quad_sample_points_are_the_former_kernel():
+    nodes, conn = _quad_mesh()
+    px, py, jac, jac_sum = quad_sample_points(nodes, conn, 3)
+    t = (np.arange(3) + 0.5) / 3 * 2.0 - 1.0
+    xi, eta = (g.ravel() for g in np.meshgrid(t, t, indexing="ij"))
+    sn = np.array([[-1, -1], [1, -1], [1, 1], [-1, 1]], dtype=float)
+    shape = 0.25 * (1 + np.outer(xi, sn[:, 0])) * (1 + np.outer(eta, sn[:, 1]))
+    dxi = 0.25 * sn[:, 0][None, :] * (1 + np.outer(eta, sn[:, 1]))
+    deta = 0.25 * sn[:, 1][None, :] * (1 + np.outer(xi, sn[:, 0]))
+    for e in range(len(conn)):
+        for s in range(9):
+            xa, ya = nodes[conn[e], 0], nodes[conn[e], 1]
+            x, y = shape[s, 0] * xa[0], shape[s, 0] * ya[0]
+            x_xi, y_xi, x_eta, y_eta = dxi[s, 0] * xa[0], dxi[s, 0] * ya[0], deta[s, 0] * xa[0], deta[s, 0] * ya[0]
+            for a in range(1, 4):
+                x += shape[s, a] * xa[a]
+                y += shape[s, a] * ya[a]
+                x_xi += dxi[s, a] * xa[a]
+                y_xi += dxi[s, a] * ya[a]
+                x_eta += deta[s, a] * xa[a]
+                y_eta += deta[s, a] * ya[a]
+            assert (px[e, s], py[e, s], jac[e, s]) == (x, y, x_xi * y_eta - x_eta * y_xi)
+    assert np.array_equal(jac_sum, jac.sum(axis=1))
+    for got, ref in zip(quad_sample_points(nodes, conn, 3, kernel=True), (px, py, jac, jac_sum)):  # large meshes'
+        assert np.array_equal(got, ref)
+
+
+def test_ring_volumes_are_the_kernels():
+    from sphfem_cli.fem.geometry import quad4_gradient
+
+    nodes, conn = _quad_mesh()
+    got = ring_volumes(nodes, conn)
+    b = np.empty((2, 4))
+    for e in range(len(conn)):
+        xe = nodes[conn[e]]
+        rc = 0.0
+        for a in range(4):
+            rc += 0.25 * xe[a, 0]
+        assert got[e] == 2.0 * np.pi * rc * quad4_gradient.py_func(xe, b)
+
+
+def test_hex8_volumes_are_the_kernels():
+    from sphfem_cli.fem.geometry import hex8_gradient_rows
+
+    rng = np.random.default_rng(7)
+    cube = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], float)
+    nodes = np.concatenate([cube * [0.3, 0.5, 0.7] + rng.uniform(-0.05, 0.05, (8, 3)) + 10.0 * i for i in range(12)])
+    conn = np.arange(len(nodes), dtype=np.int64).reshape(-1, 8)
+    got = hex8_volumes(nodes, conn)
+    b = np.empty((3, 8))
+    ref = np.array([hex8_gradient_rows.py_func(nodes[c], b) for c in conn])
+    assert np.array_equal(got, ref)
+    assert np.allclose(got, 0.3 * 0.5 * 0.7, rtol=0.3)  # a sanity check of the scale: boxes distorted by <= 0.05
+
+
+@pytest.mark.parametrize("eos, q, states", [
+    ("EOS_LINEAR_POLYNOMIAL", [1000.0, 0.0, 1.0, 0.0, 2.2e9, 9.5e9, 1.45e10, 0.28, 0.28, 0.0], [0.95, 1.0, 1.07]),
+    ("EOS_GRUNEISEN", [2700.0, 0.0, 1.0, 5386.0, 1.339, 0.0, 0.0, 1.97, 0.48], [0.9, 1.0, 1.2]),
+    ("EOS_TAIT", [1000.0, 0.0, 1.0, 1000.0, 30.0, 7.0, 1.0e5, 1000.0 * 30.0 ** 2 / 7.0], [0.99, 1.0, 1.013]),
+    ("EOS_IDEAL_GAS", [1.2, 2.5e5, 1.0, 1.4], [0.5, 1.0, 3.0]),
+    ("EOS_STIFFENED_GAS", [1000.0, 0.0, 1.0, 4.4, 6.0e8], [0.98, 1.0, 1.05]),
+    ("EOS_JWL", [1630.0, 7.0e9, 1.0, 3.712e11, 3.231e9, 4.15, 0.95, 0.30], [0.4, 1.0, 1.3]),
+])
+def test_eos_at_set_up_is_the_kernel(eos, q, states):
+    from sphfem_cli.materials import kernels as mk
+    from sphfem_cli.materials.slots import NQ
+    from sphfem_cli.materials.tables import eos_sound_speed_set_up, eos_state_set_up
+
+    row = np.zeros(NQ)
+    row[:len(q)] = q
+    eos_id = getattr(mk, eos)
+    for r in states:
+        for e in (0.0, row[1], 3.0e5):
+            assert eos_state_set_up(eos_id, row, r, e) == mk.eos_state(eos_id, row, r, e)
+            assert eos_sound_speed_set_up(eos_id, row, r, e) == mk.eos_sound_speed(eos_id, row, r, e)
