@@ -36,6 +36,9 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from elastic_gate_convergence import peak  # noqa: E402  (the parabola through the largest sample)
 
 WORK = Path("study_elastic_gate_experiment")
 DATA = ROOT / "tests" / "data" / "elastic_gate_antoci2007.csv"
@@ -52,17 +55,6 @@ def load_data() -> dict[str, np.ndarray]:
     """The digitised measurement: t_x, x, t_y, y [s, m] (tests/data/elastic_gate_antoci2007.csv)."""
     d = np.genfromtxt(DATA, delimiter=",", names=True)
     return {"t_x": d["t_x_s"], "x": d["x_m"], "t_y": d["t_y_s"], "y": d["y_m"]}
-
-
-def peak(t: np.ndarray, q: np.ndarray) -> tuple[float, float]:
-    """(value, time) of the maximum: the vertex of the parabola through the largest sample and its neighbours."""
-    i = int(np.argmax(q))
-    if i == 0 or i == len(q) - 1:
-        return float(q[i]), float(t[i])
-    a, b, c = q[i - 1], q[i], q[i + 1]
-    den = a - 2.0 * b + c
-    s = 0.5 * (a - c) / den if den != 0.0 else 0.0
-    return float(b - 0.25 * (a - c) * s), float(t[i] + s * (t[i + 1] - t[i]))
 
 
 def compare(t: np.ndarray, ux: np.ndarray, uy: np.ndarray) -> dict[str, float]:
