@@ -69,9 +69,11 @@ def eos_state_set_up(eos_type: int, q: np.ndarray, r, e) -> tuple:
     """``materials.kernels.eos_state`` (p, dp/dmu, dp/dE) at one state, run by the interpreter for the few calls
     of a model's set-up: its Python body (``py_func``) on float64 scalars does the same IEEE operations in the
     same order as the compiled kernel (libm's pow and exp in both; no fused multiply-add), so the same bits
-    (tests/unit/test_setup_numpy.py checks every EOS), with nothing to compile or load from numba's cache."""
+    (tests/unit/test_setup_numpy.py checks every EOS), with nothing to compile or load from numba's cache. As
+    the kernel, silent on invalid operations (a non-finite state is the guards' to report)."""
     from .kernels import eos_state
-    return eos_state.py_func(int(eos_type), q, np.float64(r), np.float64(e))
+    with np.errstate(all="ignore"):
+        return eos_state.py_func(int(eos_type), q, np.float64(r), np.float64(e))
 
 
 def eos_sound_speed_set_up(eos_type: int, q: np.ndarray, r, e) -> float:
@@ -79,7 +81,8 @@ def eos_sound_speed_set_up(eos_type: int, q: np.ndarray, r, e) -> float:
     (rho/rho0)^2) / rho0, 0 where c^2 <= 0 (the kernel's operations in its order: the same bits)."""
     r = np.float64(r)
     p, dpdmu, dpde = eos_state_set_up(eos_type, q, r, e)
-    c2 = (dpdmu + p * dpde / (r * r)) / q[Q_RHO0]
+    with np.errstate(all="ignore"):
+        c2 = (dpdmu + p * dpde / (r * r)) / q[Q_RHO0]
     return float(np.sqrt(c2)) if c2 > 0.0 else 0.0
 
 
