@@ -69,6 +69,7 @@ from .at_rest import initial_element_pass
 from .boundaries import AleBoundaries
 from .fill import material_state, material_tables
 from .motion import MeshMover
+from .remap_nodes import nodal_mass_set_up
 from .options import AleOptions
 from .topology import build_topology, largest_face_area
 
@@ -139,7 +140,7 @@ class AleSystem(AleBoundaries):
         # bincount sums in input order, as np.add.at did: bit-identical, and faster
         full = np.bincount(self.conn.ravel(), weights=np.repeat(rho_ref * self.vol0 / npe, npe), minlength=n_nodes)
         self.m_floor = float(opt.mass_floor) * full
-        K.nodal_mass(self.mass_m, self.topo["node_elem_ptr"], self.topo["node_elem_idx"], npe, self.node_mass)
+        self.node_mass[:] = nodal_mass_set_up(self.mass_m, self.conn, n_nodes)  # K.nodal_mass's bits, in numpy
         self.bc_type = np.zeros(n_nodes, dtype=np.int64)
         self.bc_normal = np.zeros((n_nodes, dim))
         self.face_open = np.zeros(len(self.topo["face_nodes"]), dtype=np.bool_)

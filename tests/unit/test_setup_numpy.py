@@ -172,3 +172,35 @@ def test_eos_at_set_up_is_the_kernel(eos, q, states):
         for e in (0.0, row[1], 3.0e5):
             assert eos_state_set_up(eos_id, row, r, e) == mk.eos_state(eos_id, row, r, e)
             assert eos_sound_speed_set_up(eos_id, row, r, e) == mk.eos_sound_speed(eos_id, row, r, e)
+
+
+@pytest.mark.parametrize("npe", [4, 8])
+def test_nodal_mass_at_set_up_is_the_kernel(npe):
+    """``ale.remap_nodes.nodal_mass_set_up`` (numpy, the ALE system's set-up) gives ``nodal_mass``'s bits: three
+    materials of unrelated magnitudes on a shuffled mesh, nodes in up to four (quad4) or eight (hex8) elements."""
+    from sphfem_cli.ale.remap_nodes import nodal_mass, nodal_mass_set_up
+
+    rng = np.random.default_rng(7)
+    if npe == 4:
+        _, conn = _quad_mesh()
+    else:  # a 3 x 3 x 3 hex8 block, elements shuffled
+        node = np.arange(64).reshape(4, 4, 4)
+        conn = np.array([[node[i + a, j + b, k + c] for a, b, c in
+                          ((0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1))]
+                         for i in range(3) for j in range(3) for k in range(3)], dtype=np.int64)
+        conn = conn[rng.permutation(len(conn))]
+    n_nodes = int(conn.max()) + 1
+    mass_m = rng.uniform(0.0, 1.0, (len(conn), 3)) * np.array([1e3, 1.0, 1e-9])
+    mass_m[::5, 1] = 0.0
+    topo = build_topology(conn, n_nodes) if npe == 4 else None
+    if npe == 4:
+        ptr, idx = topo["node_elem_ptr"], topo["node_elem_idx"]
+    else:
+        a = conn.ravel()
+        idx = np.argsort(a, kind="stable").astype(np.int64)
+        ptr = np.zeros(n_nodes + 1, dtype=np.int64)
+        ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
+    kernel = np.empty(n_nodes)
+    nodal_mass(mass_m, ptr, idx, npe, kernel)
+    got = nodal_mass_set_up(mass_m, conn, n_nodes)
+    assert np.array_equal(got.view(np.int64), kernel.view(np.int64))
