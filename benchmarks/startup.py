@@ -69,7 +69,7 @@ copy of main b813973, load average 3.99 before and 5.25 after, CPU seconds min /
   kernels was not what a warm check cost);
 * empty cache, main -> branch: cantilever_3d 36.0 / 39.0 -> 4.48 / 4.76, water_air_shock_tube 21.1 / 22.7 ->
   4.98 / 5.19, bird_strike_axisymmetric_ale 33.1 / 34.7 -> 6.57 / 6.90. What the branch still compiles is the
-  model's set-up: the hex8 initial volumes (``fem.geometry.hex8_volumes``), the ALE topology maps, fill
+  model's set-up: the hex8 initial volumes (then a kernel; numpy since 7 December), the ALE topology maps, fill
   sampling, nodal masses and ring volumes, and the EOS sound speed of ``materials.tables.pack_material``.
 
 ``check`` of a plane-strain solid deck at rest no longer loads numba (``fem.at_rest``). The ALE

@@ -60,6 +60,21 @@ def sim_from_deck(tmp_path):
     return lambda deck: make_simulation(tmp_path, deck)
 
 
+def distorted_box(rng: np.random.Generator, geometry: str) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes and elements of the ALE pass tests' meshes: the unit box in 13 x 11 quad4 ("plane"; "ring": the same
+    with every radius made positive, rings off the axis) or 7 x 6 x 5 hex8 ("hex8"), each node moved by
+    0.02 N(0, 1) (the first draw of ``rng``): 143 quads (a block of 128 and a rest) or 210 hex8 (blocks of 64 and
+    a rest)."""
+    from sphfem_cli.model.mesh import box_mesh
+
+    dim = 3 if geometry == "hex8" else 2
+    mesh = box_mesh([0.0] * dim, [1.0] * dim, divisions=[7, 6, 5] if dim == 3 else [13, 11])
+    nodes = mesh.nodes + 0.02 * rng.standard_normal(mesh.nodes.shape)
+    if geometry == "ring":
+        nodes[:, 0] = np.abs(nodes[:, 0]) + 0.05
+    return nodes, mesh.elements
+
+
 def crossing_times(t: np.ndarray, y: np.ndarray, level: float = 0.0, rising: bool | None = None) -> np.ndarray:
     """Times at which the sampled signal y(t) crosses `level`, by linear interpolation.
 

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from sphfem_cli import api
-from sphfem_cli.fem.axisymmetric import ring_volumes
+from sphfem_cli.model.mesh import ring_volumes
 from sphfem_cli.study.metrics import describe, three_grid
 
 ROOT = Path(__file__).resolve().parents[2]

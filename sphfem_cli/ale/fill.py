@@ -138,7 +138,6 @@ def _quad_samples(nodes, conn, shape, dxi, deta, px, py, jac):
             jac[e, s] = x_xi * y_eta - x_eta * y_xi
 
 
-
 def _fill_fractions_3d(nodes: np.ndarray, conn: np.ndarray, inside_fn: Callable, samples: int) -> np.ndarray:
     """fill_fractions on hex8 (VTK corner order): samples^3 Jacobian-weighted points per element."""
     t = (np.arange(samples) + 0.5) / samples * 2.0 - 1.0

@@ -72,7 +72,7 @@ class NodesToSurfaceContact:
 
     @staticmethod
     def _owner_radius(model, owner: np.ndarray) -> np.ndarray:
-        """r_c of the master faces' elements: volume0 = 2 pi r_c A (fem.axisymmetric.ring_volumes)."""
+        """r_c of the master faces' elements: volume0 = 2 pi r_c A (model.mesh.ring_volumes)."""
         conn = model.connectivity[owner]
         return model.coordinates[conn, 0].mean(axis=1)
 

@@ -49,22 +49,6 @@ TWO_PI = 2.0 * np.pi
 
 
 @njit(cache=True)
-def ring_volumes(x, conn):
-    """One-point ring volume 2 pi r_c A of every quad4 (E,); r_c the mean of the corner radii x[:, 0]."""
-    out = np.empty(conn.shape[0])
-    xe = np.empty((4, 2))
-    b = np.empty((2, 4))
-    for e in range(conn.shape[0]):
-        rc = 0.0
-        for a in range(4):
-            for k in range(2):
-                xe[a, k] = x[conn[e, a], k]
-            rc += 0.25 * xe[a, 0]
-        out[e] = TWO_PI * rc * quad4_gradient(xe, b)
-    return out
-
-
-@njit(cache=True)
 def _stress_power(s, d):
     return s[0] * d[0] + s[1] * d[1] + s[2] * d[2] + 2.0 * (s[3] * d[3] + s[4] * d[4] + s[5] * d[5])
 

@@ -267,20 +267,6 @@ def hex8_gradient_faces(x, b):
 
 
 @njit(cache=True)
-def hex8_volumes(x, conn):
-    """Exact trilinear volume of every hex8 (the one `hex8_gradient` computes), (E,)."""
-    out = np.empty(conn.shape[0])
-    xe = np.empty((8, 3))
-    b = np.empty((3, 8))
-    for e in range(conn.shape[0]):
-        for a in range(8):
-            for k in range(3):
-                xe[a, k] = x[conn[e, a], k]
-        out[e] = hex8_gradient(xe, b)
-    return out
-
-
-@njit(cache=True)
 def hex8_volume(p):
     """Exact volume of the trilinear hexahedron with corners p (8, 3) (VTK order), without its gradient.
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from conftest import distorted_box
 from sphfem_cli.ale import AleOptions, AleSystem
 from sphfem_cli.ale.force_lanes import one_gas
 from sphfem_cli.materials.tables import gas_row
@@ -64,13 +65,8 @@ def _two_gases(seed, cutoff=None, geometry="plane"):
     pure and mixed cells at random fractions, void cells (no mass) and random e_lag; the three-material system
     takes the general ``_mixture_pressure`` loop, whose sums over the absent third material add nothing."""
     rng = np.random.default_rng(seed)
-    dim, axi = (3, False) if geometry == "hex8" else (2, geometry == "ring")
-    # 143 quads (a block of 128 and a rest) or 210 hex8 (blocks of 64 and a rest)
-    mesh = box_mesh([0.0] * dim, [1.0] * dim, divisions=[7, 6, 5] if dim == 3 else [13, 11])
-    nodes = mesh.nodes + 0.02 * rng.standard_normal(mesh.nodes.shape)
-    if axi:
-        nodes[:, 0] = np.abs(nodes[:, 0]) + 0.05  # rings off the axis
-    conn = mesh.elements
+    axi = geometry == "ring"
+    nodes, conn = distorted_box(rng, geometry)  # 143 quads (a block of 128 and a rest) or 210 hex8 (blocks of 64)
     n_elem = len(conn)
     f = np.where(rng.random(n_elem) < 0.5, rng.integers(0, 2, n_elem).astype(float), rng.random(n_elem))
     rho = np.stack([1000.0 * (1.0 + 0.01 * rng.random(n_elem)), 1.2 * (1.0 + 0.3 * rng.random(n_elem))], 1)

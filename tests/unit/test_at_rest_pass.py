@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from conftest import distorted_box
 from sphfem_cli.driver import load_model
 from sphfem_cli.fem import kernels as fem
 from sphfem_cli.fem.at_rest import at_rest_element_pass
@@ -209,15 +210,11 @@ def _ale_system(geometry: str, kind: str, seed: int):
     from sphfem_cli.ale import AleOptions, AleSystem
     from sphfem_cli.deck.schema import materials as sm
     from sphfem_cli.materials.tables import gas_row
-    from sphfem_cli.model.mesh import box_mesh
 
     rng = np.random.default_rng(seed)
-    dim, axi = (3, False) if geometry == "hex8" else (2, geometry == "ring")
-    mesh = box_mesh([0.0] * dim, [1.0] * dim, divisions=[7, 6, 5] if dim == 3 else [13, 11])
-    nodes = mesh.nodes + 0.02 * rng.standard_normal(mesh.nodes.shape)
-    if axi:
-        nodes[:, 0] = np.abs(nodes[:, 0]) + 0.05  # rings off the axis
-    n = len(mesh.elements)
+    axi = geometry == "ring"
+    nodes, conn = distorted_box(rng, geometry)
+    n = len(conn)
     if kind == "general":
         rows = [_fluid(sm.Gruneisen(type="gruneisen", c=1480.0, s1=1.92, gamma0=0.28), 1000.0),
                 _fluid(sm.JWL(type="jwl", A=3.712e11, B=3.231e9, R1=4.15, R2=0.95, omega=0.30, e0=7.0e9), 1630.0,
@@ -241,7 +238,7 @@ def _ale_system(geometry: str, kind: str, seed: int):
     fractions = rng.random((n, k)) * (rng.random((n, k)) < 0.6)  # about 40 % of each material absent
     fractions[np.arange(n), rng.integers(0, k, n)] += 0.05  # no cell empty of all
     fractions[: n // 4] = np.eye(k)[rng.integers(0, k, n // 4)]  # pure cells
-    ale = AleSystem(nodes, mesh.elements, rows, fractions, rho, energy=energy,
+    ale = AleSystem(nodes, conn, rows, fractions, rho, energy=energy,
                     velocity=20.0 * rng.standard_normal(nodes.shape),
                     options=AleOptions(pressure_cutoff=-1e5 if kind == "general" else None), axisymmetric=axi)
     ale.e_lag[:] = 1e-3 * rng.standard_normal(ale.e_lag.shape) * ale.ener_m / np.maximum(ale.mass_m, 1e-300)

@@ -14,7 +14,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from sphfem_cli.fem.axisymmetric import axisymmetric_element_forces, ring_volumes
+from sphfem_cli.fem.axisymmetric import axisymmetric_element_forces
+from sphfem_cli.model.mesh import ring_volumes
 from sphfem_cli.fem.geometry import quad4_gradient
 from sphfem_cli.fem.kernels import NSEC
 from sphfem_cli.materials.slots import NHIST, NPARAM, P_G, P_K
