@@ -31,9 +31,8 @@ def kernel_sigma(kernel, dim):
 
 
 @njit(cache=True, fastmath=False)
-def kernel_shape(kernel, dim, q):
-    """Kernel shape theta(q) and (1/q) dtheta/dq for 0 <= q < 2 (both 0 beyond); the same in 2D and 3D
-    (``dim`` is not read: the callers' signature is that of ``kernel_sigma``)."""
+def kernel_shape(kernel, q):
+    """Kernel shape theta(q) and (1/q) dtheta/dq for 0 <= q < 2 (both 0 beyond); the same in 2D and 3D."""
     if q >= 2.0:
         return 0.0, 0.0
     if kernel == WENDLAND_C2:
@@ -59,11 +58,11 @@ def inv_pow(inv, dim):
 def kernel_w(kernel, dim, r, h):
     """Kernel value W(r, h)."""
     inv = 1.0 / h
-    return kernel_sigma(kernel, dim) * inv_pow(inv, dim) * kernel_shape(kernel, dim, r * inv)[0]
+    return kernel_sigma(kernel, dim) * inv_pow(inv, dim) * kernel_shape(kernel, r * inv)[0]
 
 
 @njit(cache=True, fastmath=False)
 def kernel_f(kernel, dim, r, h):
     """F(r, h) = (1/r) dW/dr, so that grad_i W_ij = F r_ij with r_ij = x_i - x_j (finite at r = 0)."""
     inv = 1.0 / h
-    return kernel_sigma(kernel, dim) * inv_pow(inv, dim) * inv * inv * kernel_shape(kernel, dim, r * inv)[1]
+    return kernel_sigma(kernel, dim) * inv_pow(inv, dim) * inv * inv * kernel_shape(kernel, r * inv)[1]

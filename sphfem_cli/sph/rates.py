@@ -88,7 +88,7 @@ def viscous_stress(sx, sd, svf, cell_start, sreach, settings_f, settings_i, grid
                     if r2 >= 4.0 * hij * hij or r2 == 0.0:
                         continue
                     inv = 1.0 / hij
-                    f = sig * inv_pow(inv, dim) * inv * inv * kernel_shape(kernel, dim, math.sqrt(r2) * inv)[1]
+                    f = sig * inv_pow(inv, dim) * inv * inv * kernel_shape(kernel, math.sqrt(r2) * inv)[1]
                     vol = sd[D_VOL, j] * f
                     gx, gy, gz = vol * dx, vol * dy, vol * dz
                     fj = np.int64(j) if flips else np.int64(0)

@@ -286,7 +286,7 @@ def wall_pressure(sx, sd, cell_start, sreach, settings_f, settings_i, grid_f, gr
                     if r2 >= 4.0 * hij * hij:
                         continue
                     inv = 1.0 / hij
-                    wv = sig * inv_pow(inv, dim) * kernel_shape(kernel, dim, math.sqrt(r2) * inv)[0]
+                    wv = sig * inv_pow(inv, dim) * kernel_shape(kernel, math.sqrt(r2) * inv)[0]
                     rj = sd[D_RHO, j]
                     sw += wv
                     spw += sd[D_PR, j] * rj * rj * wv

@@ -98,7 +98,7 @@ q, kind = row[mk.EOS_OFFSET:], int(row[mk.P_EOS_TYPE])
 out = [eos.density_from_pressure(kind, q, row[ms.P_RHO0], p, q[ms.Q_E0], row[ms.P_RHO0]) for p in np.linspace(0.0, 2e4, 200)]
 out += [eos.sound_speed(kind, q, r, q[ms.Q_E0]) for r in np.linspace(0.99, 1.01, 50)]
 for kernel in (kf.CUBIC_SPLINE, kf.WENDLAND_C2):
-    out += [kf.kernel_sigma(kernel, 2)] + [v for t in np.linspace(0.01, 2.1, 50) for v in kf.kernel_shape(kernel, 2, t)]
+    out += [kf.kernel_sigma(kernel, 2)] + [v for t in np.linspace(0.01, 2.1, 50) for v in kf.kernel_shape(kernel, t)]
 out += [float(c) for v in np.linspace(-1.0, 1.0, 20) for c in search.cell_range(v, 0.3, -1.0, 7.0, 12)]
 print(json.dumps([float(v).hex() for v in out]))
 """
