@@ -170,14 +170,14 @@ def lagrange_forces_rz(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q,
                 vol = rg[_RG_VOL * B + i]
                 gg = rg[_RG_GG * B + i]
                 rho_e = st[_ST_M, i] / vol if vol > 0.0 else 0.0
-                length = area / math.sqrt(st[_ST_LONG2, i])  # lagrange._quad_char_length
+                length = area / math.sqrt(st[_ST_LONG2, i])  # fem.geometry.quad4_char_length with one square root
                 if gg > 0.0 and vol > 0.0:
                     length *= min(1.0, math.sqrt(rg[_RG_BB * B + i] / gg) * vol)  # |b| / |b_V|, b_V = gv / V
                 q = viscosity_and_step(e, rho_e, length, c_max, rg[_RG_TRACE * B + i], st[_ST_VMAX2, i], q1, q2,
                                        q_elem, dt_elem)
                 s = st[_ST_P, i] + q
                 if qhg > 0.0 and rho_e > 0.0 and area > 0.0:
-                    # lagrange.quad_hourglass with the plane coefficient qhg rho c sqrt(A) / 4 times the ring
+                    # the plane kernel's hourglass (lagrange_forces) with its coefficient qhg rho c sqrt(A) / 4 times the ring
                     # length 2 pi r_bar = V / A
                     coef = 0.25 * qhg * rho_e * c_max * math.sqrt(area) * (vol / area)
                     gx0 = st[_ST_GX, i]

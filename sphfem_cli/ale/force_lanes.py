@@ -174,7 +174,7 @@ def viscosity_block(nb, s_p, s_c, s_m, s_area, s_trace, s_vmax2, s_long2, q1, q2
     the block's slices, as in ``gas_block``) from their work rows (mixture pressure s_p, sound speed s_c, mass s_m, area, tr d, largest corner |v|^2, the longest
     edge's squared length).
 
-    l = A / sqrt(longest^2) (``lagrange._quad_char_length``); rho_e = M / A; q = ``fem.geometry.bulk_viscosity`` (rho l (Q1^2 l tr d^2 - Q2 c tr d), 0 where tr d >= 0)
+    l = A / sqrt(longest^2) (``fem.geometry.quad4_char_length`` with one square root: the rounded root is monotone); rho_e = M / A; q = ``fem.geometry.bulk_viscosity`` (rho l (Q1^2 l tr d^2 - Q2 c tr d), 0 where tr d >= 0)
     into q_elem; dt_elem = ``fem.geometry.stable_dt`` with c_eff = c + |v|_max (l / (Q + sqrt(Q^2 + c_eff^2)),
     Q = Q2 c_eff + Q1^2 l |tr d| in compression, else 0; inf where c_eff <= 0 or the denominator is not
     positive); s_s = A (p + q), s_rho = rho_e, s_coef = qhg rho_e c sqrt(A) / 4 (the hourglass coefficient,
@@ -217,8 +217,8 @@ def geometry_block(nb, cx, st):
 
     ``fem.geometry.quad4_gradient`` (b_xa = (y_{a+1} - y_{a-1}) / 2A, b_ya = (x_{a-1} - x_{a+1}) / 2A, 0
     where A <= 0), the velocity divergence tr d = sum_a v_a . b_a, the largest corner |v|^2, the largest
-    squared edge length of ``lagrange._quad_char_length`` and the hourglass rates of ``lagrange.quad_hourglass``
-    (Gamma . x and (gamma . v) per component, gamma_a = Gamma_a - (Gamma . x) b_a), in the scalar code's order.
+    squared edge length (the characteristic length A / longest edge) and the hourglass rates of Flanagan & Belytschko
+    (1981) (Gamma . x and (gamma . v) per component, gamma_a = Gamma_a - (Gamma . x) b_a), in the scalar code's order.
     """
     B = _ST_BLOCK
     for i in range(nb):

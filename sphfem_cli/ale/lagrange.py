@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numba import njit, prange
 
-from ..fem.geometry import bulk_viscosity, quad4_gradient, stable_dt
+from ..fem.geometry import bulk_viscosity, stable_dt
 from ..fem.tables import QUAD_GAMMA
 from ..materials.kernels import EOS_GRUNEISEN, eos_state
 from .force_lanes import (_ST_AREA, _ST_B, _ST_BLOCK, _ST_C, _ST_COEF, _ST_GX, _ST_HQ, _ST_LONG2, _ST_M, _ST_P, _ST_RHO,
@@ -148,20 +148,6 @@ def state_block(block, nb, gas, gm1, gpinf, flat, vol_m, mass_m, ener_m, e_lag, 
         st_m[i] = mtot
 
 
-@njit(cache=True, inline="always")
-def _quad_char_length(x, area):
-    """``fem.geometry.quad4_char_length`` (area over the longest edge) with one square root: the
-    longest edge is the root of the largest squared length (the rounded root is monotone, so the
-    same bits as the largest of the four roots)."""
-    longest2 = 0.0
-    for i in range(4):
-        j = (i + 1) % 4
-        dx = x[j, 0] - x[i, 0]
-        dy = x[j, 1] - x[i, 1]
-        longest2 = max(longest2, dx * dx + dy * dy)
-    return area / math.sqrt(longest2)
-
-
 # Every parallel kernel splits its items into min(n, N_CHUNKS) fixed runs (``chunk_range``), so the
 # partition, and with it every sum, is the same on any thread count.
 N_CHUNKS = 512
@@ -171,35 +157,6 @@ N_CHUNKS = 512
 def chunk_range(chunk, n, n_chunks):
     """Items [start, stop) of run ``chunk`` when n items are split into n_chunks runs."""
     return chunk * n // n_chunks, (chunk + 1) * n // n_chunks
-
-
-@njit(cache=True, inline="always")
-def gather_quad(conn, e, x, v, xe, ve):
-    """Corner coordinates and velocities of quad e into xe, ve (4, 2); returns the largest |v|^2."""
-    vmax2 = 0.0
-    for a in range(4):
-        n = conn[e, a]
-        xe[a, 0] = x[n, 0]
-        xe[a, 1] = x[n, 1]
-        ve[a, 0] = v[n, 0]
-        ve[a, 1] = v[n, 1]
-        vmax2 = max(vmax2, v[n, 0] * v[n, 0] + v[n, 1] * v[n, 1])
-    return vmax2
-
-
-@njit(cache=True, inline="always")
-def quad_scratch():
-    """Per-run scratch of the quad force kernels: corner coordinates and velocities (4, 2), gradient (2, 4)."""
-    return np.empty((4, 2)), np.empty((4, 2)), np.empty((2, 4))
-
-
-@njit(cache=True, inline="always")
-def quad_corners(conn, e, x, v, xe, ve, b):
-    """What the plane and ring force kernels first do with quad e: its corners into xe, ve
-    (``gather_quad``) and its plane mean gradient into b (``fem.geometry.quad4_gradient``).
-    Returns (the largest corner |v|^2, the quad's area)."""
-    vmax2 = gather_quad(conn, e, x, v, xe, ve)
-    return vmax2, quad4_gradient(xe, b)
 
 
 @njit(cache=True, inline="always")
@@ -214,41 +171,13 @@ def viscosity_and_step(e, rho_e, length, c_e, trace_d, vmax2, q1, q2, q_elem, dt
     return q
 
 
-@njit(cache=True, inline="always")
-def quad_hourglass(e, xe, ve, b, coef, f_elem):
-    """Viscous hourglass forces of quad e added to f_elem[e]: gamma_a = Gamma_a - (Gamma . x) b_a
-    (Flanagan & Belytschko 1981), f_a -= coef (gamma . v) gamma_a; coef = qhg rho c sqrt(A) / 4 on the
-    plane (times the ring length V / A in r-z)."""
-    gx0 = 0.0
-    gx1 = 0.0
-    for a in range(4):
-        gx0 += QUAD_GAMMA[a] * xe[a, 0]
-        gx1 += QUAD_GAMMA[a] * xe[a, 1]
-    hq0 = 0.0
-    hq1 = 0.0
-    for a in range(4):
-        g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
-        hq0 += g * ve[a, 0]
-        hq1 += g * ve[a, 1]
-    for a in range(4):
-        g = QUAD_GAMMA[a] - gx0 * b[0, a] - gx1 * b[1, a]
-        f_elem[e, a, 0] -= coef * hq0 * g
-        f_elem[e, a, 1] -= coef * hq1 * g
-
-
 # quad4 and hex8 force kernels: a dimension-generic kernel (inline body with the dimension as a constant,
 # as in FEM solid_element_forces) measured 6-17 % (2D) and 13-20 % (3D) slower per call (benchmarks/
 # ale_throughput.py cases, 1 thread, min of 15 calls, 3 interleaved rounds; docs/theory/ale.md "3D"), so both
 # stay. The r-z ring has its own kernel too (axisymmetric.lagrange_forces_rz): this kernel with a ring flag measured
 # 14-17 % slower on the ring and 2-5 % on the plane (min / median of 30 alternated calls, report alefold).
-# What the kernels share is inlined from one place (gather_quad, viscosity_and_step, quad_hourglass): against
-# the copies they replaced, bit-identical histories on six ALE decks and, min of 30 calls on one thread over
-# three alternated runs (4 Dec 2026, load 1), plane 4.16 / 4.18 ms, ring 5.45 / 5.55, hex8 26.04 / 26.45.
-# The plane and ring kernels' common start (quad_scratch, quad_corners) likewise: bit-identical on eight ALE
-# decks; min / median ms per call before -> after (benchmarks/ale_kernels.py --trees BASE THIS --rounds 5
-# --calls 50, 1 thread, 6 Dec 2026, load 3.9-4.0, BASE = e629c8f): plane 4.62 / 4.71 -> 4.62 / 4.70,
-# two materials 4.71 / 4.78 -> 4.73 / 4.79, ring 5.88 / 5.95 -> 5.74 / 5.91, hex8 (unchanged) 13.47 / 13.60
-# -> 13.47 / 13.60.
+# What the plane, ring and hex8 kernels share is inlined from one place (``viscosity_and_step``,
+# ``material_state``) or is one of the ``force_lanes`` block passes below.
 # The plane kernel goes over each run of elements three times (issue 17): the material state
 # (``_mixture_pressure``), the geometry (``quad_geometry``, on scalars), then the viscosity, step and
 # forces, through the run's work array st. One element's chain of divisions and square roots (density,
@@ -314,7 +243,7 @@ def lagrange_forces(x, v, conn, vol_m, mass_m, ener_m, e_lag, mat_eos, mat_q, ma
             for i in range(nb):
                 e = block + i
                 s = st[_ST_S, i]
-                if qhg > 0.0 and st[_ST_RHO, i] > 0.0:  # quad_hourglass: f_a -= coef (gamma . v) gamma_a
+                if qhg > 0.0 and st[_ST_RHO, i] > 0.0:  # hourglass (Flanagan & Belytschko 1981): f_a -= coef (gamma . v) gamma_a
                     coef = st[_ST_COEF, i]
                     gx0 = st[_ST_GX, i]
                     gx1 = st[_ST_GX + 1, i]
