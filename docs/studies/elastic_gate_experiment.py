@@ -5,6 +5,7 @@
     python docs/studies/elastic_gate_experiment.py ingest CASE FOLDER CPU_S   # a run made with `sphfem run`
     python docs/studies/elastic_gate_experiment.py compare
     python docs/studies/elastic_gate_experiment.py searle   # the plate's stiffness against plane strain's
+    python docs/studies/elastic_gate_experiment.py levels CASE [CASE ...]   # the water's depth behind the gate
 
 Cases: the shipped decks (``sph``, ``ale``) and, one change at a time on the SPH deck, the model-of-scene items of
 issue 18: ``sph_plane_stress`` (sections.solid.formulation plane_stress instead of plane strain) and ``sph_E10``
@@ -139,6 +140,34 @@ def searle(nu: float = 0.4) -> None:
         print(f"  width {b} m: beta {beta:.1f}, {strip_stiffness(beta, nu):.3f} of plane strain")
 
 
+def levels(names: list[str], times=(0.0, 0.04, 0.08, 0.12, 0.16, 0.20, 0.24, 0.28, 0.32, 0.36, 0.40)) -> None:
+    """The water's mean depth upstream of the gate (its area at x < 0.1 m over 0.1 m) at the field outputs of
+    study_elastic_gate_experiment/out_CASE: SPH particles' area spacing^2 each, ALE elements' water fraction times
+    their area. The quantity a measured water level behind the gate would test."""
+    import h5py
+
+    for name in names:
+        with h5py.File(WORK / f"out_{name}" / "results.h5", "r") as f:
+            fluid = "water" if "water" in f else "tank"
+            g = f[fluid]
+            steps = sorted(k for k in g if k.startswith("step_"))
+            t_out = f["times"][:]  # the field outputs' times, one per step_NNNNNN
+            depth = []
+            for tq in times:
+                k = steps[int(np.argmin(np.abs(t_out - tq)))]
+                if fluid == "water":
+                    x = g[k]["coordinates"][:, 0]
+                    depth.append(np.count_nonzero(x < 0.1) * 0.0025 ** 2 / 0.1)
+                else:
+                    xy = g["step_000000"]["coordinates"][:, :2][g["connectivity"][:]]
+                    xc = xy[:, :, 0].mean(axis=1)
+                    d1, d2 = xy[:, 2] - xy[:, 0], xy[:, 3] - xy[:, 1]  # a quad's area: half its diagonals' cross
+                    area = 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+                    depth.append(float(np.sum((g[k]["cell"]["fraction_water"][:] * area)[xc < 0.1])) / 0.1)
+        print(f"{name}: mean depth upstream [mm] at t = " + " / ".join(f"{v:g}" for v in times) + " s: "
+              + " / ".join(f"{1e3 * v:.1f}" for v in depth))
+
+
 def _save(name: str, t, ux, uy, cpu: float, steps: int | None) -> dict:
     out = {"case": name, "deck": CASES[name][0], "overrides": CASES[name][1], "steps": steps, "cpu_s": round(cpu, 1),
            "load_1min": round(os.getloadavg()[0], 2), "t": [float(v) for v in t], "ux": [float(v) for v in ux],
@@ -214,6 +243,8 @@ if __name__ == "__main__":
         ingest(sys.argv[2], sys.argv[3], float(sys.argv[4]))
     elif sys.argv[1:2] == ["compare"]:
         report()
+    elif sys.argv[1:2] == ["levels"]:
+        levels(sys.argv[2:])
     elif sys.argv[1:2] == ["searle"]:
         searle()
     else:
