@@ -14,7 +14,8 @@ of the decks' 12 MPa). The later phase's geometric unknowns (issue 18 (a); the p
 tests/data/elastic_gate_antoci2007.md), one change each, the decks unchanged: ``ale_tank_0.5`` and ``sph_tank_1.0``
 (the tank's far wall downstream of the gate moved from x = 0.3 / 0.5 m to 0.5 / 1.0 m: how much the water that
 collects downstream acts back on the gate) and ``sph_gap_5mm``, ``ale_gap_5mm`` (the clearance under the free end
-5 mm instead of 2.5 mm; the history on the free end's middle node, then at y = 0.005).
+5 mm instead of 2.5 mm; the history on the free end's middle node, then at y = 0.005), and with the water at 1.25 mm
+``sph_dx1.25`` (shipped geometry) against ``sph_dx1.25_gap_1.25mm`` (the clearance halved, still one particle row).
 Each is the deck loaded in memory with dotted overrides (sphfem_cli.api), run to the deck's 0.4 s on one thread;
 the free end's history (gate_tip: the node at x = 0.1025, y = 0.0025, every 2 ms) goes to
 study_elastic_gate_experiment/CASE.json with the CPU seconds (time.process_time, the deck built before the clock
@@ -63,6 +64,14 @@ CASES = {  # name: (deck, dotted overrides)
                                          "parts.gate.geometry.box.max": [0.105, 0.084],
                                          "parts.wall_above.geometry.box.min": [0.1, 0.084],
                                          "output.histories.0.point": [0.1025, 0.005]}),
+    # the clearance halved (1.25 mm) where the water resolves it (spacing 1.25 mm: one particle row under the gate
+    # as in the shipped deck), against the same spacing with the shipped 2.5 mm
+    "sph_dx1.25": ("elastic_gate_sph", {"parts.water.spacing": 0.00125}),
+    "sph_dx1.25_gap_1.25mm": ("elastic_gate_sph", {"parts.water.spacing": 0.00125,
+                                                   "parts.gate.geometry.box.min": [0.1, 0.00125],
+                                                   "parts.gate.geometry.box.max": [0.105, 0.08025],
+                                                   "parts.wall_above.geometry.box.min": [0.1, 0.08025],
+                                                   "output.histories.0.point": [0.1025, 0.00125]}),
     "ale_gap_5mm": ("elastic_gate_ale", {"parts.gate.geometry.box.min": [0.1, 0.005],
                                          "parts.gate.geometry.box.max": [0.105, 0.084],
                                          "parts.wall_above.geometry.box.min": [0.1, 0.084],
@@ -145,8 +154,11 @@ def levels(names: list[str], times=(0.0, 0.04, 0.08, 0.12, 0.16, 0.20, 0.24, 0.2
     study_elastic_gate_experiment/out_CASE: SPH particles' area spacing^2 each, ALE elements' water fraction times
     their area. The quantity a measured water level behind the gate would test."""
     import h5py
+    import yaml
 
     for name in names:
+        deck = yaml.safe_load((WORK / f"out_{name}" / "deck.effective.yaml").read_text())
+        spacing = deck["parts"]["water"]["spacing"] if "water" in deck["parts"] else None
         with h5py.File(WORK / f"out_{name}" / "results.h5", "r") as f:
             fluid = "water" if "water" in f else "tank"
             g = f[fluid]
@@ -157,7 +169,7 @@ def levels(names: list[str], times=(0.0, 0.04, 0.08, 0.12, 0.16, 0.20, 0.24, 0.2
                 k = steps[int(np.argmin(np.abs(t_out - tq)))]
                 if fluid == "water":
                     x = g[k]["coordinates"][:, 0]
-                    depth.append(np.count_nonzero(x < 0.1) * 0.0025 ** 2 / 0.1)
+                    depth.append(np.count_nonzero(x < 0.1) * spacing ** 2 / 0.1)
                 else:
                     xy = g["step_000000"]["coordinates"][:, :2][g["connectivity"][:]]
                     xc = xy[:, :, 0].mean(axis=1)
