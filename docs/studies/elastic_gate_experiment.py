@@ -5,11 +5,17 @@
     python docs/studies/elastic_gate_experiment.py ingest CASE FOLDER CPU_S   # a run made with `sphfem run`
     python docs/studies/elastic_gate_experiment.py compare
     python docs/studies/elastic_gate_experiment.py searle   # the plate's stiffness against plane strain's
+    python docs/studies/elastic_gate_experiment.py levels CASE [CASE ...]   # the water's depth behind the gate
 
 Cases: the shipped decks (``sph``, ``ale``) and, one change at a time on the SPH deck, the model-of-scene items of
 issue 18: ``sph_plane_stress`` (sections.solid.formulation plane_stress instead of plane strain) and ``sph_E10``
 (the rubber's Young's modulus 10 MPa, the measured value ../shared/reference and issue 18 give for the paper, instead
-of the decks' 12 MPa).
+of the decks' 12 MPa). The later phase's geometric unknowns (issue 18 (a); the published setup as read gives neither,
+tests/data/elastic_gate_antoci2007.md), one change each, the decks unchanged: ``ale_tank_0.5`` and ``sph_tank_1.0``
+(the tank's far wall downstream of the gate moved from x = 0.3 / 0.5 m to 0.5 / 1.0 m: how much the water that
+collects downstream acts back on the gate) and ``sph_gap_5mm``, ``ale_gap_5mm`` (the clearance under the free end
+5 mm instead of 2.5 mm; the history on the free end's middle node, then at y = 0.005), and with the water at 1.25 mm
+``sph_dx1.25`` (shipped geometry) against ``sph_dx1.25_gap_1.25mm`` (the clearance halved, still one particle row).
 Each is the deck loaded in memory with dotted overrides (sphfem_cli.api), run to the deck's 0.4 s on one thread;
 the free end's history (gate_tip: the node at x = 0.1025, y = 0.0025, every 2 ms) goes to
 study_elastic_gate_experiment/CASE.json with the CPU seconds (time.process_time, the deck built before the clock
@@ -47,6 +53,29 @@ CASES = {  # name: (deck, dotted overrides)
     "ale": ("elastic_gate_ale", {}),
     "sph_plane_stress": ("elastic_gate_sph", {"sections.solid.formulation": "plane_stress"}),
     "sph_E10": ("elastic_gate_sph", {"materials.rubber.youngs_modulus": 1.0e7}),
+    # the downstream end (issue 18 (a), the drainage): the tank's far wall moved from x = 0.3 (ALE) / 0.5 (SPH) m
+    # to 0.5 / 1.0 m, everything else as shipped; the history point is the same node
+    "ale_tank_0.5": ("elastic_gate_ale", {"parts.tank.geometry.box.max": [0.5, 0.16]}),
+    "sph_tank_1.0": ("elastic_gate_sph", {"boundaries.0.max": [1.0, 0.3]}),
+    # the clearance under the free end (issue 18 (a)): 5 mm instead of 2.5 mm (two particle spacings), the gate's
+    # length (0.079 m) and the holder's top (0.16 m) kept: gate and holder raised by 2.5 mm, the history point
+    # on the free end's middle node
+    "sph_gap_5mm": ("elastic_gate_sph", {"parts.gate.geometry.box.min": [0.1, 0.005],
+                                         "parts.gate.geometry.box.max": [0.105, 0.084],
+                                         "parts.wall_above.geometry.box.min": [0.1, 0.084],
+                                         "output.histories.0.point": [0.1025, 0.005]}),
+    # the clearance halved (1.25 mm) where the water resolves it (spacing 1.25 mm: one particle row under the gate
+    # as in the shipped deck), against the same spacing with the shipped 2.5 mm
+    "sph_dx1.25": ("elastic_gate_sph", {"parts.water.spacing": 0.00125}),
+    "sph_dx1.25_gap_1.25mm": ("elastic_gate_sph", {"parts.water.spacing": 0.00125,
+                                                   "parts.gate.geometry.box.min": [0.1, 0.00125],
+                                                   "parts.gate.geometry.box.max": [0.105, 0.08025],
+                                                   "parts.wall_above.geometry.box.min": [0.1, 0.08025],
+                                                   "output.histories.0.point": [0.1025, 0.00125]}),
+    "ale_gap_5mm": ("elastic_gate_ale", {"parts.gate.geometry.box.min": [0.1, 0.005],
+                                         "parts.gate.geometry.box.max": [0.105, 0.084],
+                                         "parts.wall_above.geometry.box.min": [0.1, 0.084],
+                                         "output.histories.0.point": [0.1025, 0.005]}),
 }
 OPENING = 4  # frames 1-4 (t <= 0.122 s): the opening; frames 5-10: the later phase
 
@@ -120,6 +149,37 @@ def searle(nu: float = 0.4) -> None:
         print(f"  width {b} m: beta {beta:.1f}, {strip_stiffness(beta, nu):.3f} of plane strain")
 
 
+def levels(names: list[str], times=(0.0, 0.04, 0.08, 0.12, 0.16, 0.20, 0.24, 0.28, 0.32, 0.36, 0.40)) -> None:
+    """The water's mean depth upstream of the gate (its area at x < 0.1 m over 0.1 m) at the field outputs of
+    study_elastic_gate_experiment/out_CASE: SPH particles' area spacing^2 each, ALE elements' water fraction times
+    their area. The quantity a measured water level behind the gate would test."""
+    import h5py
+    import yaml
+
+    for name in names:
+        deck = yaml.safe_load((WORK / f"out_{name}" / "deck.effective.yaml").read_text())
+        spacing = deck["parts"]["water"]["spacing"] if "water" in deck["parts"] else None
+        with h5py.File(WORK / f"out_{name}" / "results.h5", "r") as f:
+            fluid = "water" if "water" in f else "tank"
+            g = f[fluid]
+            steps = sorted(k for k in g if k.startswith("step_"))
+            t_out = f["times"][:]  # the field outputs' times, one per step_NNNNNN
+            depth = []
+            for tq in times:
+                k = steps[int(np.argmin(np.abs(t_out - tq)))]
+                if fluid == "water":
+                    x = g[k]["coordinates"][:, 0]
+                    depth.append(np.count_nonzero(x < 0.1) * spacing ** 2 / 0.1)
+                else:
+                    xy = g["step_000000"]["coordinates"][:, :2][g["connectivity"][:]]
+                    xc = xy[:, :, 0].mean(axis=1)
+                    d1, d2 = xy[:, 2] - xy[:, 0], xy[:, 3] - xy[:, 1]  # a quad's area: half its diagonals' cross
+                    area = 0.5 * np.abs(d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0])
+                    depth.append(float(np.sum((g[k]["cell"]["fraction_water"][:] * area)[xc < 0.1])) / 0.1)
+        print(f"{name}: mean depth upstream [mm] at t = " + " / ".join(f"{v:g}" for v in times) + " s: "
+              + " / ".join(f"{1e3 * v:.1f}" for v in depth))
+
+
 def _save(name: str, t, ux, uy, cpu: float, steps: int | None) -> dict:
     out = {"case": name, "deck": CASES[name][0], "overrides": CASES[name][1], "steps": steps, "cpu_s": round(cpu, 1),
            "load_1min": round(os.getloadavg()[0], 2), "t": [float(v) for v in t], "ux": [float(v) for v in ux],
@@ -167,6 +227,16 @@ def report() -> None:
               f"{c['x rms']:.2f} / {c['x rms opening']:.2f} / {c['x rms later']:.2f} | "
               f"{c['y rms']:.2f} / {c['y rms opening']:.2f} / {c['y rms later']:.2f} | "
               f"{c['x min after peak']:.2f} ({c['t x min after peak']:.3f}) |")
+    print("\n| case | steps | CPU s | x peak [mm] | t x peak [s] | x frames 5-10 - measured [mm] (RMS) "
+          "| x at 0.279 s, frame 8 [mm] (measured 40.57) | x min after peak [mm] (t [s]) |")
+    print("|---" * 7 + "|")
+    for n, c in rows.items():
+        r = done[n]
+        later = [c[f"x error frame {j}"] for j in range(OPENING + 1, 11)]
+        x8 = c["x error frame 8"] + 1e3 * float(load_data()["x"][7])
+        print(f"| {n} | {r['steps']} | {r['cpu_s']:.0f} | {c['x peak model']:.2f} | {c['t x peak model']:.3f} | "
+              f"{min(later):+.1f} to {max(later):+.1f} ({c['x rms later']:.2f}) | {x8:.2f} | "
+              f"{c['x min after peak']:.2f} ({c['t x min after peak']:.3f}) |")
     d = load_data()
     for q in ("x", "y"):
         print(f"\nmodel - measurement, {q} [mm], per frame (t = " + " / ".join(f"{v:.3f}" for v in d[f't_{q}'])
@@ -185,6 +255,8 @@ if __name__ == "__main__":
         ingest(sys.argv[2], sys.argv[3], float(sys.argv[4]))
     elif sys.argv[1:2] == ["compare"]:
         report()
+    elif sys.argv[1:2] == ["levels"]:
+        levels(sys.argv[2:])
     elif sys.argv[1:2] == ["searle"]:
         searle()
     else:
