@@ -120,12 +120,15 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
 @click.option("--references", type=click.Path(file_okay=False), default=None,
               help="Reference folder. Default: tests/regression/references of the project.")
 @click.option("--failures-only", is_flag=True, help="List only the quantities that failed.")
-def regress(decks, update_refs, end_time_fraction, references, failures_only) -> None:
+@click.option("--keep-output", type=click.Path(file_okay=False), default=None,
+              help="Keep each deck's short run in FOLDER/<deck name> (which must not exist yet), to open its "
+                   "results. Default: temporary folders, removed after the comparison.")
+def regress(decks, update_refs, end_time_fraction, references, failures_only, keep_output) -> None:
     """Run DECKS (default: every decks/*.yaml) briefly and compare energies and histories with stored references."""
     from .regress import main as regress_main
 
     sys.exit(regress_main(decks, update=update_refs, fraction=end_time_fraction, references=references,
-                          failures_only=failures_only, echo=click.echo))
+                          failures_only=failures_only, echo=click.echo, keep=keep_output))
 
 
 def _number_list(kind):

@@ -25,11 +25,14 @@ The short run is a prefix of the full run: output intervals left to their defaul
 the full run's values (end_time/50, end_time/1000) before ``end_time`` is shortened, so the solver
 takes the same steps up to the short end time.
 
-``sphfem regress [DECKS...] [--update-refs] [--end-time-fraction F]`` drives this; the test
-``tests/regression/test_decks.py`` runs the same comparison under pytest.
+``sphfem regress [DECKS...] [--update-refs] [--end-time-fraction F] [--keep-output FOLDER]`` drives this
+(the short runs go to temporary folders, removed afterwards, or with ``--keep-output`` to FOLDER/<stem>); the
+test ``tests/regression/test_decks.py`` runs the same comparison under pytest and reads the kept run's
+per-part XDMF files too.
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import tempfile
@@ -76,6 +79,7 @@ class DeckResult:
     rows: list[Row] = field(default_factory=list)
     wall: float = 0.0
     note: str = ""
+    output: Path | None = None  # the run's folder when kept (``regress_deck``'s keep)
 
     @property
     def passed(self) -> bool:
@@ -276,8 +280,14 @@ def regress_deck(
     update: bool = False,
     fraction: float | None = None,
     workdir: Path | None = None,
+    keep: Path | None = None,
 ) -> DeckResult:
-    """Run one deck and compare it with (or, when `update`, rewrite) its reference."""
+    """Run one deck and compare it with (or, when `update`, rewrite) its reference.
+
+    The run goes to a temporary folder (under `workdir`) that is removed afterwards, or with `keep` to
+    keep / <deck stem>, which must not exist yet (an earlier run is never overwritten), and is left there
+    (``DeckResult.output``).
+    """
     deck = Path(deck)
     result = DeckResult(deck.stem)
     ref_path = reference_path(deck, references)
@@ -294,7 +304,14 @@ def regress_deck(
         end_time, frac = None, DEFAULT_FRACTION
     tolerance = float(reference.get("tolerance", DEFAULT_TOLERANCE)) if reference else DEFAULT_TOLERANCE
 
-    with tempfile.TemporaryDirectory(prefix=f"sphfem-regress-{deck.stem}-", dir=workdir) as tmp:
+    if keep is not None and (Path(keep) / deck.stem).exists():
+        result.rows.append(Row(deck.stem, "run", None, None, None,
+                               f"FAIL (the output folder {Path(keep) / deck.stem} exists: remove it or keep elsewhere)",
+                               tolerance))
+        return result
+    with (contextlib.nullcontext(str(Path(keep) / deck.stem)) if keep is not None
+          else tempfile.TemporaryDirectory(prefix=f"sphfem-regress-{deck.stem}-", dir=workdir)) as tmp:
+        result.output = Path(tmp) if keep is not None else None
         try:
             t_end, wall, outdir, names = run_short(deck, end_time, frac, Path(tmp))
         except Exception as err:  # noqa: BLE001 - a failing deck is a FAIL row, not a crash
@@ -370,6 +387,7 @@ def main(
     references: str | None = None,
     failures_only: bool = False,
     echo=print,
+    keep: str | None = None,
 ) -> int:
     """The ``sphfem regress`` command; returns the exit status (0 when every deck passed)."""
     root = find_root()
@@ -385,7 +403,8 @@ def main(
         return 2
     results = []
     for path in paths:
-        results.append(regress_deck(path, refdir, update=update, fraction=fraction))
+        results.append(regress_deck(path, refdir, update=update, fraction=fraction,
+                                    keep=Path(keep) if keep else None))
     echo(format_table(results, failures_only=failures_only))
     echo("")
     echo(summary(results))

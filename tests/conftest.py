@@ -106,3 +106,22 @@ def read_history(folder: Path, name: str) -> dict[str, np.ndarray]:
     """histories/<name>.csv as {column: array}."""
     data = np.genfromtxt(folder / f"{name}.csv", delimiter=",", names=True)
     return {k: data[k] for k in data.dtype.names}
+
+
+def xdmf_series(path):
+    """Each saved time of an XDMF file read back with the VTK wheel's reader, as ParaView reads it:
+    (time, dataset class name, point count, point array names, cell array names, point coordinates)."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+    from vtkmodules.vtkIOXdmf2 import vtkXdmfReader
+
+    reader = vtkXdmfReader()
+    reader.SetFileName(str(path))
+    reader.UpdateInformation()
+    times = reader.GetOutputInformation(0).Get(vtkStreamingDemandDrivenPipeline.TIME_STEPS())
+    for t in times:
+        reader.UpdateTimeStep(t)
+        out = reader.GetOutputDataObject(0)
+        point = {out.GetPointData().GetArrayName(i) for i in range(out.GetPointData().GetNumberOfArrays())}
+        cell = {out.GetCellData().GetArrayName(i) for i in range(out.GetCellData().GetNumberOfArrays())}
+        yield t, type(out).__name__, out.GetNumberOfPoints(), point, cell, vtk_to_numpy(out.GetPoints().GetData()).copy()
