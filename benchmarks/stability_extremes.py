@@ -7,7 +7,7 @@
 Each case is a small deck run through `sphfem run` (in process); the table gives the guard that
 stopped it (or "completed"), steps, the last energy ratio and its range, the wall time and the first
 line of the diagnosis. docs/stability.md holds the table this script wrote; every column but the wall
-time is deterministic, and `tests/robustness/test_stability_table.py` reruns the QUICK groups and
+time is deterministic, and `tests/robustness/test_stability_table.py` (`-m extremes`) reruns the QUICK groups and
 compares them with it. The wall times are not timed tests.
 """
 from __future__ import annotations
@@ -244,7 +244,7 @@ BEGIN = "<!-- table: written by `python benchmarks/stability_extremes.py --write
 END = "<!-- end of the table -->"
 QUICK = ("timestep_scale", "impact speed", "density ratio", "near incompressible", "thin 3D parts",
          "tensile instability", "one element", "one particle", "gravity")
-"""The groups `tests/robustness/test_stability_table.py` reruns (the others take minutes)."""
+"""The groups `tests/robustness/test_stability_table.py` reruns under -m extremes and test_extremes.py runs in the default suite (the others take minutes)."""
 
 
 def table_row(group: str, name: str, row: dict) -> str:

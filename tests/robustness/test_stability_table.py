@@ -1,5 +1,5 @@
 """docs/stability.md's table is what benchmarks/stability_extremes.py writes: the quick groups rerun here
-give the same outcome, and the same steps, energy ratios and state figures (every column but the wall time)
+(``-m extremes``, with the heavier cases) give the same outcome, and the same steps, energy ratios and state figures (every column but the wall time)
 within the spread of the host CPU.
 
 Why a spread: the kernels are compiled for the host CPU (``fastmath``), so their sums are ordered by its
@@ -20,6 +20,8 @@ from __future__ import annotations
 import re
 import sys
 from pathlib import Path
+
+import pytest
 
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
@@ -71,6 +73,7 @@ def test_spread_rule_accepts_round_off_and_refuses_a_changed_outcome():
     assert not _same_within_spread(shipped, (*shipped[:5], "min distance/dx 0.42, min p 2.94e+04 Pa"))
 
 
+@pytest.mark.extremes  # 15-17 s of CPU; five of its nine groups' outcomes run in the default suite (test_extremes.py QUICK)
 def test_shipped_table_matches_a_fresh_run_of_the_quick_cases():
     shipped = {_key_columns(r)[1]: _key_columns(r) for r in se.shipped_rows()}
     names = [name for group, name, _ in se.cases(100_000)]
