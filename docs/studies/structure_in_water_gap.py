@@ -53,6 +53,9 @@ The ratio-5 diagnosis (section "The boundary particles at ratio 5"), each with i
 half the deck's time step (timestep_scale 0.45), "sb0d" the sb0 deck with twice the boundary particles along the
 plate's faces at ratio 5 (structure_in_water_kgc.py "plain dense"); `--steps [r4] KIND ...` prints their peaks and
 energy at ratio 5 (or the one named).
+The series at one step (section "The corrected gradient as a series at one step"): "sbkat8" and its "...a01c01"
+twin, sbka at 0.8 of the deck's step (timestep_scale 0.72, as "sb0nt8") at ratios 3-6; `--series KIND ...` prints
+their peaks, energy, gauges and CPU, Celik's three_grid on the finest three ratios and the comparison with ALE's limit.
 `--corners` prints u(t) on
 the rise and the water's speed next to the plate's lower corners.
 `--corner-figure` draws the water's speed round the plate's end
@@ -88,7 +91,7 @@ SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0
                 "hr15d05": {"smoothing_ratio": 1.5, "density_diffusion": 0.05},
                 "d02": {"density_diffusion": 0.02}, "d01": {"density_diffusion": 0.01}, "sbc": {}, "tt": {}, "ttc0": {},
                 "sbm": {}, "sbmc": {}, "sbs": {}, "sbmn": {}, "sbmf": {}, "sbk": {}, "sbka": {}, "sbkan": {},
-                "sb0d": {}, "sb0n": {}, "sb0nts": {}, "sbkats": {}, "sb0nt8": {}, "sb0nm4": {}, "sb0ncb": {}, "sb0nt9": {},
+                "sb0d": {}, "sb0n": {}, "sb0nts": {}, "sbkats": {}, "sbkat8": {}, "sb0nt8": {}, "sb0nm4": {}, "sb0ncb": {}, "sb0nt9": {},
                 "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
 CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
@@ -98,7 +101,7 @@ CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
 # 0.1 MPa in the a01c01 twin)
 CORNER_CORRECTION = {"tt": "particle", "ttc0": "ambient"}
 SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan",
-                "sb0d", "sb0n", "sb0nts", "sbkats", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9"}
+                "sb0d", "sb0n", "sb0nts", "sbkats", "sbkat8", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9"}
 # the sb0 deck with particle shifting restricted to the water within CORNER_SHIFT[kind][1] spacings of the plate's lower
 # corners (A = CORNER_SHIFT[kind][0]), run through structure_in_water_corner_shift.py (section "mDBC at the corners")
 CORNER_SHIFT = {"sbs": ("2", "4")}  # boundary particles carried by the plate instead of the penalty contact
@@ -120,7 +123,8 @@ KGC = {"sbk": [], "sbka": ["all"],  # "sbka": every water point with a nearly fu
        # plate's boundary particles at no more than the water's spacing along each face (ceil(L / dx) per face
        # instead of round(L / dx): 2 per 2.5 mm face at ratio 5, unchanged at ratios 3, 4, 6)
        "sb0d": ["plain", "dense"],
-       "sbkats": ["all"]}  # sbka at half the deck's time step (as "sb0nts" is sb0n's)
+       "sbkats": ["all"],  # sbka at half the deck's time step (as "sb0nts" is sb0n's)
+       "sbkat8": ["all"]}  # sbka at 0.8 of the deck's step (as "sb0nt8" is sb0n's): the series at one step rule
 # the energy guard off: at a tenth the corners-once run stopped at 0.70 ms on the guard against negative contact
 # energy (the boundary's share of the pair work -0.021 J, 10 % of the energy in play) with the energy ratio 1.0005
 # and the tangential-only form of "tt" stopped at step 100 (34 us) on the same guard (contact -0.078 J of 0.40 J in
@@ -131,13 +135,16 @@ ENERGY_GUARD_OFF = {"sbca01c01", "tt", "tta01c01", "ttc0", "ttc0a01c01", "sbs", 
                     "sb0d", "sb0da01c01",
                     # "sb0n": sb0 with the guard off, the control of the corrected runs at ratio 5 (sb0_r5 stops at
                     # step 10 on the guard: the ambient preload's start, contact -2.8e-3 J against 7.3e-3 J in play)
-                    "sb0n", "sb0na01c01", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9"}
+                    "sb0n", "sb0na01c01", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9",
+                    "sbkat8", "sbkat8a01c01"}
 # half the deck's time step: "ts" (section "SPH's gap: ..."), and the ratio-5 boundary-particle decks of section "The
 # boundary particles at ratio 5" (the plain and the corrected gradient)
 HALF_STEP = {"ts", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01"}
 # section "A stable step for the coupling": sb0n at 0.8 of the deck's step (timestep_scale 0.72), where the water's
 # c dt / h at ratio 5 is ratio 4's at the deck's step (0.169), and "sb0nt9" at 0.9 of it (timestep_scale 0.81)
-STEP_SCALE = {"sb0nt8": 0.72, "sb0nt9": 0.81}
+STEP_SCALE = {"sb0nt8": 0.72, "sb0nt9": 0.81,
+              # section "The corrected gradient as a series at one step": sbka at 0.72 at every ratio (3-6), both drives
+              "sbkat8": 0.72, "sbkat8a01c01": 0.72}
 # and sb0n with the plate's density x 4 at the deck's step (dt_max 3.4174e-7 s, the plate's step of sb0n; the water's own
 # limit 3.66e-7, the heavier plate's 6.8e-7): the face nodes' S_i / m_i a quarter at the same step (a diagnostic)
 # "sb0ncb": the deck's plate at the combined Gershgorin step of plate and coupling, 0.9 (dt_p^-2 + dt_c^-2)^-1/2 =
@@ -150,7 +157,7 @@ AMPLITUDE = {"a01": 0.1, "alea01": 0.1, "a01c01": 0.1, "a0": 0.0, "a03c03": 0.3,
 # the twins "<kind>a01c01" of these SPH kinds: the same change at a tenth of the drive and of the ambient pressure
 for _kind in ("cd0", "ss03", "sb0", "av1", "sw", "wc2", "hr15", "sb0hr15", "hr15dp", "hr15d05", "d05", "d02", "d01",
               "sbc", "tt", "ttc0", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan",
-              "sb0d", "sb0n", "sb0nts", "sbkats"):
+              "sb0d", "sb0n", "sb0nts", "sbkats", "sbkat8"):
     _twin = _kind + "a01c01"
     SPH_VARIANTS[_twin] = SPH_VARIANTS[_kind]
     if _kind in BOUNDARY_OPTIONS:
@@ -397,6 +404,59 @@ def steps(kinds: list[str], level: str = "r5") -> None:
                   f"({r[late].max():.4f}) | {leave} | {e['contact'][-1]:.3f}")
 
 
+# ALE's Lagrangian limit on the same plate ("Converged with alpha 0", 5 / 2.5 / 1.25 mm): peak mid-height displacement
+# (mm) and the 0-25 mm gauge (MPa), each with its GCI on the finest level (relative)
+ALE_LIMIT = {"peak": (0.5735, 0.0032), "gauge": (121.5, 0.020)}
+
+
+def series(kinds: list[str]) -> None:
+    """Per kind over ratios 3-6 (the deck's drive and its a01c01 twin, peaks and gauges x 10): the peak mid-height
+    displacement against REFERENCE_PEAK, the energy ratio at 2 ms and its largest value after 0.1 ms, the 0-25 / 25-50 mm
+    gauges and the CPU s of log.txt; then Celik's three_grid (sphfem_cli.study.metrics) on the finest three ratios run
+    (h = the water's spacing) for the peak and the 0-25 mm gauge, and whether the extrapolation agrees with ALE's limit
+    within the combined uncertainty |SPH_ext - ALE_ext| <= GCI_SPH + GCI_ALE (absolute)."""
+    from sphfem_cli.study.metrics import three_grid
+    cpu = {}
+    if (WORK / "log.txt").exists():
+        for line in open(WORK / "log.txt"):
+            words = line.split()
+            cpu[words[0]] = f"{words[2]} (load {words[5]})"
+    print("case | ratio | peak mm (vs ref) | energy ratio at 2 ms (max after 0.1 ms) | gauges 0-25 / 25-50 MPa | CPU s")
+    for kind in kinds:
+        for twin, scale in ((kind, 1.0), (kind + "a01c01", 10.0)):
+            h, peak, gauge = [], [], []
+            for level in ("r3", "r4", "r5", "r6"):
+                name = f"{twin}_{level}_gap"
+                if not (WORK / name / "histories" / "glstat.csv").exists():
+                    continue
+                e = history(name, "glstat")
+                if e["time"][-1] < 2.0e-3 - 1e-9:
+                    print(f"{name} | stopped at {1e3 * e['time'][-1]:.3f} ms")
+                    continue
+                u = scale * 1e3 * np.abs(history(name, "mid")["displacement_x"]).max()
+                g = [scale * v for v in gauges(name)]
+                late = e["time"] > 1.0e-4
+                print(f"{name} | {level[1:]} | {u:.4f} ({100.0 * (u / REFERENCE_PEAK - 1.0):+.2f} %) | "
+                      f"{float(np.interp(2.0e-3, e['time'], e['energy_ratio'])):.4f} ({e['energy_ratio'][late].max():.4f})"
+                      f" | {g[0]:.2f} / {g[1]:.2f} | {cpu.get(name, '-')}")
+                h.append(LEVELS[twin][level])
+                peak.append(u)
+                gauge.append(g[0])
+            if len(h) < 3:
+                continue
+            for label, phi in (("peak", peak), ("gauge", gauge)):
+                c = three_grid(h[-3:], phi[-3:])
+                head = f"{twin} {label}, ratios {'/'.join(str(round(0.01 / x)) for x in h[-3:])}: monotone {c.monotone}"
+                if c.diverging or not np.isfinite(c.extrapolated):
+                    print(f"{head}, {'differences grow' if c.diverging else 'no order'}: no extrapolation")
+                    continue
+                ale, ale_gci = ALE_LIMIT[label]
+                band = abs(c.extrapolated) * c.gci_fine + ale * ale_gci
+                print(f"{head}, order {c.order:.2f}, extrapolated {c.extrapolated:.4f}, GCI fine {100 * c.gci_fine:.2f} %, "
+                      f"asymptotic ratio {c.asymptotic:.2f}; ALE {ale} (GCI {100 * ale_gci:.2f} %): apart "
+                      f"{abs(c.extrapolated - ale):.4f}, band {band:.4f}, agree {abs(c.extrapolated - ale) <= band}")
+
+
 def corner_figure(path: str = "structure_in_water_corner_flow.png") -> None:
     """Water speed round the plate's lower end at 0.5 and 1.0 ms: SPH ratio 4 at the deck's drive and at a tenth
     (velocities x 10), and the Lagrangian ALE at 2.5 mm (its mesh nodes); runs cd0_r4_gap, cd0a01c01_r4_gap and
@@ -434,6 +494,8 @@ if __name__ == "__main__":
             steps(args[2:], args[1])
         else:
             steps(args[1:])
+    elif args[:1] == ["--series"]:  # --series KIND ...: ratios 3-6, three_grid, against ALE's limit
+        series(args[1:])
     elif args[:1] == ["--corners"]:
         corners(args[1:])
     elif args == ["--corner-figure"]:
