@@ -24,10 +24,15 @@ round r + 1), and min and median over the rounds are printed with the load avera
 * ``check3d`` / ``checkale`` / ``checkbird`` / ``checkdam``: ``sphfem check`` of ``decks/cantilever_3d.yaml``
   (hex8 solid at rest), ``decks/water_air_shock_tube.yaml`` (plane ALE at rest, two materials),
   ``decks/bird_strike_axisymmetric_ale.yaml`` (r-z ALE bird in motion, an axisymmetric solid disc) and
-  ``decks/dam_break_2d.yaml`` (SPH), warm cache;
-  ``cold-check3d`` / ``cold-checkale`` / ``cold-checkbird`` / ``cold-checkdam`` the same with an empty numba cache (a fresh
+  ``decks/dam_break_2d.yaml`` (SPH), warm cache; ``checkdamale`` / ``checkuw3d``: ``decks/dam_break_ale.yaml`` (a
+  hydrostatic ALE fill) and ``decks/underwater_explosion_plate_3d_ale.yaml`` (hex8 ALE, a 3D coupling);
+  ``cold-check3d`` / ``cold-checkale`` / ... the same with an empty numba cache (a fresh
   ``NUMBA_CACHE_DIR`` per run): what the initial-state passes ``fem.at_rest`` and ``ale.at_rest`` save (not in
   the default cases: the empty-cache runs of a tree that compiles the force kernels cost 20-35 s each).
+
+Every case also prints its user and system seconds apart (min / median): the set-up's system time is first
+touches of fresh memory, and with transparent huge pages (numpy madvises its arrays of 4 MB and more) it swings
+by seconds from run to run on this machine (a 2 MB fault may go through the kernel's direct compaction).
 
 ``--against TREE``: every case also runs on the source tree TREE (e.g. a ``git archive`` copy of main: its
 ``sphfem_cli`` on ``PYTHONPATH``, its own numba cache), the two trees alternating within each round (which goes
@@ -119,16 +124,18 @@ output:
 """
 
 SETUP = textwrap.dedent("""\
-    import sys, time
+    import resource, sys, time
     from sphfem_cli import api
     from sphfem_cli.solver.explicit import Simulation
     deck, overrides = sys.argv[1], eval(sys.argv[2])
+    r0 = resource.getrusage(resource.RUSAGE_SELF)
     t0 = time.process_time()
     loaded = api.load(deck, overrides)
     t1 = time.process_time()
     sim = Simulation(loaded.model)
     t2 = time.process_time()
-    print(f"{t2 - t0:.6f} {t1 - t0:.6f} {t2 - t1:.6f}")
+    r1 = resource.getrusage(resource.RUSAGE_SELF)
+    print(f"{t2 - t0:.6f} {t1 - t0:.6f} {t2 - t1:.6f} {r1.ru_utime - r0.ru_utime:.6f} {r1.ru_stime - r0.ru_stime:.6f}")
 """)
 
 SETUPS = {
@@ -144,17 +151,19 @@ SETUPS = {
 GOALS = {"check": "<= 3x numpy", "run": "<= 1.5 s", "cold": "<= 15 s", "ale2": "<= 2 s", "ale1": "<= 2 s",
          "sph": "<= 2 s"}
 CHECKS = {"check3d": "decks/cantilever_3d.yaml", "checkale": "decks/water_air_shock_tube.yaml",
-          "checkbird": "decks/bird_strike_axisymmetric_ale.yaml", "checkdam": "decks/dam_break_2d.yaml"}
+          "checkbird": "decks/bird_strike_axisymmetric_ale.yaml", "checkdam": "decks/dam_break_2d.yaml",
+          "checkdamale": "decks/dam_break_ale.yaml", "checkuw3d": "decks/underwater_explosion_plate_3d_ale.yaml"}
 
 
-def child_cpu(cmd: list[str], env: dict | None = None, cwd: Path = ROOT) -> tuple[float, str]:
-    """(user + system CPU seconds of the child, its stdout + stderr)."""
+def child_cpu(cmd: list[str], env: dict | None = None, cwd: Path = ROOT) -> tuple[float, str, tuple[float, float]]:
+    """(user + system CPU seconds of the child, its stdout + stderr, (user, system) seconds)."""
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     done = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     if done.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)} exited {done.returncode}:\n{done.stdout}{done.stderr}")
-    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime), done.stdout + done.stderr
+    split = (after.ru_utime - before.ru_utime, after.ru_stime - before.ru_stime)
+    return sum(split), done.stdout + done.stderr, split
 
 
 def main() -> None:
@@ -186,6 +195,7 @@ def main() -> None:
                 child_cpu([sys.executable, "-c", SETUP, SETUPS[case][0], repr(SETUPS[case][1])], envs[tree], tree)
     results: dict[tuple[str, Path], list[float]] = {(c, t): [] for c in cases + ["numpy"] for t in trees}
     notes: dict[str, str] = {}
+    splits: dict[tuple[str, Path], list[tuple[float, float]]] = {}  # (user, system) s of each measured child
     load0 = os.getloadavg()
     cold = 0
     for r in range(args.repeat):
@@ -199,22 +209,24 @@ def main() -> None:
                     if case.startswith("cold-"):
                         cold += 1
                         env = dict(env, NUMBA_CACHE_DIR=str(tmp / f"cold-cache-{cold}"))
-                    cpu, out = child_cpu(sphfem + ["check", CHECKS[case.removeprefix("cold-")]], env, tree)
+                    cpu, out, split = child_cpu(sphfem + ["check", CHECKS[case.removeprefix("cold-")]], env, tree)
                     results[key].append(cpu)
+                    splits.setdefault(key, []).append(split)
                     notes[case] = next((line.strip() for line in out.splitlines() if "stable time step" in line), "")
                 elif case == "run":
                     results[key].append(child_cpu(run_cmd, env, tree)[0])
                 elif case == "cold":
                     cold += 1
                     cold_env = dict(env, NUMBA_CACHE_DIR=str(tmp / f"cold-cache-{cold}"))
-                    cpu, out = child_cpu(run_cmd, cold_env, tree)
+                    cpu, out, _ = child_cpu(run_cmd, cold_env, tree)
                     results[key].append(cpu)
                     notes["cold"] = "says it compiles" if "compiling kernels" in out else "SILENT (no compile notice)"
                 else:
                     deck, overrides = SETUPS[case]
-                    cpu, out = child_cpu([sys.executable, "-c", SETUP, deck, repr(overrides)], env, tree)
-                    total, load, build = (float(v) for v in out.split()[-3:])
+                    cpu, out, _ = child_cpu([sys.executable, "-c", SETUP, deck, repr(overrides)], env, tree)
+                    total, load, build, user, system = (float(v) for v in out.split()[-5:])
                     results[key].append(total)
+                    splits.setdefault(key, []).append((user, system))
                     notes[case] = f"last: load {load:.2f} s + Simulation {build:.2f} s"
     load1 = os.getloadavg()
     print(f"load average {load0[0]:.2f} before, {load1[0]:.2f} after; {args.repeat} interleaved rounds; "
@@ -227,6 +239,10 @@ def main() -> None:
             v = results[case, tree]
             name = case if len(trees) == 1 else f"{case}{'' if tree == ROOT else ' (against)'}"
             line = f"{name:24s} {min(v):8.3f} {statistics.median(v):8.3f}  {GOALS.get(case, '-' if case != 'numpy' else 'peer')}"
+            if (case, tree) in splits:
+                user, system = zip(*splits[case, tree])
+                line += (f"; user {min(user):.2f} / {statistics.median(user):.2f}, "
+                         f"system {min(system):.2f} / {statistics.median(system):.2f}")
             if case == "check":
                 numpy = results["numpy", tree]
                 ratios = [c / n for c, n in zip(v, numpy)]

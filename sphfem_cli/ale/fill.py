@@ -57,11 +57,12 @@ FILL_CHUNK = 1 << 14
 """Elements per chunk of ``fill_fractions`` (quad4): 16384 x 9 points, 1.2 MB per coordinate array."""
 
 
-SAMPLES_KERNEL_ABOVE = 1 << 16
+SAMPLES_KERNEL_ABOVE = 1 << 18
 """Meshes of more quad4 than this sample their points with the kernel ``_quad_samples`` (compiled once into numba's
-cache), smaller ones in numpy (nothing to compile or load): the same bits. The numpy passes cost about 0.33 us
-more per element (960^2 quad4: 0.40 s against the kernel's 0.09 s, CPU, one fill), loading the cached kernel
-about 20 ms and compiling it 0.4-0.5 s (7 December 2026)."""
+cache), smaller ones in numpy (nothing to compile or load): the same bits. At 960^2 one fill's points cost 0.16-0.17 s
+of user time in numpy against the kernel's 0.09-0.10 s (3 interleaved rounds in one process, load 7-8, 7 December
+2026; the numpy passes by sample rows, 0.59-0.63 s before), about 75 ns more per element; loading the cached kernel
+costs about 20 ms, compiling it 0.4-0.5 s: numpy is the cheaper up to about 2.6e5 elements on a warm cache."""
 
 
 def quad_sample_points(nodes: np.ndarray, conn: np.ndarray, samples: int = 3, kernel: bool = False) -> tuple:
@@ -88,27 +89,32 @@ def quad_sample_points(nodes: np.ndarray, conn: np.ndarray, samples: int = 3, ke
         return px, py, jac, jac.sum(axis=1)
     nodes = np.asarray(nodes, dtype=np.float64)
     conn = np.asarray(conn, dtype=np.int64)
-    cx = [nodes[conn[:, a], 0][:, None] for a in range(4)]  # (E, 1) each
-    cy = [nodes[conn[:, a], 1][:, None] for a in range(4)]
-    tmp = np.empty((len(conn), len(xi)))
-    px, py = _corner_sum(shape, cx, tmp), _corner_sum(shape, cy, tmp)
+    n_elem, n = len(conn), samples
+    cx = [nodes[conn[:, a], 0] for a in range(4)]  # (E,) each, contiguous
+    cy = [nodes[conn[:, a], 1] for a in range(4)]
+    # by sample rows (S, E): each pass an outer product, a weight times a contiguous corner column
+    tmp = np.empty((n * n, n_elem))
+    px, py = (np.ascontiguousarray(_corner_sum(shape, c, tmp).T) for c in (cx, cy))
     # d/dxi at point s = (i, j) (xi_i, eta_j) depends on j alone, d/deta on i alone: each distinct value once
-    n = samples
-    tmp = np.empty((len(conn), n))
-    x_xi, y_xi = _corner_sum(dxi[:n], cx, tmp), _corner_sum(dxi[:n], cy, tmp)  # (E, n) over j
-    x_eta, y_eta = _corner_sum(deta[::n], cx, tmp), _corner_sum(deta[::n], cy, tmp)  # (E, n) over i
-    jac = x_xi[:, None, :] * y_eta[:, :, None]
-    jac -= x_eta[:, :, None] * y_xi[:, None, :]
-    jac = jac.reshape(len(conn), n * n)
+    tmp = tmp[:n]
+    x_xi, y_xi = (_corner_sum(dxi[:n], c, tmp) for c in (cx, cy))  # (n, E) over j
+    x_eta, y_eta = (_corner_sum(deta[::n], c, tmp) for c in (cx, cy))  # (n, E) over i
+    jac = np.empty((n_elem, n * n))
+    row = np.empty(n_elem)
+    for i in range(n):
+        for j in range(n):
+            np.multiply(x_xi[j], y_eta[i], out=row)
+            row -= np.multiply(x_eta[i], y_xi[j], out=tmp[0])
+            jac[:, i * n + j] = row
     return px, py, jac, jac.sum(axis=1)
 
 
 def _corner_sum(weights: np.ndarray, corner: list, tmp: np.ndarray) -> np.ndarray:
-    """sum_a weights[s, a] c_a (E, S), the corners a added in order (elementwise: the same bits on every machine);
-    tmp (E, S) is scratch."""
-    out = np.multiply(weights[:, 0], corner[0])
+    """sum_a weights[s, a] c_a (S, E) for weights (S, 4) and corner columns c_a (E,), the corners a added in order
+    (elementwise: the same bits on every machine, and the kernel's); tmp (S, E) is scratch."""
+    out = np.multiply.outer(weights[:, 0], corner[0])
     for a in range(1, 4):
-        out += np.multiply(weights[:, a], corner[a], out=tmp)
+        out += np.multiply.outer(weights[:, a], corner[a], out=tmp)
     return out
 
 

@@ -74,6 +74,42 @@ from .options import AleOptions
 from .topology import build_topology, largest_face_area
 
 _INTERFACES = {"donor": K.IFACE_DONOR, "slic": K.IFACE_SLIC}
+_PI_3 = np.pi / 3.0  # ring_geometry.PI_3 (math.pi / 3.0)
+
+
+def ring_volumes_set_up(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
+    """The exact ring volume (pi / 3) S of every quad4 of the meridian plane (x = r, y = z), (E,), with
+    S = (r0 + r1)(r0 z1 - r1 z0) + (r1 + r2)(r1 z2 - r2 z1) + (r2 + r3)(r2 z3 - r3 z2) + (r3 + r0)(r3 z0 - r0 z3)
+    (Green's theorem over the four edges; ``ale.axisymmetric`` module docstring): the operations of
+    ``axisymmetric.ring_volumes`` (``ring_geometry.ring_volume``) elementwise in their order, so the same bits
+    (tests/unit/test_setup_numpy.py), with no kernel to compile or load before the first step."""
+    r = [np.ascontiguousarray(x[conn[:, a], 0]) for a in range(4)]
+    z = [np.ascontiguousarray(x[conn[:, a], 1]) for a in range(4)]
+    s = (r[0] + r[1]) * (r[0] * z[1] - r[1] * z[0])
+    for i, j in ((1, 2), (2, 3), (3, 0)):
+        s += (r[i] + r[j]) * (r[i] * z[j] - r[j] * z[i])
+    return _PI_3 * s
+
+
+def hex8_volumes_set_up(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
+    """The exact trilinear volume of every hex8, (E,), as ``energy.element_volumes_3d`` computes it: the corners
+    relative to corner 0 (p_a = x_a - x_0) into ``fem.geometry.hex8_volume_origin`` (V = (1/12) sum s x_I (y_j z_k -
+    y_k z_j) over the rows of ``fem.tables.HEX_DV``, written out). Its Python body (``py_func``) on arrays does the
+    kernel's IEEE operations elementwise in the same order (no fused multiply-add in either), so the same bits
+    (tests/unit/test_setup_numpy.py), with no kernel to compile or load before the first step; by chunks of
+    elements, so that the 21 corner columns and the temporaries stay small."""
+    from ..fem.geometry import hex8_volume_origin
+
+    out = np.empty(len(conn))
+    for lo in range(0, len(conn), _HEX_CHUNK):
+        c = conn[lo:lo + _HEX_CHUNK]
+        origin = [x[c[:, 0], k] for k in range(3)]
+        corners = [x[c[:, a], k] - origin[k] for a in range(1, 8) for k in range(3)]
+        out[lo:lo + _HEX_CHUNK] = hex8_volume_origin.py_func(*corners)
+    return out
+
+
+_HEX_CHUNK = 1 << 14
 _CLOSURES = {"equal_strain": K.CLOSURE_EQUAL_STRAIN, "relax": K.CLOSURE_RELAX}
 
 
@@ -109,9 +145,7 @@ class AleSystem(AleBoundaries):
         self.topo = build_topology(self.conn, n_nodes)
         self.mesh = MeshMover(opt.motion, self.x0, self.conn, self.topo)
         if axisymmetric:
-            from . import axisymmetric as rings  # ring kernels: compiled only for an axisymmetric mesh
-            self.vol0 = np.empty(n_elem)
-            rings.ring_volumes(self.x0, self.conn, self.vol0)
+            self.vol0 = ring_volumes_set_up(self.x0, self.conn)  # axisymmetric.ring_volumes' bits, in numpy
         elif dim == 2:
             # on contiguous corner columns (not the (E, 4, 2) gather: fresh memory is the set-up's cost)
             xs, ys = np.ascontiguousarray(self.x0[:, 0]), np.ascontiguousarray(self.x0[:, 1])
@@ -119,8 +153,7 @@ class AleSystem(AleBoundaries):
             cy = [ys[self.conn[:, a]] for a in range(4)]
             self.vol0 = 0.5 * ((cx[2] - cx[0]) * (cy[3] - cy[1]) - (cy[2] - cy[0]) * (cx[3] - cx[1]))
         else:
-            self.vol0 = np.empty(n_elem)
-            K.element_volumes_3d(self.x0, self.conn, self.vol0)
+            self.vol0 = hex8_volumes_set_up(self.x0, self.conn)  # energy.element_volumes_3d's bits, in numpy
         if np.any(self.vol0 <= 0):
             raise ValueError("elements with non-positive " + ("area (node order must be counter-clockwise)" if dim == 2
                              else "volume (hex8 corners in VTK order: bottom face counter-clockwise seen from above)"))

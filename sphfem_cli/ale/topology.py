@@ -66,10 +66,9 @@ def build_topology(conn: np.ndarray, n_nodes: int, kernel: bool | None = None) -
         elem_nbr = np.empty((n_elem, 4), dtype=np.int64)
         if _quad_face_maps(first, inv, face_elem, face_local, elem_face, elem_sign, elem_nbr):
             raise ValueError("a face is shared by more than two elements")
-        node_line = np.empty((n_elem, 2, 2, 4), dtype=np.int64)
+        node_line = np.empty((n_elem, 2, 2, 4), dtype=np.int32)
         _quad_node_lines_kernel(conn, elem_nbr, np.array(QUAD_SIDE_A, dtype=np.int64),
                                 np.array(QUAD_SIDE_B, dtype=np.int64), QUAD_HALF_NODES, node_line)
-        node_line = node_line.astype(np.int32)
     else:
         face_elem, face_local, elem_face, elem_sign, elem_nbr = _face_maps(first, inv, 4)
         node_line = _quad_node_lines(conn, elem_nbr, elem_face, elem_sign, face_local)
@@ -106,11 +105,13 @@ def _unique_keys(*keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return order[new], inverse
 
 
-TOPOLOGY_KERNEL_ABOVE = 1 << 16
+TOPOLOGY_KERNEL_ABOVE = 1 << 18
 """Quad4 meshes of more elements than this build their face maps and node lines with kernels (compiled once into
-numba's cache), smaller ones in numpy (nothing to compile or load before the first step: 0.9 s of an empty-cache
-``check``). At 960^2 the numpy passes cost about 0.2 s more user time and their fresh temporaries more system time
-(``startup.py`` ale2, 5 rounds, median 4.8 -> 6.5 s CPU, 7 December 2026)."""
+numba's cache), smaller ones in numpy (nothing to compile or load before the first step): the same arrays. At 960^2
+the whole ``build_topology`` took 0.36-0.40 s of user time on the numpy path against 0.21-0.23 s on the kernels'
+(``benchmarks/startup.py`` docstring: 3 interleaved rounds in one process, load 7-8, 7 December 2026), about 0.17 us
+more per element; loading the two cached kernels costs some 40 ms (20 ms each, as ``ale.fill._quad_samples``),
+compiling them about 0.9 s: numpy is the cheaper up to about 2.5e5 elements on a warm cache."""
 
 
 @njit(cache=True)
@@ -195,7 +196,7 @@ def _face_maps(first: np.ndarray, inv: np.ndarray, nf: int) -> tuple:
     face_local[inv[second], 1] = second % nf
     elem_face = inv.reshape(-1, nf)
     elem_sign = np.where(owner, 1, -1).astype(np.int8).reshape(-1, nf)
-    elem_nbr = np.where(elem_sign > 0, face_elem[elem_face, 1], face_elem[elem_face, 0])
+    elem_nbr = face_elem.ravel()[2 * elem_face + owner.reshape(-1, nf)]  # the other side's element
     return face_elem, face_local, elem_face, elem_sign, elem_nbr
 
 
@@ -218,29 +219,42 @@ def _quad_node_lines(conn: np.ndarray, elem_nbr: np.ndarray, elem_face: np.ndarr
     for i in range(4):
         for j in range(i + 1, 4):
             repeated |= conn[:, i] == conn[:, j]
-    for side, (col, faces) in enumerate(((0, QUAD_SIDE_A), (3, QUAD_SIDE_B))):
+    local = face_local.ravel()
+    # by chunks of elements: a chunk's temporaries and its rows of node_line stay in cache (at 960^2 the whole-mesh
+    # passes wrote node_line's 59 MB once per column, and fresh temporaries cost system time)
+    for lo in range(0, n_elem, _NODE_LINE_CHUNK):
+        hi = min(lo + _NODE_LINE_CHUNK, n_elem)
+        out = node_line[lo:hi].reshape(hi - lo, 16)  # column 8 d + 4 h + c
+        corner = [np.ascontiguousarray(conn[lo:hi, a]) for a in range(4)]
         for d in range(2):
-            k = faces[d]
-            nb = elem_nbr[:, k]
-            has = nb >= 0
-            f = elem_face[:, k]
-            j = np.where(elem_sign[:, k] > 0, face_local[f, 1], face_local[f, 0])  # the face in nb (-1: none)
-            base = 4 * np.where(has, nb, 0)
-            at_j = flat[base + np.where(has, j, 0)]
-            before = flat[base + (j + 3) % 4]  # nb's corner j - 1
-            after = flat[base + (j + 2) % 4]  # nb's corner j + 2
-            slow = np.flatnonzero(has & (repeated | repeated[np.where(has, nb, 0)]))
             for h in range(2):
-                node = conn[:, QUAD_HALF_NODES[d, h, side]]
-                line = np.where(has, np.where(node == at_j, before, after), -1)
-                if len(slow):
-                    line[slow] = _node_line_rule(conn, slow, nb[slow], k, node[slow])
-                node_line[:, d, h, col] = line
-    for d in range(2):
-        for h in range(2):
-            node_line[:, d, h, 1] = conn[:, QUAD_HALF_NODES[d, h, 0]]
-            node_line[:, d, h, 2] = conn[:, QUAD_HALF_NODES[d, h, 1]]
+                out[:, 8 * d + 4 * h + 1] = corner[QUAD_HALF_NODES[d, h, 0]]
+                out[:, 8 * d + 4 * h + 2] = corner[QUAD_HALF_NODES[d, h, 1]]
+        for side, (col, faces) in enumerate(((0, QUAD_SIDE_A), (3, QUAD_SIDE_B))):
+            for d in range(2):
+                k = faces[d]
+                nb = elem_nbr[lo:hi, k]
+                has = nb >= 0
+                nb0 = np.where(has, nb, 0)
+                # the face in nb (-1: none): its local face on the side that is not e's
+                j = local[2 * elem_face[lo:hi, k] + (elem_sign[lo:hi, k] > 0)]
+                base = 4 * nb0
+                at_j = flat[base + np.where(has, j, 0)]
+                before = flat[base + ((j + 3) & 3)]  # nb's corner j - 1 (j + 3 >= 0: & 3 is % 4)
+                after = flat[base + ((j + 2) & 3)]  # nb's corner j + 2
+                slow = np.flatnonzero(has & (repeated[lo:hi] | repeated[nb0]))
+                for h in range(2):
+                    node = corner[QUAD_HALF_NODES[d, h, side]]
+                    line = np.where(node == at_j, before, after)
+                    line[~has] = -1
+                    if len(slow):
+                        line[slow] = _node_line_rule(conn, slow + lo, nb[slow], k, node[slow])
+                    out[:, 8 * d + 4 * h + col] = line
     return node_line
+
+
+_NODE_LINE_CHUNK = 1 << 14
+"""Elements per chunk of ``_quad_node_lines``: 16384 rows of node_line are 1 MB."""
 
 
 def _node_line_rule(conn: np.ndarray, e: np.ndarray, nb: np.ndarray, k: int, node: np.ndarray) -> np.ndarray:

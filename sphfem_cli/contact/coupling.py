@@ -45,7 +45,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..ale.kernels import RHO_VOID
-from ..materials.kernels import eos_sound_speed
+from ..materials.tables import eos_sound_speed_set_up
 from ..materials.slots import EOS_OFFSET, P_EOS_TYPE, P_RHO0, Q_E0
 from ..model.build import VOID
 from . import coupling_kernels as ck
@@ -80,7 +80,7 @@ class LagrangeInSolidCoupling:
         for j in self.coupling_mats:
             row = model.material_param[mats[j]]
             q = np.ascontiguousarray(row[EOS_OFFSET:])
-            c0 = eos_sound_speed(int(row[P_EOS_TYPE]), q, 1.0, q[Q_E0])
+            c0 = eos_sound_speed_set_up(int(row[P_EOS_TYPE]), q, 1.0, q[Q_E0])  # the kernel's bits, nothing to compile
             self.mat_bulk[j] = row[P_RHO0] * c0 * c0
         root = 1.0 / self.dim  # the element size h = V^(1/dim); r-z: h = (meridian area)^(1/2)
         self.meridian = _meridian_areas(ale.x, ale.conn) if self.ring else None
@@ -221,7 +221,7 @@ class LagrangeInSolidCoupling:
             dist, e = cKDTree(centroid).query(front)
             vol = np.abs(ale.vol0[e])
             h = np.cbrt(vol)
-            face_area = self._point_shares(x).reshape(len(f), -1).sum(axis=1)
+            face_area = face_shares_set_up(x, f, self.nquad).reshape(len(f), -1).sum(axis=1)  # no kernel to load
             share = face_area / self.points_per_face
             near = (dist <= h) & (share > 0)
             wet = near & (frac[e] >= float(self.spec.min_fraction))
@@ -325,6 +325,42 @@ class LagrangeInSolidCoupling:
     def coupled_points(self) -> int:
         """Points that pushed at the last force pass."""
         return self.n_coupled
+
+
+def face_shares_set_up(xs: np.ndarray, faces: np.ndarray, nquad: int) -> np.ndarray:
+    """``coupling_kernels_3d.face_shares`` in numpy: the area share of every coupling point of the quad faces (S, 4),
+    point (qr, qs) of face s at (s nquad + qr) nquad + qs. The share of the cell of centre (r, s) = (-1 + (2 qr + 1)
+    h, -1 + (2 qs + 1) h), h = 1 / nquad: sum over the 2 x 2 Gauss points (r +- h / sqrt 3, s +- h / sqrt 3) of
+    |x_r x x_s| h^2, x_r = ((1 - s)(x_b - x_a) + (1 + s)(x_c - x_d)) / 4, x_s = ((1 - r)(x_d - x_a) + (1 + r)(x_c -
+    x_b)) / 4 (``face_point``). The kernel's operations in its order, elementwise over the faces (scalars in Python
+    floats, as the kernel's doubles): the same bits (tests/unit/test_setup_numpy.py), with nothing to compile."""
+    import math
+
+    gauss = 1.0 / math.sqrt(3.0)  # coupling_kernels_3d._GAUSS2
+    corner = [[np.ascontiguousarray(xs[faces[:, j], k]) for k in range(3)] for j in range(4)]
+    ba = [corner[1][k] - corner[0][k] for k in range(3)]
+    cd = [corner[2][k] - corner[3][k] for k in range(3)]
+    da = [corner[3][k] - corner[0][k] for k in range(3)]
+    cb = [corner[2][k] - corner[1][k] for k in range(3)]
+    h = 1.0 / nquad
+    out = np.empty((len(faces), nquad, nquad))
+    for qr in range(nquad):
+        for qs in range(nquad):
+            r = -1.0 + (2.0 * qr + 1.0) * h
+            s = -1.0 + (2.0 * qs + 1.0) * h
+            share = np.zeros(len(faces))
+            for gi in range(2):
+                for gj in range(2):
+                    rg = r + (2 * gi - 1) * gauss * h
+                    sg = s + (2 * gj - 1) * gauss * h
+                    ar = [0.25 * ((1.0 - sg) * ba[k] + (1.0 + sg) * cd[k]) for k in range(3)]
+                    as_ = [0.25 * ((1.0 - rg) * da[k] + (1.0 + rg) * cb[k]) for k in range(3)]
+                    c0 = ar[1] * as_[2] - ar[2] * as_[1]
+                    c1 = ar[2] * as_[0] - ar[0] * as_[2]
+                    c2 = ar[0] * as_[1] - ar[1] * as_[0]
+                    share += np.sqrt(c0 * c0 + c1 * c1 + c2 * c2) * h * h
+            out[:, qr, qs] = share
+    return out.ravel()
 
 
 def _meridian_areas(x: np.ndarray, conn: np.ndarray) -> np.ndarray:

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..deck.schema import Deck
-from ..materials.slots import EOS_OFFSET, P_EOS_TYPE, P_RHO0, Q_E0
+from ..materials.slots import EOS_OFFSET, P_EOS_TYPE, P_RHO0, Q_E0, Q_RHO0
 from . import checks
 from .mesh import MeshData
 
@@ -90,10 +90,15 @@ def hydrostatic_fill(model, deck: Deck, name: str, j: int, nodes, conn, f, m: in
     fraction f of its height span [h_lo, h_hi] (a horizontal free surface in a level-layered
     mesh); the fill's free surface s is the highest top h_lo + f (h_hi - h_lo) over its elements,
     the element's pressure p = rho0 |g| (s - h_c) at the middle h_c = h_lo + f (h_hi - h_lo) / 2 of
-    its part, and its density solves p_eos(rho, e0) = p by Newton's method.
+    its part, and its density solves p_eos(rho, e0) = p by Newton's method: rho <- rho - (p_eos(rho) - p) / c^2,
+    c^2 = (dp/dmu + p dp/dE / r^2) / rho0 (r = rho / rho0; ``materials.kernels.eos_sound_speed``), from rho0 until
+    |step| <= 1e-14 rho (at most 50 steps). All elements at once in numpy, each stopping at its own step:
+    ``ale.at_rest.eos_state`` (the kernel ``eos_state``'s operations in its order, the C library's exp and pow)
+    gives the bits the compiled ``eos_pressure`` and ``eos_sound_speed`` gave in the former per-element loop,
+    with no kernel to compile or load before the first step.
     """
+    from ..ale.at_rest import eos_state
     from ..deck.schema import Gravity
-    from ..materials.kernels import eos_pressure, eos_sound_speed
     from . import build
 
     dim = nodes.shape[1]
@@ -112,21 +117,26 @@ def hydrostatic_fill(model, deck: Deck, name: str, j: int, nodes, conn, f, m: in
     mid = lo + 0.5 * f[hit] * (hi - lo)
     row = model.material_param[m]
     rho0, eos, q = row[P_RHO0], int(row[P_EOS_TYPE]), np.ascontiguousarray(row[EOS_OFFSET:])
-    for i, e in enumerate(hit):
-        p = rho0 * build.norm(g) * (surface - mid[i])
-        rho = rho0
+    p = rho0 * build.norm(g) * (surface - mid)
+    rho = np.full(len(hit), rho0)
+    active = np.arange(len(hit))  # the elements still iterating
+    with np.errstate(all="ignore"):  # as the kernels: a non-finite state is the checks' to report
         for _ in range(50):
-            r = rho / rho0
-            c = eos_sound_speed(eos, q, r, q[Q_E0])
-            if c <= 0.0:
+            r = rho[active] / rho0
+            e0 = np.full(len(active), q[Q_E0])
+            p_eos, dpdmu, dpde = eos_state(eos, q, r, e0)
+            c2 = (dpdmu + p_eos * dpde / (r * r)) / q[Q_RHO0]
+            c = np.where(c2 > 0.0, np.sqrt(np.where(c2 > 0.0, c2, 0.0)), 0.0)
+            if np.any(c <= 0.0):
                 raise build.ModelError(f"parts.{name}.fill.{j}", "hydrostatic start: the EOS has no sound speed at the "
-                                 "reference density")
-            step = (eos_pressure(eos, q, r, q[Q_E0]) - p) / (c * c)
-            rho -= step
-            if abs(step) <= 1e-14 * rho:
+                                       "reference density")
+            step = (p_eos - p[active]) / (c * c)
+            rho[active] -= step
+            active = active[~(np.abs(step) <= 1e-14 * rho[active])]
+            if not len(active):
                 break
-        density[e] = rho
-        pressure[e] = p
+    density[hit] = rho
+    pressure[hit] = p
 
 
 def fill_region(fill):

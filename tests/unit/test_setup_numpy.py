@@ -1,12 +1,13 @@
 """The model set-up's numpy passes against the kernels they replaced (issue 17: no kernel to compile before the
 first step): the same numbers bit for bit (np.array_equal), on small distorted meshes.
 
-References: the former numba kernels, which meshes above 65536 quad4 still take (``ale.topology``'s face maps and
-dual node lines, ``build_topology(kernel=True)``), the quad4 sample points' loop run as plain Python on scalars
-(``ale.fill``), and the kernels' own Python bodies (``py_func``) of
+References: the former numba kernels, which meshes above 262144 quad4 still take (``ale.topology``'s face maps and
+dual node lines, ``build_topology(kernel=True)``; ``ale.fill._quad_samples``), the quad4 sample points' loop run as
+plain Python on scalars (``ale.fill``), the kernels' own Python bodies (``py_func``) of
 ``fem.geometry.hex8_gradient_rows`` (equal to ``hex8_gradient`` bit for bit, tests/unit/test_fem_kernels.py),
 ``fem.geometry.quad4_gradient`` and ``materials.kernels.eos_state``; the EOS is also checked against its compiled
-kernel.
+kernel, the r-z ALE ring volumes against ``ale.axisymmetric.ring_volumes`` and the hydrostatic fill against its
+former loop over elements with the compiled ``eos_pressure`` and ``eos_sound_speed``.
 """
 from __future__ import annotations
 
@@ -164,3 +165,114 @@ def test_nodal_mass_at_set_up_is_the_kernel(npe):
     nodal_mass(mass_m, ptr, idx, npe, kernel)
     got = nodal_mass_set_up(mass_m, conn, n_nodes)
     assert np.array_equal(got.view(np.int64), kernel.view(np.int64))
+
+
+def test_ale_ring_volumes_are_the_kernel():
+    """``ale.system.ring_volumes_set_up`` (numpy, the r-z ALE system's initial volumes) gives the bits of the kernel
+    ``ale.axisymmetric.ring_volumes`` (the exact ring volume (pi / 3) S), on the shuffled, rotated mesh, and near
+    the axis (a column of nodes at r = 0: rings that touch it)."""
+    from sphfem_cli.ale.axisymmetric import ring_volumes as ring_volumes_kernel
+    from sphfem_cli.ale.system import ring_volumes_set_up
+
+    nodes, conn = _quad_mesh()
+    on_axis = nodes.copy()
+    on_axis[:, 0] -= 0.2
+    on_axis[on_axis[:, 0] < 0.05, 0] = 0.0  # the first column of nodes on the axis
+    for x in (nodes, on_axis):
+        kernel = np.empty(len(conn))
+        ring_volumes_kernel(x, conn, kernel)
+        got = ring_volumes_set_up(x, conn)
+        assert np.array_equal(got.view(np.int64), kernel.view(np.int64))
+    assert np.all(got > 0.0)
+
+
+def _hydrostatic_loop(eos, q, rho0, p):
+    """The former per-element Newton of ``model.ale_build.hydrostatic_fill`` with the compiled EOS kernels."""
+    from sphfem_cli.materials.kernels import eos_pressure, eos_sound_speed
+    from sphfem_cli.materials.slots import Q_E0
+
+    out = np.empty(len(p))
+    for i, pi in enumerate(p):
+        rho = rho0
+        for _ in range(50):
+            r = rho / rho0
+            c = eos_sound_speed(eos, q, r, q[Q_E0])
+            step = (eos_pressure(eos, q, r, q[Q_E0]) - pi) / (c * c)
+            rho -= step
+            if abs(step) <= 1e-14 * rho:
+                break
+        out[i] = rho
+    return out
+
+
+@pytest.mark.parametrize("eos, q", [
+    ("EOS_LINEAR_POLYNOMIAL", [1000.0, 0.0, 1.0, 0.0, 2.2e9, 9.5e9, 1.45e10, 0.28, 0.28, 0.0]),
+    ("EOS_GRUNEISEN", [1000.0, 0.0, 1.0, 1480.0, 1.92, -0.096, 0.0, 0.35, 0.0]),
+    ("EOS_TAIT", [1000.0, 0.0, 1.0, 1000.0, 30.0, 7.0, 0.0, 1000.0 * 30.0 ** 2 / 7.0]),
+    ("EOS_STIFFENED_GAS", [1000.0, (1.0e5 + 4.4 * 6.0e8) / 3.4, 1.0, 4.4, 6.0e8]),  # E0: p = 1 bar at rho0
+])
+def test_hydrostatic_fill_is_the_former_kernel_loop(eos, q):
+    """``model.ale_build.hydrostatic_fill`` (all elements at once in numpy) gives the densities the former loop over
+    elements with the compiled ``eos_pressure`` / ``eos_sound_speed`` gave, bit for bit: a 6 x 8 water column under
+    g = 9.81 m/s^2 down, a partly filled top row (each element stops its Newton at its own step)."""
+    from types import SimpleNamespace
+
+    from sphfem_cli.deck.schema import Gravity
+    from sphfem_cli.materials import kernels as mk
+    from sphfem_cli.materials.slots import EOS_OFFSET, NPARAM, P_EOS_TYPE, P_RHO0
+    from sphfem_cli.model.ale_build import hydrostatic_fill
+    from sphfem_cli.model.mesh import box_mesh
+
+    mesh = box_mesh([0.0, 0.0], [0.6, 4.0], divisions=[6, 8])
+    nodes, conn = mesh.nodes, mesh.elements
+    f = np.clip((3.3 - nodes[conn, 1].min(axis=1)) / 0.5, 0.0, 1.0)
+    row = np.zeros(NPARAM)
+    row[P_RHO0], row[P_EOS_TYPE] = q[0], getattr(mk, eos)
+    row[EOS_OFFSET:EOS_OFFSET + len(q)] = q
+    deck = SimpleNamespace(loads=[Gravity(type="gravity", acceleration=[0.0, -9.81])])
+    model = SimpleNamespace(material_param=row[None, :])
+    density, pressure = np.zeros(len(conn)), np.zeros(len(conn))
+    hydrostatic_fill(model, deck, "tank", 0, nodes, conn, f, 0, density, pressure)
+    hit = np.flatnonzero(f > 0)
+    deep = density[hit][np.argsort(pressure[hit])]
+    assert np.all(pressure[hit] > 0.0) and np.all(np.diff(deep) >= 0.0) and deep[-1] > deep[0]  # denser deeper
+    ref = _hydrostatic_loop(int(row[P_EOS_TYPE]), np.ascontiguousarray(row[EOS_OFFSET:]), q[0], pressure[hit])
+    assert np.array_equal(density[hit], ref)
+    assert np.all(density[f == 0] == 0.0)
+
+
+def test_ale_hex8_volumes_are_the_kernel():
+    """``ale.system.hex8_volumes_set_up`` (numpy, the 3D ALE system's initial volumes) gives the bits of the kernel
+    ``ale.energy.element_volumes_3d`` on distorted, shuffled hex8 boxes far from the origin."""
+    from sphfem_cli.ale.energy import element_volumes_3d
+    from sphfem_cli.ale.system import hex8_volumes_set_up
+
+    rng = np.random.default_rng(11)
+    cube = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 1], [1, 0, 1], [1, 1, 1], [0, 1, 1]], float)
+    nodes = np.concatenate([cube * [0.3, 0.5, 0.7] + rng.uniform(-0.05, 0.05, (8, 3)) + [10.0 * i, 3.0, -7.0]
+                            for i in range(20)])
+    conn = rng.permutation(np.arange(len(nodes), dtype=np.int64).reshape(-1, 8))
+    kernel = np.empty(len(conn))
+    element_volumes_3d(nodes, conn, kernel)
+    got = hex8_volumes_set_up(nodes, conn)
+    assert np.array_equal(got.view(np.int64), kernel.view(np.int64))
+    assert np.allclose(got, 0.3 * 0.5 * 0.7, rtol=0.3)  # the scale: boxes distorted by <= 0.05
+
+
+@pytest.mark.parametrize("nquad", [1, 3])
+def test_coupling_face_shares_are_the_kernel(nquad):
+    """``contact.coupling.face_shares_set_up`` (numpy, the 3D coupling's set-up) gives the bits of the kernel
+    ``coupling_kernels_3d.face_shares`` on warped quad faces; the shares of a face sum to its area (plane faces)."""
+    from sphfem_cli.contact.coupling import face_shares_set_up
+    from sphfem_cli.contact.coupling_kernels_3d import face_shares
+
+    rng = np.random.default_rng(5)
+    square = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    xs = np.concatenate([square * [0.4, 0.6, 0.0] + rng.uniform(-0.05, 0.05, (4, 3)) + [i, 0.0, 2.0] for i in range(7)])
+    faces = np.arange(len(xs), dtype=np.int64).reshape(-1, 4)
+    kernel = np.empty(len(faces) * nquad * nquad)
+    face_shares(xs, faces, nquad, kernel)
+    got = face_shares_set_up(xs, faces, nquad)
+    assert np.array_equal(got.view(np.int64), kernel.view(np.int64))
+    plane = np.concatenate([square * [0.4, 0.6, 0.0] + [i, 0.0, 2.0] for i in range(3)])
+    assert np.allclose(face_shares_set_up(plane, faces[:3], nquad).reshape(3, -1).sum(axis=1), 0.24, rtol=1e-12)
