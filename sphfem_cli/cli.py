@@ -120,7 +120,7 @@ def run(deck: str, outdir: str | None, threads: int | None, quiet: bool, verbose
 @click.option("--references", type=click.Path(file_okay=False), default=None,
               help="Reference folder. Default: tests/regression/references of the project.")
 @click.option("--failures-only", is_flag=True, help="List only the quantities that failed.")
-@click.option("--keep-output", type=click.Path(file_okay=False), default=None,
+@click.option("--keep-output", type=click.Path(file_okay=False), default=None, metavar="FOLDER",
               help="Keep each deck's short run in FOLDER/<deck name> (which must not exist yet), to open its "
                    "results. Default: temporary folders, removed after the comparison.")
 def regress(decks, update_refs, end_time_fraction, references, failures_only, keep_output) -> None:
