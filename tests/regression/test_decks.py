@@ -95,3 +95,13 @@ def test_regress_command_exit_status(tmp_path):
     result = CliRunner().invoke(main, ["regress", str(deck), "--references", str(tmp_path)])
     assert result.exit_code != 0
     assert "no reference" in result.output
+
+
+def test_a_kept_run_is_never_overwritten(tmp_path):
+    """`regress --keep-output FOLDER` refuses a deck whose FOLDER/<deck> exists (a FAIL row naming it, no run)."""
+    deck = DECKS[0]
+    (tmp_path / deck.stem).mkdir()
+    (tmp_path / deck.stem / "mine.txt").write_text("a user's file")
+    result = regress.regress_deck(deck, REFERENCES, keep=tmp_path)
+    assert not result.passed and "exists" in result.rows[0].status
+    assert sorted(p.name for p in (tmp_path / deck.stem).iterdir()) == ["mine.txt"]
