@@ -304,14 +304,14 @@ def regress_deck(
         end_time, frac = None, DEFAULT_FRACTION
     tolerance = float(reference.get("tolerance", DEFAULT_TOLERANCE)) if reference else DEFAULT_TOLERANCE
 
-    if keep is not None and (Path(keep) / deck.stem).exists():
+    result.output = Path(keep) / deck.stem if keep is not None else None
+    if result.output is not None and result.output.exists():
         result.rows.append(Row(deck.stem, "run", None, None, None,
-                               f"FAIL (the output folder {Path(keep) / deck.stem} exists: remove it or keep elsewhere)",
+                               f"FAIL (the output folder {result.output} exists: remove it or keep elsewhere)",
                                tolerance))
         return result
-    with (contextlib.nullcontext(str(Path(keep) / deck.stem)) if keep is not None
+    with (contextlib.nullcontext(str(result.output)) if result.output is not None
           else tempfile.TemporaryDirectory(prefix=f"sphfem-regress-{deck.stem}-", dir=workdir)) as tmp:
-        result.output = Path(tmp) if keep is not None else None
         try:
             t_end, wall, outdir, names = run_short(deck, end_time, frac, Path(tmp))
         except Exception as err:  # noqa: BLE001 - a failing deck is a FAIL row, not a crash

@@ -75,6 +75,7 @@ from .topology import build_topology, largest_face_area
 
 _INTERFACES = {"donor": K.IFACE_DONOR, "slic": K.IFACE_SLIC}
 _PI_3 = np.pi / 3.0  # ring_geometry.PI_3 (math.pi / 3.0)
+_HEX_CHUNK = 1 << 14  # elements per chunk of hex8_volumes_set_up
 
 
 def ring_volumes_set_up(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
@@ -109,7 +110,6 @@ def hex8_volumes_set_up(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
     return out
 
 
-_HEX_CHUNK = 1 << 14
 _CLOSURES = {"equal_strain": K.CLOSURE_EQUAL_STRAIN, "relax": K.CLOSURE_RELAX}
 
 

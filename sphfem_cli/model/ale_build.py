@@ -126,7 +126,7 @@ def hydrostatic_fill(model, deck: Deck, name: str, j: int, nodes, conn, f, m: in
             e0 = np.full(len(active), q[Q_E0])
             p_eos, dpdmu, dpde = eos_state(eos, q, r, e0)
             c2 = (dpdmu + p_eos * dpde / (r * r)) / q[Q_RHO0]
-            c = np.where(c2 > 0.0, np.sqrt(np.where(c2 > 0.0, c2, 0.0)), 0.0)
+            c = np.sqrt(np.where(c2 > 0.0, c2, 0.0))  # 0 where c^2 <= 0 or NaN, as the kernel
             if np.any(c <= 0.0):
                 raise build.ModelError(f"parts.{name}.fill.{j}", "hydrostatic start: the EOS has no sound speed at the "
                                        "reference density")
