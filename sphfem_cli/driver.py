@@ -257,6 +257,7 @@ def _execute(loaded: Loaded, out: Path, verbose: bool, restart: Path | None, dig
                                   f"internal {row.internal:.4e}  hourglass {row.hourglass:.3e}  "
                                   f"energy ratio {row.ratio:.5f}")
             sim.run(on_step, next_stop=output.next_field_time)
+        output.write_final_state()
     except RunStopped as err:
         status, message, stopped = "stopped by a guard", str(err), err
     except DeckProblem:

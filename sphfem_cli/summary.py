@@ -2,6 +2,7 @@
 deck's units (with the warnings of `materials.plausibility`), the stable step and what sets it, memory."""
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -155,6 +156,7 @@ def _output_size(sim, model, dt: float) -> str:
     per_step = sum(coords.nbytes + sum(np.asarray(a).nbytes for a in (*point.values(), *cell.values()))
                    for coords, point, cell in fields.values())
     steps = int(np.floor(end / out.interval + 1e-9)) + 1
+    steps += not math.isclose(end, (steps - 1) * out.interval, rel_tol=1e-9)  # the state at end_time
     run_steps = end / dt + 1.0 if dt > 0 else np.inf  # a history row is written at most once per step
     rows = int(min(np.floor(end / out.history_interval + 1e-9) + 1, run_steps, 1e15))
     tables = 8 * rows * (10 + 3 * len(model.parts) + 12 * (len(out.histories) + len(out.probes)))

@@ -123,6 +123,12 @@ class RunOutput:
             self.write_fields()
             self._next_field = _next_after(t, self.field_interval)
 
+    def write_final_state(self) -> None:
+        """The state at the end of a completed run as a field step, when the interval did not land on it
+        (end_time not a multiple of output.interval), as LS-DYNA writes a d3plot state at termination."""
+        if self.xdmf.last_time != self.sim.state.time:
+            self.write_fields()
+
     def next_field_time(self) -> float:
         """The next field-output time; the solver lands on it exactly."""
         return self._next_field

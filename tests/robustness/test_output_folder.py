@@ -248,3 +248,24 @@ def test_unicode_names_run_stop_and_restart(tmp_path, monkeypatch):
         assert whole == (tmp_path / "split" / "histories" / name).read_text(encoding="utf-8")
     assert whole.startswith("time,🔥_kinetic")
     assert "🔥" in ET.parse(tmp_path / "split" / "results.xdmf").getroot().find(".//Grid/Grid/Grid").get("Name")
+
+
+def test_a_completed_run_writes_its_state_at_end_time(tmp_path):
+    """end_time off the field interval: the saved times are the interval's multiples and then end_time itself
+    (the termination state, as LS-DYNA's d3plot), in results.h5, results.xdmf and the part's own XDMF; on the
+    interval, no time is written twice; `check` counts the extra step."""
+    for name, end, expected in (("off", 5.0e-5, [0.0, 2e-5, 4e-5, 5e-5]), ("on", 4.0e-5, [0.0, 2e-5, 4e-5])):
+        tree = yaml.safe_load(decks.SOLID)
+        tree["control"]["end_time"] = end
+        deck = tmp_path / f"{name}.yaml"
+        deck.write_text(yaml.safe_dump(tree))
+        code, text = _run(deck, "-o", tmp_path / name)
+        assert code == 0, text
+        with h5py.File(tmp_path / name / "results.h5", "r") as f:
+            assert np.allclose(f["times"][()], expected, rtol=1e-12, atol=0), (name, f["times"][()])
+        assert _assert_readable(tmp_path / name) == len(expected)
+        for xdmf in ("results.xdmf", "results.bar.xdmf"):
+            listed = [float(t.get("Value")) for t in ET.parse(tmp_path / name / xdmf).getroot().iter("Time")]
+            assert np.allclose(listed, expected, rtol=1e-12, atol=0), (name, xdmf, listed)
+        result = CliRunner().invoke(main, ["check", str(deck)])
+        assert f"output size: {len(expected)} field steps" in result.output, result.output

@@ -182,7 +182,8 @@ class Output(DeckModel):
 
     interval: PositiveFloat | None = Field(
         None, description="Simulated time between field outputs to XDMF/HDF5 [time]; at most 100 000 outputs per run "
-        "(the solver lands a step on each). Default end_time/50."
+        "(the solver lands a step on each), and the state at end_time when the interval does not land on it (as "
+        "LS-DYNA writes a d3plot state at termination). Default end_time/50."
     )
     history_interval: PositiveFloat | None = Field(
         None, description="Simulated time between history rows [time]. Default end_time/1000."
