@@ -137,9 +137,10 @@ def test_eos_at_set_up_is_the_kernel(eos, q, states):
 
 @pytest.mark.parametrize("npe", [4, 8])
 def test_nodal_mass_at_set_up_is_the_kernel(npe):
-    """``ale.remap_nodes.nodal_mass_set_up`` (numpy, the ALE system's set-up) gives ``nodal_mass``'s bits: three
+    """``ale.system.node_sums_set_up`` (numpy, the ALE system's set-up) gives ``nodal_mass``'s bits: three
     materials of unrelated magnitudes on a shuffled mesh, nodes in up to four (quad4) or eight (hex8) elements."""
-    from sphfem_cli.ale.remap_nodes import nodal_mass, nodal_mass_set_up
+    from sphfem_cli.ale.remap_nodes import nodal_mass
+    from sphfem_cli.ale.system import node_sums_set_up
 
     rng = np.random.default_rng(7)
     if npe == 4:
@@ -163,7 +164,7 @@ def test_nodal_mass_at_set_up_is_the_kernel(npe):
         ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
     kernel = np.empty(n_nodes)
     nodal_mass(mass_m, ptr, idx, npe, kernel)
-    got = nodal_mass_set_up(mass_m, conn, n_nodes)
+    got = node_sums_set_up((1.0 / npe) * mass_m, ptr, idx, npe)
     assert np.array_equal(got.view(np.int64), kernel.view(np.int64))
 
 
