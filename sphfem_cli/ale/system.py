@@ -64,6 +64,7 @@ from functools import partial
 import numpy as np
 
 from ..materials.burn import burn_fraction, lighting_time, quad_size
+from ..model.pages import set_up_pages
 from . import kernels as K
 from .at_rest import initial_element_pass
 from .boundaries import AleBoundaries
@@ -147,6 +148,7 @@ _CLOSURES = {"equal_strain": K.CLOSURE_EQUAL_STRAIN, "relax": K.CLOSURE_RELAX}
 class AleSystem(AleBoundaries):
     """Multi-material ALE fluid on a quad4 or hex8 mesh (see the module docstring)."""
 
+    @set_up_pages()  # numpy's huge-page advice off for the arrays made here (model/pages.py)
     def __init__(self, nodes, conn, materials: Sequence, fractions, density, energy=None, pressure=None,
                  velocity=None, options: AleOptions | None = None, axisymmetric: bool = False):
         self.options = opt = AleOptions() if options is None else options

@@ -277,3 +277,22 @@ def test_coupling_face_shares_are_the_kernel(nquad):
     assert np.array_equal(got.view(np.int64), kernel.view(np.int64))
     plane = np.concatenate([square * [0.4, 0.6, 0.0] + [i, 0.0, 2.0] for i in range(3)])
     assert np.allclose(face_shares_set_up(plane, faces[:3], nquad).reshape(3, -1).sum(axis=1), 0.24, rtol=1e-12)
+
+
+def test_set_up_pages_turns_numpy_huge_page_advice_off_and_back():
+    """``model.pages.set_up_pages`` (around the ALE set-up): numpy's madvise of huge pages off inside the block, and
+    the former setting back after it, also when the block raises."""
+    multiarray = pytest.importorskip("numpy._core.multiarray")
+    from sphfem_cli.model.pages import set_up_pages
+
+    switch = multiarray._set_madvise_hugepage  # returns the setting it replaces
+    former = switch(True)
+    try:
+        with set_up_pages():
+            assert switch(False) is False
+        assert switch(True) is True
+        with pytest.raises(RuntimeError), set_up_pages():
+            raise RuntimeError
+        assert switch(True) is True
+    finally:
+        switch(former)
