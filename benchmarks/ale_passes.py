@@ -44,7 +44,10 @@ Transparent huge pages: ``--madvise`` runs every repetition twice in child proce
 madvise of its arrays of 4 MB and more to huge pages off (``NUMPY_MADVISE_HUGEPAGE=0``), on (``=1``), and off only
 while the case is built (``numpy._core.multiarray._set_madvise_hugepage``; on for the steps), the order reversed
 on alternate repetitions, and prints the ratios off / on and set-up-off / on of the total CPU time of the timed
-steps (above 1: the loop is slower without huge pages). It says nothing of the set-up (``startup.py``).
+steps (above 1: the loop is slower without huge pages). It says nothing of the set-up (``startup.py``). Since
+branch setup19 ``AleSystem`` builds its arrays with the advice off whatever the setting (``sphfem_cli/model/pages.py``):
+"on" and "off for the set-up" then differ only in the mesh and fill the case makes before it (run the script on a
+tree before that switch to compare the loop with and without huge pages on the system's arrays).
 
 Measured (3 December 2026, 10:06 UTC, 1 thread, the 2-core machine shared with other sessions, load
 average 1.9; ``--n 240 --steps 10 --repeat 3 --two --trees BASE THIS``, BASE = 76efb01 (main before
