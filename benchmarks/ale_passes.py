@@ -40,6 +40,15 @@ one) runs every repetition once per tree, alternating A, B, A, B ..., each in a 
 and min / median over the repetitions of the per-repetition ratio of total CPU time A / B (the
 speed-up of B).
 
+Transparent huge pages: ``--madvise`` runs every repetition twice in child processes of this tree, with numpy's
+madvise of its arrays of 4 MB and more to huge pages off (``NUMPY_MADVISE_HUGEPAGE=0``), on (``=1``), and off only
+while the case is built (``numpy._core.multiarray._set_madvise_hugepage``; on for the steps), the order reversed
+on alternate repetitions, and prints the ratios off / on and set-up-off / on of the total CPU time of the timed
+steps (above 1: the loop is slower without huge pages). It says nothing of the set-up (``startup.py``). Since
+branch setup19 ``AleSystem`` builds its arrays with the advice off whatever the setting (``sphfem_cli/model/pages.py``):
+"on" and "off for the set-up" then differ only in the mesh and fill the case makes before it (run the script on a
+tree before that switch to compare the loop with and without huge pages on the system's arrays).
+
 Measured (3 December 2026, 10:06 UTC, 1 thread, the 2-core machine shared with other sessions, load
 average 1.9; ``--n 240 --steps 10 --repeat 3 --two --trees BASE THIS``, BASE = 76efb01 (main before
 this work), THIS = the commit adding this figure; min / median of 3 interleaved repetitions, ns per
@@ -156,13 +165,20 @@ def instrument(ale, timer: PassTimer):
     return undo
 
 
-def measure(n: int, steps: int, two: bool, advance: int = 2, vortex: bool = False, dim: int = 2) -> dict:
+def measure(n: int, steps: int, two: bool, advance: int = 2, vortex: bool = False, dim: int = 2,
+            setup_hugepages: bool = True) -> dict:
     """ns per cell-step of each pass, 'rest' and 'total', over ``steps`` steps after ``advance`` warm-up steps
     (vortex: the box flowing, ``ale_throughput.vortex_velocity``; dim 3: the n^3 hex8 box of
-    ``ale_throughput.build_3d``, one gas, the vortex with w = 0)."""
+    ``ale_throughput.build_3d``, one gas, the vortex with w = 0). setup_hugepages False: numpy's huge-page madvise
+    off while the case is built (``AleSystem(...)``: every array it holds), on again for the steps."""
     from ale_throughput import build, build_3d
 
+    if not setup_hugepages:
+        from numpy._core.multiarray import _set_madvise_hugepage
+        _set_madvise_hugepage(False)
     ale = build(n, two, vortex) if dim == 2 else build_3d(n, vortex)
+    if not setup_hugepages:
+        _set_madvise_hugepage(True)
     for _ in range(advance):
         ale.step(ale.stable_dt(0.5))
     timer = PassTimer()
@@ -195,24 +211,32 @@ def print_table(title: str, cases, runs: dict) -> None:
         print(f"{name}: {1e3 / statistics.median(tot):.3f} M cell-steps/s (median), {1e3 / min(tot):.3f} (best)")
 
 
-def compare(trees, args, cases) -> None:
-    """Interleaved repetitions of every tree in child processes; per-repetition total ratios."""
+def compare(trees, args, cases, madvise: bool = False) -> None:
+    """Interleaved repetitions of every tree in child processes; per-repetition total ratios. madvise: one tree,
+    run with numpy's huge-page madvise off ("hugepages off") and on ("hugepages on"), alternating."""
+    variants = {"hugepages off": "0", "hugepages on": "1", "off for the set-up": "setup"} if madvise else \
+        {t: None for t in trees}
+    root = trees[0] if madvise else None
+    trees = list(variants)
     runs = {t: {name: [] for name in cases} for t in trees}
-    for _ in range(args.repeat):
-        for t in trees:
-            env = dict(os.environ, PYTHONPATH=t, NUMBA_NUM_THREADS="1")
+    for r in range(args.repeat):
+        for t in (trees if r % 2 == 0 or not madvise else trees[::-1]):
+            env = dict(os.environ, PYTHONPATH=root or t, NUMBA_NUM_THREADS="1")
+            if madvise:
+                env["NUMPY_MADVISE_HUGEPAGE"] = "0" if variants[t] == "0" else "1"
             cmd = [sys.executable, str(Path(__file__).resolve()), "--n", str(args.n), "--steps", str(args.steps),
                    "--advance", str(args.advance), "--dim", str(args.dim), "--repeat", "1", "--json"] + (["--two"] if args.two else []) \
-                + (["--vortex"] if args.vortex else [])
+                + (["--vortex"] if args.vortex else []) + (["--setup-hugepages-off"] if variants[t] == "setup" else [])
             out = subprocess.run(cmd, env=env, check=True, capture_output=True, text=True).stdout
-            for name, r in json.loads(out.strip().splitlines()[-1]).items():
-                runs[t][name].append(r)
+            for name, res in json.loads(out.strip().splitlines()[-1]).items():
+                runs[t][name].append(res)
     for t in trees:
         print_table(f"tree {t}", cases, runs[t])
-    a, b = trees[0], trees[-1]
-    for name in cases:
-        ratio = [x["total"] / y["total"] for x, y in zip(runs[a][name], runs[b][name])]
-        print(f"{name}: speed-up of {b} over {a}: min {min(ratio):.3f}, median {statistics.median(ratio):.3f}")
+    pairs = [(trees[0], trees[1]), (trees[2], trees[1])] if madvise else [(trees[0], trees[-1])]
+    for a, b in pairs:
+        for name in cases:
+            ratio = [x["total"] / y["total"] for x, y in zip(runs[a][name], runs[b][name])]
+            print(f"{name}: speed-up of {b} over {a}: min {min(ratio):.3f}, median {statistics.median(ratio):.3f}")
 
 
 def main():
@@ -230,15 +254,18 @@ def main():
     ap.add_argument("--dim", type=int, choices=(2, 3), default=2,
                     help="3: the hex8 box of ale_throughput.build_3d, n^3 cells, one gas (--two ignored)")
     ap.add_argument("--trees", nargs="+", help="source trees to compare, interleaved (child processes)")
+    ap.add_argument("--madvise", action="store_true",
+                    help="compare numpy's huge-page madvise off and on, this tree, interleaved (child processes)")
     ap.add_argument("--json", action="store_true", help=argparse.SUPPRESS)  # a child's one line of results
+    ap.add_argument("--setup-hugepages-off", action="store_true", help=argparse.SUPPRESS)  # a --madvise child
     args = ap.parse_args()
     cases = [("one", False)] + ([("two", True)] if args.two and args.dim == 2 else [])
     names = [name for name, _ in cases]
-    if args.trees:
+    if args.trees or args.madvise:
         print(f"ALE {args.dim}D passes, {args.n}^{args.dim} cells{', vortex' if args.vortex else ''}, {args.steps} steps after "
               f"{args.advance}, 1 thread, "
               f"load {os.getloadavg()[0]:.2f}")
-        compare(args.trees, args, names)
+        compare(args.trees or [str(Path(__file__).resolve().parents[1])], args, names, args.madvise)
         print(f"load after {os.getloadavg()[0]:.2f}")
         return
     import numba
@@ -246,7 +273,8 @@ def main():
     runs = {name: [] for name in names}
     for _ in range(args.repeat):
         for name, two in cases:
-            runs[name].append(measure(args.n, args.steps, two, args.advance, args.vortex, args.dim))
+            runs[name].append(measure(args.n, args.steps, two, args.advance, args.vortex, args.dim,
+                                      not args.setup_hugepages_off))
     if args.json:
         print(json.dumps({name: r[0] for name, r in runs.items()}))
         return

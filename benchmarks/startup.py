@@ -32,7 +32,8 @@ round r + 1), and min and median over the rounds are printed with the load avera
 
 Every case also prints its user and system seconds apart (min / median): the set-up's system time is first
 touches of fresh memory, and with transparent huge pages (numpy madvises its arrays of 4 MB and more) it swings
-by seconds from run to run on this machine (a 2 MB fault may go through the kernel's direct compaction).
+by seconds from run to run on this machine (a 2 MB fault may go through the kernel's direct compaction); since
+branch setup19 the ALE part is built with numpy's advice off (``sphfem_cli/model/pages.py``).
 
 ``--against TREE``: every case also runs on the source tree TREE (e.g. a ``git archive`` copy of main: its
 ``sphfem_cli`` on ``PYTHONPATH``, its own numba cache), the two trees alternating within each round (which goes

@@ -91,6 +91,12 @@ class AleBoundaries:
         mark[np.asarray(node_ids, dtype=np.int64)] = True
         fn = self.topo["face_nodes"]
         faces = np.flatnonzero((self.topo["face_elem"][:, 1] < 0) & mark[fn].all(axis=1))
+        if self.face_far_pressure is None:
+            nf = len(fn)
+            self.face_far_pressure = np.full(nf, np.nan)
+            self.face_source_distance = np.full(nf, np.inf)
+            self.face_source = np.zeros((nf, self.dim))
+            self.face_impulse = np.zeros(nf)
         self._state()
         e = self.topo["face_elem"][faces, 0]
         vt = self.vol_m[e].sum(axis=1)
@@ -115,9 +121,11 @@ class AleBoundaries:
     def _radiation_pressure(self, fo: np.ndarray, e: np.ndarray, vt: np.ndarray, dt: float) -> np.ndarray:
         """p_far + p' on the non-reflecting faces among fo (``set_non_reflecting``), their impulses advanced
         by p' dt; NaN on the other faces."""
+        out = np.full(len(fo), np.nan)
+        if self.face_far_pressure is None:
+            return out
         p_far = self.face_far_pressure[fo]
         nr = np.flatnonzero(np.isfinite(p_far))
-        out = np.full(len(fo), np.nan)
         if len(nr) == 0:
             return out
         f, el = fo[nr], e[nr]
@@ -172,6 +180,8 @@ class AleBoundaries:
         fn = self.topo["face_nodes"]
         faces = (self.topo["face_elem"][:, 1] < 0) & mark[fn].all(axis=1)
         self.face_open |= faces
+        if self.face_inflow is None:
+            self.face_inflow = np.full(len(fn), -1, dtype=np.int64)
         self.face_inflow[faces] = k
         u = np.asarray(velocity, dtype=float)
         for i in ids:
@@ -198,8 +208,8 @@ class AleBoundaries:
         p = (self.vol_m[e] * self.pres_m[e]).sum(axis=1) / vt
         p_nr = self._radiation_pressure(fo, e, vt, dt)
         p = np.where(np.isnan(p_nr), p, p_nr)
-        ghost = self.face_inflow[fo]
-        if np.any(ghost >= 0):  # inflow faces: the ghost's own pressure
+        if self.face_inflow is not None:  # inflow faces: the ghost's own pressure
+            ghost = self.face_inflow[fo]
             p_in = np.array([st[3] for st in self.inflow_states])
             p = np.where(ghost >= 0, p_in[np.maximum(ghost, 0)], p)
         if self.dim == 3:

@@ -192,13 +192,20 @@ def energy_from_pressure(row: np.ndarray, rho: np.ndarray, p: np.ndarray) -> np.
     shape = np.broadcast(rho, p).shape
     flat = np.broadcast_to(rho, shape).ravel()
     if len(flat) and (flat == flat[0]).all():  # one density (a fill without layers): no sort
-        values, inverse = flat[:1], np.zeros(len(flat), dtype=np.int64)
+        values, inverse = flat[:1], None
     else:
         values, inverse = np.unique(flat, return_inverse=True)
     p0 = np.empty(len(values))
     dpde = np.empty(len(values))
     for i, value in enumerate(values):
         p0[i], _, dpde[i] = eos_state_set_up(eos, q, float(value) / rho0, 0.0)
+    if inverse is None:  # the same operations on scalars: the same bits, no gathered copies of p0 and dp/de
+        if dpde[0] == 0.0:
+            return np.zeros(shape)
+        out = np.broadcast_to(p, shape) - p0[0]
+        out /= dpde[0]
+        out /= rho0
+        return out
     p0, dpde = p0[inverse], dpde[inverse]
     out = np.zeros(len(inverse))
     live = dpde != 0.0
@@ -207,12 +214,10 @@ def energy_from_pressure(row: np.ndarray, rho: np.ndarray, p: np.ndarray) -> np.
 
 
 def per_element(value, n_elem: int, n_mat: int, name: str) -> np.ndarray:
-    """value (N,) broadcast to (E, N), or a copy of value (E, N)."""
+    """value (N,) broadcast to (E, N), or value (E, N) itself: a read-only view, not a copy."""
     arr = np.asarray(value, dtype=float)
-    if arr.shape == (n_mat,):
-        return np.broadcast_to(arr, (n_elem, n_mat)).copy()
-    if arr.shape == (n_elem, n_mat):
-        return arr.copy()
+    if arr.shape in ((n_mat,), (n_elem, n_mat)):
+        return np.broadcast_to(arr, (n_elem, n_mat))
     raise ValueError(f"{name} must have shape ({n_mat},) or ({n_elem}, {n_mat}), got {arr.shape}")
 
 
@@ -252,24 +257,25 @@ def material_state(rows: list, vol0: np.ndarray, fractions, density, energy=None
     fr = np.asarray(fractions, dtype=float)
     if fr.shape != (n_elem, n_mat):
         raise ValueError(f"fractions must be ({n_elem}, {n_mat}), got {fr.shape}")
-    fr = fr / fr.sum(axis=1, keepdims=True)
+    # (E, N) arrays only for the three results: the inputs are read in place (broadcast views, not copies; fresh
+    # memory is the set-up's cost), each result the same elementwise operations as before, so the same bits
+    vol_m = fr / fr.sum(axis=1, keepdims=True)
+    vol_m *= vol0[:, None]
     rho = per_element(density, n_elem, n_mat, "density")
+    mass_m = rho * vol_m
     for m in range(n_mat):
-        if rows[m] is None:
-            rho[:, m] = 0.0
+        if rows[m] is None:  # void: no mass
+            mass_m[:, m] = 0.0
+    ener_m = np.zeros((n_elem, n_mat))
     if energy is not None:
-        e = per_element(energy, n_elem, n_mat, "energy")
+        np.multiply(mass_m, per_element(energy, n_elem, n_mat, "energy"), out=ener_m)
     elif pressure is not None:
         pr = per_element(pressure, n_elem, n_mat, "pressure")
-        e = np.zeros((n_elem, n_mat))
         for m in range(n_mat):
             if rows[m] is not None:
-                e[:, m] = energy_from_pressure(np.asarray(rows[m], float), np.maximum(rho[:, m], 1e-300), pr[:, m])
-    else:
-        e = np.zeros((n_elem, n_mat))
-    vol_m = fr * vol0[:, None]
-    mass_m = rho * vol_m
-    return vol_m, mass_m, mass_m * e
+                e = energy_from_pressure(np.asarray(rows[m], float), np.maximum(rho[:, m], 1e-300), pr[:, m])
+                np.multiply(mass_m[:, m], e, out=ener_m[:, m])
+    return vol_m, mass_m, ener_m
 
 
 def inflow_state(eos: int, q: np.ndarray, rho0: float, density: float | None = None, energy: float | None = None,

@@ -26,14 +26,17 @@ class MeshMover:
         n_nodes = x0.shape[0]
         self.motion = motion
         self.x0 = x0
+        self.line_axis = AXES.index(motion.line_axis)
+        if motion.mesh_motion != "smoothed":
+            # Eulerian (the target is x0) or Lagrangian (no target): no neighbours, stencils or sliding nodes (at
+            # 960^2 the edge lists and degrees alone were 66 MB of fresh memory before the first step)
+            return
         fn = topo["face_nodes"]
         edges = fn if dim == 2 else hex_edges(conn)
         self._nbr_a = np.concatenate([edges[:, 0], edges[:, 1]])
         self._nbr_b = np.concatenate([edges[:, 1], edges[:, 0]])
         self._degree = np.bincount(self._nbr_a, minlength=n_nodes).astype(float)
-        self.line_axis = AXES.index(motion.line_axis)
-        smoothed = motion.mesh_motion == "smoothed"
-        if smoothed and motion.smoothing == "straight_lines":
+        if motion.smoothing == "straight_lines":
             if not 0 <= self.line_axis < dim:
                 raise ValueError(f"line_axis {motion.line_axis} is not an axis of a {dim}D mesh")
             self.lines = _straight_lines(x0, edges, self.line_axis)
@@ -42,13 +45,13 @@ class MeshMover:
         on_boundary[bf.ravel()] = True
         self._interior = ~on_boundary
         self._stencil = (np.zeros(0, dtype=np.int64), np.zeros((0, 8 if dim == 2 else 18), dtype=np.int64))
-        if smoothed and motion.smoothing == "equipotential":  # its only user
+        if motion.smoothing == "equipotential":  # its only user
             self._stencil = (_winslow_stencil if dim == 2 else _winslow_stencil_3d)(conn, n_nodes, self._interior)
         no = np.zeros(0, dtype=np.int64)
         self._slide_plane = (no, no, no, np.zeros(0), np.zeros((0, dim)))
         if dim == 2:
             self._slide = _sliding_nodes(x0, bf, n_nodes)
-        elif smoothed and motion.smoothing_boundary == "sliding":
+        elif motion.smoothing_boundary == "sliding":
             self._slide, self._slide_plane = _sliding_nodes_3d(x0, bf, n_nodes)
         else:
             self._slide = (no, no, no, np.zeros((0, dim)))

@@ -275,15 +275,6 @@ def _node_mass(n, mass_m, node_elem_ptr, node_elem_idx, npe):
     return s
 
 
-def nodal_mass_set_up(mass_m, conn, n_nodes):
-    """``nodal_mass`` in numpy, for the model's set-up: the same sums in the same order (per node its elements in
-    ascending order, as node_elem_idx lists them, then the materials; each term (1/npe) M_em), which
-    np.bincount adds in input order from 0: the same bits, with nothing to compile before the first step."""
-    n_elem, npe = conn.shape
-    terms = np.repeat((1.0 / npe) * mass_m, npe, axis=0).ravel()  # (element, corner, material)
-    return np.bincount(np.repeat(conn.ravel(), mass_m.shape[1]), weights=terms, minlength=n_nodes)
-
-
 @njit(parallel=True, cache=True)
 def nodal_mass(mass_m, node_elem_ptr, node_elem_idx, npe, out):
     """m_I = sum over the node's elements of M_e / npe (gather; node_elem_idx lists e * npe + corner)."""

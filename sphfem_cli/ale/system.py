@@ -64,18 +64,18 @@ from functools import partial
 import numpy as np
 
 from ..materials.burn import burn_fraction, lighting_time, quad_size
+from ..model.pages import set_up_pages
 from . import kernels as K
 from .at_rest import initial_element_pass
 from .boundaries import AleBoundaries
 from .fill import material_state, material_tables
 from .motion import MeshMover
-from .remap_nodes import nodal_mass_set_up
 from .options import AleOptions
 from .topology import build_topology, largest_face_area
 
 _INTERFACES = {"donor": K.IFACE_DONOR, "slic": K.IFACE_SLIC}
 _PI_3 = np.pi / 3.0  # ring_geometry.PI_3 (math.pi / 3.0)
-_HEX_CHUNK = 1 << 14  # elements per chunk of hex8_volumes_set_up
+_HEX_CHUNK = 1 << 14  # elements per chunk of hex8_volumes_set_up and quad_areas_set_up
 
 
 def ring_volumes_set_up(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
@@ -110,12 +110,45 @@ def hex8_volumes_set_up(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
     return out
 
 
+def node_sums_set_up(terms: np.ndarray, node_elem_ptr: np.ndarray, node_elem_idx: np.ndarray, npe: int) -> np.ndarray:
+    """s_I = the sum over node I's element corners, in ``node_elem_idx``'s order (its elements ascending), of the terms
+    terms[e, 0], terms[e, 1], ... of each corner's element e in turn, from 0: the sums of the kernel
+    ``remap_nodes.nodal_mass`` (terms (1/npe) M_em) in their order, so the same bits (tests/unit/test_setup_numpy.py),
+    with nothing to compile before the first step. By corner slots (every node's j-th corner at once, j up to the
+    largest node degree), so that the temporaries are node-sized (the former np.bincount over the repeated
+    (element, corner, material) terms took 118 MB of fresh memory at 960^2, two materials)."""
+    start = node_elem_ptr[:-1]
+    degree = np.diff(node_elem_ptr)
+    out = np.zeros(len(start))
+    for j in range(int(degree.max(initial=0))):
+        nodes = np.flatnonzero(degree > j)
+        elem = node_elem_idx[start[nodes] + j] // npe
+        for m in range(terms.shape[1]):
+            out[nodes] += terms[elem, m]
+    return out
+
+
+def quad_areas_set_up(x: np.ndarray, conn: np.ndarray) -> np.ndarray:
+    """The area A = ((x2 - x0)(y3 - y1) - (y2 - y0)(x3 - x1)) / 2 of every quad4 (E,) (half the cross product of its
+    diagonals), by chunks of elements on contiguous corner columns (fresh memory is the set-up's cost: the whole-mesh
+    corner columns were 59 MB at 960^2); elementwise, so every chunk size gives the same bits."""
+    xs, ys = np.ascontiguousarray(x[:, 0]), np.ascontiguousarray(x[:, 1])
+    out = np.empty(len(conn))
+    for lo in range(0, len(conn), _HEX_CHUNK):
+        c = conn[lo:lo + _HEX_CHUNK]
+        cx = [xs[c[:, a]] for a in range(4)]
+        cy = [ys[c[:, a]] for a in range(4)]
+        out[lo:lo + _HEX_CHUNK] = 0.5 * ((cx[2] - cx[0]) * (cy[3] - cy[1]) - (cy[2] - cy[0]) * (cx[3] - cx[1]))
+    return out
+
+
 _CLOSURES = {"equal_strain": K.CLOSURE_EQUAL_STRAIN, "relax": K.CLOSURE_RELAX}
 
 
 class AleSystem(AleBoundaries):
     """Multi-material ALE fluid on a quad4 or hex8 mesh (see the module docstring)."""
 
+    @set_up_pages()  # numpy's huge-page advice off for the arrays made here (model/pages.py)
     def __init__(self, nodes, conn, materials: Sequence, fractions, density, energy=None, pressure=None,
                  velocity=None, options: AleOptions | None = None, axisymmetric: bool = False):
         self.options = opt = AleOptions() if options is None else options
@@ -147,11 +180,7 @@ class AleSystem(AleBoundaries):
         if axisymmetric:
             self.vol0 = ring_volumes_set_up(self.x0, self.conn)  # axisymmetric.ring_volumes' bits, in numpy
         elif dim == 2:
-            # on contiguous corner columns (not the (E, 4, 2) gather: fresh memory is the set-up's cost)
-            xs, ys = np.ascontiguousarray(self.x0[:, 0]), np.ascontiguousarray(self.x0[:, 1])
-            cx = [xs[self.conn[:, a]] for a in range(4)]
-            cy = [ys[self.conn[:, a]] for a in range(4)]
-            self.vol0 = 0.5 * ((cx[2] - cx[0]) * (cy[3] - cy[1]) - (cy[2] - cy[0]) * (cx[3] - cx[1]))
+            self.vol0 = quad_areas_set_up(self.x0, self.conn)
         else:
             self.vol0 = hex8_volumes_set_up(self.x0, self.conn)  # energy.element_volumes_3d's bits, in numpy
         if np.any(self.vol0 <= 0):
@@ -160,7 +189,7 @@ class AleSystem(AleBoundaries):
         self.vol_m, self.mass_m, self.ener_m = material_state(rows, self.vol0, fractions, density, energy, pressure)
         # specific energy added to the stored one where the EOS is evaluated: the second half of the last
         # Lagrangian step's own p dV work (energy.lagrange_energy; zero at the start)
-        self.e_lag = np.zeros_like(self.ener_m)
+        self.e_lag = np.zeros(self.ener_m.shape)
 
         self.x = self.x0.copy()
         self.velocity = np.zeros((n_nodes, dim))
@@ -170,24 +199,24 @@ class AleSystem(AleBoundaries):
         # nodal mass floor: mass_floor times the node's share of its elements filled at the largest
         # reference density (velocity of a near-empty node is not computed from momentum / mass)
         rho_ref = float(self.mat_rho0.max()) if n_mat else 0.0
-        # bincount sums in input order, as np.add.at did: bit-identical, and faster
-        full = np.bincount(self.conn.ravel(), weights=np.repeat(rho_ref * self.vol0 / npe, npe), minlength=n_nodes)
+        ptr, idx = self.topo["node_elem_ptr"], self.topo["node_elem_idx"]
+        full = node_sums_set_up((rho_ref * self.vol0 / npe)[:, None], ptr, idx, npe)  # (np.add.at's bits)
         self.m_floor = float(opt.mass_floor) * full
-        self.node_mass[:] = nodal_mass_set_up(self.mass_m, self.conn, n_nodes)  # K.nodal_mass's bits, in numpy
+        self.node_mass[:] = node_sums_set_up((1.0 / npe) * self.mass_m, ptr, idx, npe)  # K.nodal_mass's bits
         self.bc_type = np.zeros(n_nodes, dtype=np.int64)
         self.bc_normal = np.zeros((n_nodes, dim))
         self.face_open = np.zeros(len(self.topo["face_nodes"]), dtype=np.bool_)
         self.wall_impulse = np.zeros(dim)
         self.outflow = np.zeros(n_mat)  # net mass leaving through open faces (diagnostic; inflow counts negative)
-        # inflow faces: index into the inflow states (-1: none); per state the material fractions,
-        # densities, specific energies and pressure of the outside (ghost) donor
-        self.face_inflow = -np.ones(len(self.topo["face_nodes"]), dtype=np.int64)
-        # non-reflecting faces: the far-field pressure outside (the inside pressure when the side was set); NaN elsewhere
-        self.face_far_pressure = np.full(len(self.topo["face_nodes"]), np.nan)
-        # with a source: the face's distance to it (inf without) and its pressure impulse int (p - p_far) dt
-        self.face_source_distance = np.full(len(self.topo["face_nodes"]), np.inf)
-        self.face_impulse = np.zeros(len(self.topo["face_nodes"]))
-        self.face_source = np.zeros((len(self.topo["face_nodes"]), dim))
+        # per face, made by the first set_inflow (None until then): inflow faces' index into the inflow states
+        # (-1: none); per state the material fractions, densities, specific energies and pressure of the outside
+        # (ghost) donor
+        self.face_inflow = None
+        # per face, made by the first set_non_reflecting (None until then): the far-field pressure outside (the
+        # inside pressure when the side was set; NaN elsewhere), with a source the face's distance to it (inf
+        # without), the source and the face's pressure impulse int (p - p_far) dt (at 960^2 these five arrays,
+        # filled eagerly, were 59 MB of fresh memory before the first step of a mesh that had no such face)
+        self.face_far_pressure = self.face_source_distance = self.face_source = self.face_impulse = None
         self.inflow_states: list[tuple[np.ndarray, np.ndarray, np.ndarray, float]] = []
         self.time = 0.0
         self.n_steps = 0
@@ -240,7 +269,7 @@ class AleSystem(AleBoundaries):
         self.pressed = np.zeros(n_elem, dtype=np.bool_)
         self.gravity_work = 0.0
         self.coupling_work = 0.0
-        self.v_lag = self.velocity.copy()  # v^{n+1/2} of the Lagrangian phase, before the remap
+        self.v_lag = np.zeros((n_nodes, dim))  # v^{n+1/2} of the Lagrangian phase, before the remap (each step's)
         self.v_mid = np.zeros((n_nodes, dim))  # (v^{n-1/2} + v^{n+1/2}) / 2 of the last Lagrangian phase
         # one compiled kernel per element kind (quad4, hex8) and, for the forces, per geometry (ale/kernels.py);
         # the plane and the r-z quad4 share the energy and face kernels (the ring flag), all three geometries face_fluxes
@@ -390,8 +419,10 @@ class AleSystem(AleBoundaries):
                           self.order, self.iface, self.options.phi_eps, self._fvol, self._fmass, self._fener,
                           self._flow)
             if any_open:
-                fo = np.flatnonzero(self.face_open & (topo["face_dir"] == d))
-                self._inflow_fluxes(fo[self.face_inflow[fo] >= 0], x_lag, x_new)
+                fo = topo["faces_by_dir"][d]
+                fo = fo[self.face_open[fo]]  # the open faces of this direction, ascending
+                if self.face_inflow is not None:
+                    self._inflow_fluxes(fo[self.face_inflow[fo] >= 0], x_lag, x_new)
                 self.outflow -= self._fmass[fo].sum(axis=0)
             K.apply_face_fluxes(ka, kb, topo["elem_face"], topo["elem_sign"], self._fvol, self._fmass, self._fener,
                                 self._flow, self.vol_m, self.mass_m, self.ener_m)

@@ -55,7 +55,11 @@ def build_topology(conn: np.ndarray, n_nodes: int, kernel: bool | None = None) -
     n_elem = conn.shape[0]
     a = conn.ravel()
     b = conn[:, [1, 2, 3, 0]].ravel()  # face k joins corners k and k + 1
-    first, inv = _unique_keys(np.minimum(a, b) * n_nodes + np.maximum(a, b))
+    key = np.minimum(a, b)
+    key *= n_nodes
+    key += np.maximum(a, b)
+    first, inv = _unique_keys(key)
+    del key
     face_nodes = np.stack([a[first], b[first]], axis=1)
     if (n_elem > TOPOLOGY_KERNEL_ABOVE) if kernel is None else kernel:
         n_faces = first.size
@@ -72,7 +76,7 @@ def build_topology(conn: np.ndarray, n_nodes: int, kernel: bool | None = None) -
     else:
         face_elem, face_local, elem_face, elem_sign, elem_nbr = _face_maps(first, inv, 4)
         node_line = _quad_node_lines(conn, elem_nbr, elem_face, elem_sign, face_local)
-    face_dir = np.where(face_local[:, 0] % 2 == 1, 0, 1)
+    face_dir = (face_local[:, 0] % 2 == 0).view(np.int8)  # local faces 1, 3 cross direction 0, faces 0, 2 direction 1
 
     node_elem_idx = np.argsort(a, kind="stable").astype(np.int64, copy=False)
     node_elem_ptr = np.zeros(n_nodes + 1, dtype=np.int64)
@@ -80,7 +84,7 @@ def build_topology(conn: np.ndarray, n_nodes: int, kernel: bool | None = None) -
 
     return dict(
         face_nodes=face_nodes.astype(np.int64, copy=False), face_elem=face_elem, face_local=face_local,
-        face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
+        elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
         node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line,
         faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64, copy=False) for d in range(2)],
         side_a=QUAD_SIDE_A, side_b=QUAD_SIDE_B, corner_edge=QUAD_CORNER_HALF, corner_dst=QUAD_CORNER_DST,
@@ -100,8 +104,10 @@ def _unique_keys(*keys: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     for key in keys:
         sorted_key = key[order]
         new[1:] |= sorted_key[1:] != sorted_key[:-1]
+    rank = np.cumsum(new, out=sorted_key)  # each sorted entry's distinct-key number + 1, in
+    rank -= 1  # the sorted keys' buffer (int64, n; not needed any more): 29 MB less fresh memory at 960^2
     inverse = np.empty(n, dtype=np.int64)
-    inverse[order] = np.cumsum(new) - 1
+    inverse[order] = rank
     return order[new], inverse
 
 
@@ -330,7 +336,7 @@ def _build_topology_3d(conn: np.ndarray, n_nodes: int) -> dict:
             corner_dst[d, HEX_EDGES[d, h, 1]] = 1
     return dict(
         face_nodes=face_nodes.astype(np.int64, copy=False), face_elem=face_elem, face_local=face_local,
-        face_dir=face_dir, elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
+        elem_face=elem_face, elem_sign=elem_sign, elem_nbr=elem_nbr,
         node_elem_ptr=node_elem_ptr, node_elem_idx=node_elem_idx, node_line=node_line.astype(np.int32),
         faces_by_dir=[np.flatnonzero(face_dir == d).astype(np.int64, copy=False) for d in range(3)],
         side_a=(0, 2, 4), side_b=(1, 3, 5), corner_edge=corner_edge, corner_dst=corner_dst,

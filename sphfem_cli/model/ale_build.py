@@ -20,7 +20,7 @@ class AleMesh:
     """The ALE part's mesh and initial material layout.
 
     `materials` are indices into the model's material table; `fractions`, `density`, `pressure`
-    are (E, len(materials)); `velocity` (N, dim) nodal.
+    are (E, len(materials)); `velocity` (N, dim) nodal, or None when no fill sets one (at rest).
     """
 
     part: int
@@ -30,7 +30,7 @@ class AleMesh:
     fractions: np.ndarray
     density: np.ndarray
     pressure: np.ndarray
-    velocity: np.ndarray
+    velocity: np.ndarray | None
 
 
 def ale_mesh(model, deck: Deck, index: int, mesh: MeshData) -> AleMesh:
@@ -59,7 +59,7 @@ def ale_mesh(model, deck: Deck, index: int, mesh: MeshData) -> AleMesh:
     fractions[:, 0] = 1.0
     density = np.tile(rho0, (n_elem, 1))
     pressure = np.tile(np.array([state(m, rho0[j]) for j, m in enumerate(mats)], dtype=float), (n_elem, 1))
-    velocity = np.zeros((len(nodes), model.dim))
+    velocity = None  # made by the first fill with a velocity (at rest, a 960^2 mesh saves 15 MB of fresh memory)
     for j, fill in enumerate(part.fill):
         inside = fill_region(fill)
         try:
@@ -74,6 +74,8 @@ def ale_mesh(model, deck: Deck, index: int, mesh: MeshData) -> AleMesh:
         density[hit, k] = rho
         pressure[hit, k] = fill.pressure if fill.pressure is not None else state(mats[k], rho)
         if fill.velocity is not None:
+            if velocity is None:
+                velocity = np.zeros((len(nodes), model.dim))
             velocity[inside(*nodes.T)] = fill.velocity
         if part.hydrostatic and model.material_type[mats[k]] != build.VOID:
             hydrostatic_fill(model, deck, name, j, nodes, conn, f, mats[k], density[:, k], pressure[:, k])

@@ -22,6 +22,7 @@ from . import checks
 from . import mesh as meshgen
 from . import sets as selection
 from .ale_build import AleMesh, ale_mesh
+from .pages import set_up_pages
 from .options import RunOptions, resolve_options
 from .sizes import (BYTES_PER_ELEMENT, BYTES_PER_NODE, BYTES_PER_PARTICLE,  # noqa: F401 - re-exported
                     available_memory, check_memory)
@@ -247,11 +248,12 @@ def build_model(deck: Deck, deck_path: Path) -> Model:
     if any(p.kind == "ale" for p in parts):
         index = next(i for i, p in enumerate(parts) if p.kind == "ale")
         name = parts[index].name
-        mesh = _mesh_part(name, deck.parts[name], dim, deck_path)
-        checks.elements(name, deck.parts[name], mesh)  # an ALE mesh too (a box 5e-324 wide failed later; fuzzing)
-        if deck.axisymmetric:  # rings about the axis (ale/axisymmetric.py): x = r >= 0, near-axis nodes put on it
-            checks.radii(name, mesh)
-        model.ale = ale_mesh(model, deck, index, mesh)
+        with set_up_pages():  # numpy's huge-page advice off (model/pages.py)
+            mesh = _mesh_part(name, deck.parts[name], dim, deck_path)
+            checks.elements(name, deck.parts[name], mesh)  # an ALE mesh too (a box 5e-324 wide failed later; fuzzing)
+            if deck.axisymmetric:  # rings about the axis (ale/axisymmetric.py): x = r >= 0, near-axis nodes on it
+                checks.radii(name, mesh)
+            model.ale = ale_mesh(model, deck, index, mesh)
     model.options = resolve_options(deck, model)
     return model
 

@@ -274,9 +274,11 @@ def box_mesh(
         n = np.maximum(1, np.round(length / size)).astype(np.int64)
 
     axes = [np.linspace(lo[d], hi[d], n[d] + 1) for d in range(dim)]
-    # meshgrid over reversed axes so that x runs fastest in C order.
-    grids = np.meshgrid(*axes[::-1], indexing="ij")[::-1]
-    nodes = np.stack([g.ravel() for g in grids], axis=1)
+    # x runs fastest in C order: coordinate d broadcast straight into its column (no meshgrid copies)
+    nodes = np.empty((int(np.prod(n + 1)), dim))
+    grid = nodes.reshape(tuple(n[::-1] + 1) + (dim,))
+    for d in range(dim):
+        grid[..., d] = axes[d].reshape([-1 if k == dim - 1 - d else 1 for k in range(dim)])
 
     idx = np.arange(nodes.shape[0], dtype=np.int64).reshape(tuple(n[::-1] + 1))
     if dim == 2:

@@ -137,9 +137,10 @@ def test_eos_at_set_up_is_the_kernel(eos, q, states):
 
 @pytest.mark.parametrize("npe", [4, 8])
 def test_nodal_mass_at_set_up_is_the_kernel(npe):
-    """``ale.remap_nodes.nodal_mass_set_up`` (numpy, the ALE system's set-up) gives ``nodal_mass``'s bits: three
+    """``ale.system.node_sums_set_up`` (numpy, the ALE system's set-up) gives ``nodal_mass``'s bits: three
     materials of unrelated magnitudes on a shuffled mesh, nodes in up to four (quad4) or eight (hex8) elements."""
-    from sphfem_cli.ale.remap_nodes import nodal_mass, nodal_mass_set_up
+    from sphfem_cli.ale.remap_nodes import nodal_mass
+    from sphfem_cli.ale.system import node_sums_set_up
 
     rng = np.random.default_rng(7)
     if npe == 4:
@@ -163,7 +164,7 @@ def test_nodal_mass_at_set_up_is_the_kernel(npe):
         ptr[1:] = np.cumsum(np.bincount(a, minlength=n_nodes))
     kernel = np.empty(n_nodes)
     nodal_mass(mass_m, ptr, idx, npe, kernel)
-    got = nodal_mass_set_up(mass_m, conn, n_nodes)
+    got = node_sums_set_up((1.0 / npe) * mass_m, ptr, idx, npe)
     assert np.array_equal(got.view(np.int64), kernel.view(np.int64))
 
 
@@ -276,3 +277,22 @@ def test_coupling_face_shares_are_the_kernel(nquad):
     assert np.array_equal(got.view(np.int64), kernel.view(np.int64))
     plane = np.concatenate([square * [0.4, 0.6, 0.0] + [i, 0.0, 2.0] for i in range(3)])
     assert np.allclose(face_shares_set_up(plane, faces[:3], nquad).reshape(3, -1).sum(axis=1), 0.24, rtol=1e-12)
+
+
+def test_set_up_pages_turns_numpy_huge_page_advice_off_and_back():
+    """``model.pages.set_up_pages`` (around the ALE set-up): numpy's madvise of huge pages off inside the block, and
+    the former setting back after it, also when the block raises."""
+    multiarray = pytest.importorskip("numpy._core.multiarray")
+    from sphfem_cli.model.pages import set_up_pages
+
+    switch = multiarray._set_madvise_hugepage  # returns the setting it replaces
+    former = switch(True)
+    try:
+        with set_up_pages():
+            assert switch(False) is False
+        assert switch(True) is True
+        with pytest.raises(RuntimeError), set_up_pages():
+            raise RuntimeError
+        assert switch(True) is True
+    finally:
+        switch(former)
