@@ -92,6 +92,7 @@ SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0
                 "d02": {"density_diffusion": 0.02}, "d01": {"density_diffusion": 0.01}, "sbc": {}, "tt": {}, "ttc0": {},
                 "sbm": {}, "sbmc": {}, "sbs": {}, "sbmn": {}, "sbmf": {}, "sbk": {}, "sbka": {}, "sbkan": {},
                 "sb0d": {}, "sb0n": {}, "sb0nts": {}, "sbkats": {}, "sbkat8": {}, "sb0nt8": {}, "sb0nm4": {}, "sb0ncb": {}, "sb0nt9": {},
+                "sbal8": {}, "sbal45": {}, "sbkal8": {},
                 "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
 CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
@@ -101,7 +102,8 @@ CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
 # 0.1 MPa in the a01c01 twin)
 CORNER_CORRECTION = {"tt": "particle", "ttc0": "ambient"}
 SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan",
-                "sb0d", "sb0n", "sb0nts", "sbkats", "sbkat8", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9"}
+                "sb0d", "sb0n", "sb0nts", "sbkats", "sbkat8", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9",
+                "sbal8", "sbal45", "sbkal8"}
 # the sb0 deck with particle shifting restricted to the water within CORNER_SHIFT[kind][1] spacings of the plate's lower
 # corners (A = CORNER_SHIFT[kind][0]), run through structure_in_water_corner_shift.py (section "mDBC at the corners")
 CORNER_SHIFT = {"sbs": ("2", "4")}  # boundary particles carried by the plate instead of the penalty contact
@@ -113,7 +115,12 @@ BOUNDARY_OPTIONS = {"sbc": {"corner_particles": "once"},
                     "sbm": {"extrapolation": "mdbc"}, "sbmc": {"extrapolation": "mdbc", "corner_particles": "once"},
                     # section "mDBC's velocity ...": the sbm deck with the boundary particles' velocity extrapolated
                     # from the ghost nodes too (structure_in_water_mdbc_velocity.py), no-slip / slip
-                    "sbmn": {"extrapolation": "mdbc"}, "sbmf": {"extrapolation": "mdbc"}}
+                    "sbmn": {"extrapolation": "mdbc"}, "sbmf": {"extrapolation": "mdbc"},
+                    # section "The wall's sampling refined with the water": the boundary particles every dx by arc
+                    # length along the plate's outline (sph_boundary sampling: arc_length) instead of round(L / dx) per
+                    # face; "sbal8" / "sbal45" the plain gradient at timestep_scale 0.72 / 0.45, "sbkal8" the corrected
+                    "sbal8": {"sampling": "arc_length"}, "sbal45": {"sampling": "arc_length"},
+                    "sbkal8": {"sampling": "arc_length"}}
 MDBC_VELOCITY = {"sbmn": "no_slip", "sbmf": "slip"}
 # the sb0 deck with the kernel-gradient-corrected pressure gradient and continuity next to the plate
 # (structure_in_water_kgc.py)
@@ -124,7 +131,7 @@ KGC = {"sbk": [], "sbka": ["all"],  # "sbka": every water point with a nearly fu
        # instead of round(L / dx): 2 per 2.5 mm face at ratio 5, unchanged at ratios 3, 4, 6)
        "sb0d": ["plain", "dense"],
        "sbkats": ["all"],  # sbka at half the deck's time step (as "sb0nts" is sb0n's)
-       "sbkat8": ["all"]}  # sbka at 0.8 of the deck's step (as "sb0nt8" is sb0n's): the series at one step rule
+       "sbkat8": ["all"], "sbkal8": ["all"]}  # sbka at 0.8 of the deck's step (as "sb0nt8" is sb0n's): the series at one step rule
 # the energy guard off: at a tenth the corners-once run stopped at 0.70 ms on the guard against negative contact
 # energy (the boundary's share of the pair work -0.021 J, 10 % of the energy in play) with the energy ratio 1.0005
 # and the tangential-only form of "tt" stopped at step 100 (34 us) on the same guard (contact -0.078 J of 0.40 J in
@@ -136,15 +143,17 @@ ENERGY_GUARD_OFF = {"sbca01c01", "tt", "tta01c01", "ttc0", "ttc0a01c01", "sbs", 
                     # "sb0n": sb0 with the guard off, the control of the corrected runs at ratio 5 (sb0_r5 stops at
                     # step 10 on the guard: the ambient preload's start, contact -2.8e-3 J against 7.3e-3 J in play)
                     "sb0n", "sb0na01c01", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9",
-                    "sbkat8", "sbkat8a01c01"}
+                    "sbkat8", "sbkat8a01c01", "sbal8", "sbal45", "sbkal8"}
 # half the deck's time step: "ts" (section "SPH's gap: ..."), and the ratio-5 boundary-particle decks of section "The
 # boundary particles at ratio 5" (the plain and the corrected gradient)
-HALF_STEP = {"ts", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01"}
+HALF_STEP = {"ts", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01", "sbal45"}
 # section "A stable step for the coupling": sb0n at 0.8 of the deck's step (timestep_scale 0.72), where the water's
 # c dt / h at ratio 5 is ratio 4's at the deck's step (0.169), and "sb0nt9" at 0.9 of it (timestep_scale 0.81)
 STEP_SCALE = {"sb0nt8": 0.72, "sb0nt9": 0.81,
               # section "The corrected gradient as a series at one step": sbka at 0.72 at every ratio (3-6), both drives
-              "sbkat8": 0.72, "sbkat8a01c01": 0.72}
+              "sbkat8": 0.72, "sbkat8a01c01": 0.72,
+              # section "The wall's sampling refined with the water"
+              "sbal8": 0.72, "sbkal8": 0.72}
 # and sb0n with the plate's density x 4 at the deck's step (dt_max 3.4174e-7 s, the plate's step of sb0n; the water's own
 # limit 3.66e-7, the heavier plate's 6.8e-7): the face nodes' S_i / m_i a quarter at the same step (a diagnostic)
 # "sb0ncb": the deck's plate at the combined Gershgorin step of plate and coupling, 0.9 (dt_p^-2 + dt_c^-2)^-1/2 =
