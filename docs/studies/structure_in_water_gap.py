@@ -55,7 +55,7 @@ plate's faces at ratio 5 (structure_in_water_kgc.py "plain dense"); `--steps [r4
 energy at ratio 5 (or the one named).
 The series at one step (section "The corrected gradient as a series at one step"): "sbkat8" and its "...a01c01"
 twin, sbka at 0.8 of the deck's step (timestep_scale 0.72, as "sb0nt8") at ratios 3-6; `--series KIND ...` prints
-their peaks, energy, gauges and CPU, Celik's three_grid on the finest three ratios and the comparison with ALE's limit.
+their peaks (a KIND "A,B" takes per ratio B's run where it was made, else A's), energy, gauges and CPU, Celik's three_grid on the finest three ratios and the comparison with ALE's limit.
 `--corners` prints u(t) on
 the rise and the water's speed next to the plate's lower corners.
 `--corner-figure` draws the water's speed round the plate's end
@@ -92,6 +92,7 @@ SPH_VARIANTS = {"d0": {"density_diffusion": 0.0}, "d05": {"density_diffusion": 0
                 "d02": {"density_diffusion": 0.02}, "d01": {"density_diffusion": 0.01}, "sbc": {}, "tt": {}, "ttc0": {},
                 "sbm": {}, "sbmc": {}, "sbs": {}, "sbmn": {}, "sbmf": {}, "sbk": {}, "sbka": {}, "sbkan": {},
                 "sb0d": {}, "sb0n": {}, "sb0nts": {}, "sbkats": {}, "sbkat8": {}, "sb0nt8": {}, "sb0nm4": {}, "sb0ncb": {}, "sb0nt9": {},
+                "sbal8": {}, "sbal45": {}, "sbkal8": {}, "sbkal45": {},
                 "sw": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": {"alpha_max": 1.0, "decay": 0.1}}}}
 # the penalty contact's settings changed (deck: soft_scale 0.1, damping 0.1), at the deck's drive and at a tenth
 CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
@@ -101,7 +102,8 @@ CONTACT = {"cd0": {"damping": 0.0}, "ss03": {"soft_scale": 0.3},
 # 0.1 MPa in the a01c01 twin)
 CORNER_CORRECTION = {"tt": "particle", "ttc0": "ambient"}
 SPH_BOUNDARY = {"sb", "sb0", "sb0hr15", "sbc", "sbm", "sbmc", "sbs", "sbmn", "sbmf", "sbk", "sbka", "sbkan",
-                "sb0d", "sb0n", "sb0nts", "sbkats", "sbkat8", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9"}
+                "sb0d", "sb0n", "sb0nts", "sbkats", "sbkat8", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9",
+                "sbal8", "sbal45", "sbkal8", "sbkal45"}
 # the sb0 deck with particle shifting restricted to the water within CORNER_SHIFT[kind][1] spacings of the plate's lower
 # corners (A = CORNER_SHIFT[kind][0]), run through structure_in_water_corner_shift.py (section "mDBC at the corners")
 CORNER_SHIFT = {"sbs": ("2", "4")}  # boundary particles carried by the plate instead of the penalty contact
@@ -113,7 +115,13 @@ BOUNDARY_OPTIONS = {"sbc": {"corner_particles": "once"},
                     "sbm": {"extrapolation": "mdbc"}, "sbmc": {"extrapolation": "mdbc", "corner_particles": "once"},
                     # section "mDBC's velocity ...": the sbm deck with the boundary particles' velocity extrapolated
                     # from the ghost nodes too (structure_in_water_mdbc_velocity.py), no-slip / slip
-                    "sbmn": {"extrapolation": "mdbc"}, "sbmf": {"extrapolation": "mdbc"}}
+                    "sbmn": {"extrapolation": "mdbc"}, "sbmf": {"extrapolation": "mdbc"},
+                    # section "The wall's sampling refined with the water": the boundary particles every dx by arc
+                    # length along the plate's outline (sph_boundary sampling: arc_length) instead of round(L / dx) per
+                    # face; "sbal8" / "sbal45" the plain gradient at timestep_scale 0.72 / 0.45, "sbkal8" / "sbkal45"
+                    # the corrected one
+                    "sbal8": {"sampling": "arc_length"}, "sbal45": {"sampling": "arc_length"},
+                    "sbkal8": {"sampling": "arc_length"}, "sbkal45": {"sampling": "arc_length"}}
 MDBC_VELOCITY = {"sbmn": "no_slip", "sbmf": "slip"}
 # the sb0 deck with the kernel-gradient-corrected pressure gradient and continuity next to the plate
 # (structure_in_water_kgc.py)
@@ -124,7 +132,7 @@ KGC = {"sbk": [], "sbka": ["all"],  # "sbka": every water point with a nearly fu
        # instead of round(L / dx): 2 per 2.5 mm face at ratio 5, unchanged at ratios 3, 4, 6)
        "sb0d": ["plain", "dense"],
        "sbkats": ["all"],  # sbka at half the deck's time step (as "sb0nts" is sb0n's)
-       "sbkat8": ["all"]}  # sbka at 0.8 of the deck's step (as "sb0nt8" is sb0n's): the series at one step rule
+       "sbkat8": ["all"], "sbkal8": ["all"], "sbkal45": ["all"]}  # sbka at 0.8 of the deck's step (as "sb0nt8" is sb0n's): the series at one step rule
 # the energy guard off: at a tenth the corners-once run stopped at 0.70 ms on the guard against negative contact
 # energy (the boundary's share of the pair work -0.021 J, 10 % of the energy in play) with the energy ratio 1.0005
 # and the tangential-only form of "tt" stopped at step 100 (34 us) on the same guard (contact -0.078 J of 0.40 J in
@@ -136,15 +144,17 @@ ENERGY_GUARD_OFF = {"sbca01c01", "tt", "tta01c01", "ttc0", "ttc0a01c01", "sbs", 
                     # "sb0n": sb0 with the guard off, the control of the corrected runs at ratio 5 (sb0_r5 stops at
                     # step 10 on the guard: the ambient preload's start, contact -2.8e-3 J against 7.3e-3 J in play)
                     "sb0n", "sb0na01c01", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01", "sb0nt8", "sb0nm4", "sb0ncb", "sb0nt9",
-                    "sbkat8", "sbkat8a01c01"}
+                    "sbkat8", "sbkat8a01c01", "sbal8", "sbal45", "sbkal8", "sbkal45"}
 # half the deck's time step: "ts" (section "SPH's gap: ..."), and the ratio-5 boundary-particle decks of section "The
 # boundary particles at ratio 5" (the plain and the corrected gradient)
-HALF_STEP = {"ts", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01"}
+HALF_STEP = {"ts", "sb0nts", "sb0ntsa01c01", "sbkats", "sbkatsa01c01", "sbal45", "sbkal45"}
 # section "A stable step for the coupling": sb0n at 0.8 of the deck's step (timestep_scale 0.72), where the water's
 # c dt / h at ratio 5 is ratio 4's at the deck's step (0.169), and "sb0nt9" at 0.9 of it (timestep_scale 0.81)
 STEP_SCALE = {"sb0nt8": 0.72, "sb0nt9": 0.81,
               # section "The corrected gradient as a series at one step": sbka at 0.72 at every ratio (3-6), both drives
-              "sbkat8": 0.72, "sbkat8a01c01": 0.72}
+              "sbkat8": 0.72, "sbkat8a01c01": 0.72,
+              # section "The wall's sampling refined with the water"
+              "sbal8": 0.72, "sbkal8": 0.72}
 # and sb0n with the plate's density x 4 at the deck's step (dt_max 3.4174e-7 s, the plate's step of sb0n; the water's own
 # limit 3.66e-7, the heavier plate's 6.8e-7): the face nodes' S_i / m_i a quarter at the same step (a diagnostic)
 # "sb0ncb": the deck's plate at the combined Gershgorin step of plate and coupling, 0.9 (dt_p^-2 + dt_c^-2)^-1/2 =
@@ -423,12 +433,15 @@ def series(kinds: list[str]) -> None:
             cpu[words[0]] = f"{words[2]} (load {words[5]})"
     print("case | ratio | peak mm (vs ref) | energy ratio at 2 ms (max after 0.1 ms) | gauges 0-25 / 25-50 MPa | CPU s")
     for kind in kinds:
-        for twin, scale in ((kind, 1.0), (kind + "a01c01", 10.0)):
+        for twin, scale in ((kind, 1.0), (kind.replace(",", "a01c01,") + "a01c01", 10.0)):
             h, peak, gauge = [], [], []
             for level in ("r3", "r4", "r5", "r6"):
-                name = f"{twin}_{level}_gap"
-                if not (WORK / name / "histories" / "glstat.csv").exists():
+                # "A,B": per ratio the last of the kinds run (e.g. "sbal8,sbal45": the 0.45 step where it was run)
+                names = [f"{k}_{level}_gap" for k in twin.split(",")
+                         if (WORK / f"{k}_{level}_gap" / "histories" / "glstat.csv").exists()]
+                if not names:
                     continue
+                name = names[-1]
                 e = history(name, "glstat")
                 if e["time"][-1] < 2.0e-3 - 1e-9:
                     print(f"{name} | stopped at {1e3 * e['time'][-1]:.3f} ms")
@@ -439,7 +452,7 @@ def series(kinds: list[str]) -> None:
                 print(f"{name} | {level[1:]} | {u:.4f} ({100.0 * (u / REFERENCE_PEAK - 1.0):+.2f} %) | "
                       f"{float(np.interp(2.0e-3, e['time'], e['energy_ratio'])):.4f} ({e['energy_ratio'][late].max():.4f})"
                       f" | {g[0]:.2f} / {g[1]:.2f} | {cpu.get(name, '-')}")
-                h.append(LEVELS[twin][level])
+                h.append(LEVELS[name.split("_")[0]][level])
                 peak.append(u)
                 gauge.append(g[0])
             if len(h) < 3:

@@ -2,9 +2,10 @@
 
 The deck's ``couplings: {type: sph_boundary}``. Behind every outer face of the structure (segment
 a -> b, outward normal n to the right of a -> b, contact/surface.py) lie ``layers`` rows of boundary
-particles at the fluid's spacing dx: round(L_0 / dx) particles along the face at parameters
-s_k = (k + 1/2) / n_s and depths d_l = (l + 1/2) dx, l = 0 .. layers - 1, each of mass
-rho_0 (L_0 / n_s) dx. Each step, at state n, every particle is placed from the face's nodes,
+particles at depths d_l = (l + 1/2) dx, l = 0 .. layers - 1 (dx the fluid's spacing); along the outline a row
+is sampled per face (``sampling: face``: n_s = round(L_0 / dx) particles at parameters s_k = (k + 1/2) / n_s, each
+standing for ds = L_0 / n_s) or by arc length (``sampling: arc_length``: every ds ~ dx along each run of faces
+between corners, ``arc_length_sampling``), each particle on one face at parameter s, of mass rho_0 ds dx. Each step, at state n, every particle is placed from the face's nodes,
 
     x_w = (1 - s) x_a + s x_b - d n,      v_w = (1 - s) v_a + s v_b,      a_w = (1 - s) a_a + s a_b
 
@@ -43,6 +44,87 @@ from ..sph.slots import SI_KERNEL
 from .surface import master_segments
 
 
+# a vertex where the outline's tangent turns by more than this is a corner: arc_length sampling anchors its runs there
+CORNER_TURN = math.radians(30.0)
+
+
+def face_sampling(x0: np.ndarray, faces: np.ndarray, dx: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One row of boundary particles, face by face: n_s = max(1, round(L_0 / dx)) per face at s_k = (k + 1/2) / n_s,
+    each standing for L_0 / n_s of the face. Returns (face, s, arc spacing) per particle."""
+    length = np.linalg.norm(x0[faces[:, 1]] - x0[faces[:, 0]], axis=1)
+    n_s = np.maximum(1, np.round(length / dx)).astype(np.int64)
+    seg = np.repeat(np.arange(len(faces), dtype=np.int64), n_s)
+    k = np.arange(len(seg)) - np.repeat(np.cumsum(n_s) - n_s, n_s)
+    return seg, (k + 0.5) / n_s[seg], (length / n_s)[seg]
+
+
+def outline_runs(x0: np.ndarray, faces: np.ndarray) -> list[list[int]]:
+    """The faces (a -> b) as runs of consecutive faces between corners: each chain of connected faces (a face's b is
+    the next face's a) is walked in order, a closed chain from one of its corners, and cut at every vertex where the
+    tangent turns by more than CORNER_TURN (convex or concave) and at an open chain's ends. A closed chain without
+    corners (a faceted circle) is one run."""
+    t = x0[faces[:, 1]] - x0[faces[:, 0]]
+    t = t / np.maximum(np.linalg.norm(t, axis=1), 1e-300)[:, None]
+    nxt = {int(a): g for g, a in enumerate(faces[:, 0])}
+    ends = {int(b) for b in faces[:, 1]}
+
+    def corner(f: int, g: int) -> bool:  # between face f and the next face g
+        return float(np.clip(t[f] @ t[g], -1.0, 1.0)) < math.cos(CORNER_TURN)
+
+    seen = np.zeros(len(faces), dtype=bool)
+    chains = []
+    starts = [f for f in range(len(faces)) if int(faces[f, 0]) not in ends] + list(range(len(faces)))
+    for f0 in starts:  # open chains from their first face, then the closed ones
+        if seen[f0]:
+            continue
+        chain, f = [], f0
+        while f is not None and not seen[f]:
+            seen[f] = True
+            chain.append(f)
+            f = nxt.get(int(faces[f, 1]))
+        if f == chain[0]:  # closed: start it after a corner if it has one
+            cut = [i for i in range(len(chain)) if corner(chain[i - 1], chain[i])]
+            if cut:
+                chain = chain[cut[0]:] + chain[: cut[0]]
+        chains.append(chain)
+    runs = []
+    for chain in chains:
+        run = [chain[0]]
+        for f, g in zip(chain[:-1], chain[1:]):
+            if corner(f, g):
+                runs.append(run)
+                run = []
+            run.append(g)
+        runs.append(run)
+    return runs
+
+
+def arc_length_sampling(x0: np.ndarray, faces: np.ndarray, dx: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One row of boundary particles by arc length along the outline, refining with the fluid whatever the faces'
+    lengths: each run of ``outline_runs`` (length L, from corner to corner) carries n = max(1, round(L / dx)) particles
+    at arcs (k + 1/2) L / n from its first corner, each on the face that holds its arc at that face's parameter s, and
+    standing for ds = L / n of the outline. Anchored at the corners, the rows of the two faces of a convex vertex meet
+    there as two lattices of pitch ds along the faces and dx in depth: where ds = dx (a side a whole number of
+    spacings) the square behind the vertex holds coincident pairs, which ``corner_particles: once`` counts once, as on
+    a particle lattice. Returns (face, s, arc spacing) per particle."""
+    length = np.linalg.norm(x0[faces[:, 1]] - x0[faces[:, 0]], axis=1)
+    seg, s, ds = [], [], []
+    for run in outline_runs(x0, faces):
+        lengths = length[run]
+        start = np.concatenate([[0.0], np.cumsum(lengths)])
+        n = max(1, int(round(start[-1] / dx)))
+        arc = (np.arange(n) + 0.5) * (start[-1] / n)
+        k = np.clip(np.searchsorted(start, arc, side="right") - 1, 0, len(run) - 1)
+        seg.append(np.asarray(run, dtype=np.int64)[k])
+        s.append((arc - start[k]) / lengths[k])
+        ds.append(np.full(n, start[-1] / n))
+    if not seg:
+        return np.zeros(0, dtype=np.int64), np.zeros(0), np.zeros(0)
+    seg, s, ds = np.concatenate(seg), np.concatenate(s), np.concatenate(ds)
+    order = np.argsort(seg, kind="stable")  # by face, along each face
+    return seg[order], s[order], ds[order]
+
+
 class SphBoundaryCoupling:
     """One ``sph_boundary`` coupling inside the explicit loop (solver.explicit's interface)."""
 
@@ -61,19 +143,18 @@ class SphBoundaryCoupling:
         ratio = float(ps.options.smoothing_ratio)
         self.layers = spec.layers or int(math.ceil(2.0 * ratio - 1e-9))
         self.slip = spec.condition == "slip"
-        x0 = model.coordinates
-        length0 = np.linalg.norm(x0[self.faces[:, 1]] - x0[self.faces[:, 0]], axis=1)
-        per_face = np.maximum(1, np.round(length0 / dx)).astype(np.int64)
-        seg, s, depth, mass = [], [], [], []
+        x0 = np.asarray(model.coordinates, dtype=np.float64)
         rho0 = float(ps.params[self.material, P_RHO0])
-        for f in range(len(self.faces)):
-            n_s = int(per_face[f])
-            for l in range(self.layers):
-                for k in range(n_s):
-                    seg.append(f)
-                    s.append((k + 0.5) / n_s)
-                    depth.append((l + 0.5) * dx)
-                    mass.append(rho0 * length0[f] / n_s * dx)
+        sample = arc_length_sampling if spec.sampling == "arc_length" else face_sampling
+        row_seg, row_s, row_ds = sample(x0, self.faces, dx)
+        seg, s, depth, mass = [], [], [], []
+        for l in range(self.layers):
+            seg.append(row_seg)
+            s.append(row_s)
+            depth.append(np.full(len(row_seg), (l + 0.5) * dx))
+            mass.append(rho0 * row_ds * dx)
+        order = np.argsort(np.concatenate(seg), kind="stable")  # face, then layer, then along the face
+        seg, s, depth, mass = (np.concatenate(a)[order] for a in (seg, s, depth, mass))
         self.seg = np.asarray(seg, dtype=np.int64)
         self.s = np.asarray(s, dtype=np.float64)
         self.depth = np.asarray(depth, dtype=np.float64)
@@ -93,7 +174,6 @@ class SphBoundaryCoupling:
         # (``_corner_ghosts``, from the first placement)
         self.mdbc = spec.extrapolation == "mdbc"
         self.vertex = np.full(len(self.seg), -1, dtype=np.int64)
-        x0 = np.asarray(model.coordinates, dtype=np.float64)
         self.place(x0, np.zeros_like(x0), np.zeros_like(x0))
         coincident = (self._coincident(self.particles())
                       if spec.corner_particles == "once" or self.mdbc else None)

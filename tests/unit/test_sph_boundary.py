@@ -13,7 +13,8 @@ import pytest
 
 from sphfem_cli.driver import load_model
 from sphfem_cli.solver.explicit import Simulation
-from sphfem_cli.sph.structure_walls import W_FY, W_P
+from sphfem_cli.contact.sph_boundary import face_sampling
+from sphfem_cli.sph.structure_walls import W_FY, W_M, W_NY, W_P
 
 FREE_PLATE = """
 title: free plate in water, sph_boundary
@@ -200,3 +201,45 @@ def test_stable_dt_scales_as_sqrt_dx(tmp_path):
     coarse = _sim(tmp_path, FREE_PLATE).interactions[0].stable_dt()
     fine = _sim(tmp_path, FREE_PLATE.replace("spacing: 0.005", "spacing: 0.0025")).interactions[0].stable_dt()
     assert fine / coarse == pytest.approx(1.0 / np.sqrt(2.0), rel=1e-9)
+
+
+def test_arc_length_sampling_refines_with_the_fluid(tmp_path):
+    """sampling: arc_length on the free plate meshed 8 x 4 (2.5 mm faces) in water at dx 5 mm: per face the row
+    would be max(1, round(0.5)) = 1 particle every 2.5 mm (0.5 dx); by arc length each side (20 / 10 mm between the
+    convex corners) carries 4 / 2 particles every dx, (k + 1/2) dx from its first corner, so the corner squares hold
+    coincident pairs (counted once with corner_particles: once). The row's mass is rho_0 x perimeter x dx per layer
+    (the layers' area), and the momentum of fluid and plate is conserved to round-off."""
+    deck = FREE_PLATE.replace("divisions: [4, 2]", "divisions: [8, 4]")
+    sim = _sim(tmp_path, deck.replace("fluid: water}", "fluid: water, sampling: arc_length}"))
+    coupling, dx = sim.interactions[0], 0.005
+    seg, _, ds = face_sampling(sim.model.coordinates, coupling.faces, dx)  # the default's row: 1 per face
+    assert len(seg) == 24 and np.allclose(ds, 0.0025)
+    assert coupling.layers == 3 and len(coupling.seg) == 3 * (4 + 2 + 4 + 2)
+    np.testing.assert_allclose(coupling.ws[:, W_M].sum(), 1000.0 * 0.06 * 3 * dx, rtol=1e-12)
+    x = coupling.particles()
+    first = coupling.depth == 0.5 * dx
+    bottom = first & (coupling.ws[:, W_NY] < -0.99)  # the bottom face's first row (outward normal -y)
+    np.testing.assert_allclose(np.sort(x[bottom, 0]), 0.04 + (np.arange(4) + 0.5) * dx, atol=1e-12)
+    assert (coupling._coincident(x) >= 0).sum() == 4 * 2 * 9  # 3 x 3 pairs behind each of the 4 corners
+    p0 = _momentum(sim)
+    for _ in range(10):
+        sim.step()
+    assert np.abs(coupling.f_nodes).max() > 0.0
+    np.testing.assert_allclose(_momentum(sim), p0, rtol=0.0, atol=1e-12 * np.linalg.norm(p0))
+
+
+def test_outline_runs_cut_at_corners_only():
+    """A faceted circle (36 faces, 10 degree turns) is one run; a square meshed 3 faces a side is four runs of 3."""
+    from sphfem_cli.contact.sph_boundary import arc_length_sampling, outline_runs
+    angle = np.linspace(0.0, 2.0 * np.pi, 37)[:-1]
+    circle = np.stack([np.cos(angle), np.sin(angle)], axis=1)
+    ring = np.stack([np.arange(36), (np.arange(36) + 1) % 36], axis=1)
+    assert [len(r) for r in outline_runs(circle, ring)] == [36]
+    seg, s, ds = arc_length_sampling(circle, ring, 0.05)
+    perimeter = 36 * 2.0 * np.sin(np.pi / 36)
+    assert len(seg) == round(perimeter / 0.05) and np.allclose(ds, perimeter / len(seg)) and np.all((s >= 0) & (s <= 1))
+    t = np.linspace(0.0, 1.0, 4)[:-1]
+    square = np.concatenate([np.stack([t, 0 * t], 1), np.stack([1 + 0 * t, t], 1), np.stack([1 - t, 1 + 0 * t], 1),
+                             np.stack([0 * t, 1 - t], 1)])
+    faces = np.stack([np.arange(12), (np.arange(12) + 1) % 12], axis=1)
+    assert sorted(len(r) for r in outline_runs(square, faces)) == [3, 3, 3, 3]

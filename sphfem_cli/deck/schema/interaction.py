@@ -110,6 +110,14 @@ class SphBoundary(DeckModel):
         "the kernel sum with the boundary is complete there too (a uniform pressure exerts no net force on a "
         "lattice). Default per_face (measured on the paper's section 4.1 plate: "
         "docs/studies/structure_in_water.md, \"Convex corners\")."))
+    sampling: Literal["face", "arc_length"] = Field("face", description=(
+        "How each row of boundary particles is spaced along the structure's outline. face: round(L / dx) particles "
+        "per face (at least one), evenly on the face, so the wall's spacing L / round(L / dx) is not dx where a face "
+        "is not a whole number of spacings (0.75 / 1.0 / 1.25 / 0.75 dx on 2.5 mm faces at dx 3.33 / 2.5 / 2 / 1.67 "
+        "mm) and does not refine with the fluid. arc_length: each run of faces between corners (a turn of more than 30 "
+        "degrees) gets round(L_run / dx) particles every L_run / n ~ dx, measured from the run's first corner, each "
+        "on the face that holds it, of mass rho_0 (L_run / n) dx. Default face (arc_length measured on the paper's "
+        "section 4.1 plate: docs/studies/structure_in_water.md, \"The wall's sampling refined with the water\")."))
     extrapolation: Literal["adami", "mdbc"] = Field("adami", description=(
         "How the boundary particles' pressure and density are set from the fluid. adami: p_w = (sum_f p_f W_wf + "
         "(g - a_w) . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf over the fluid on the particle's face's side (Adami, "
