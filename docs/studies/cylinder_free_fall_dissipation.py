@@ -154,7 +154,8 @@ def summary() -> None:
                     line = f"    {' / '.join(f'{mm:g}' for mm in SERIES_MM[i:i + 3])} mm: {describe(c)}"
                     if c.monotone and not c.diverging and c.extrapolated == c.extrapolated:
                         five = runs[SERIES_MM.index(5.0)][k]
-                        line += f", Richardson {c.extrapolated:.4f}, 5 mm vs it {100 * (five / c.extrapolated - 1):+.2f} %"
+                        line += (f", Richardson {c.extrapolated:.4f}, "
+                                 f"5 mm vs it {100 * (five / c.extrapolated - 1):+.2f} %")
                     print(line)
             print("  CPU s (load): " + " / ".join(f"{r['cpu_s']:.0f} ({r['load']:.1f})" if r else "-" for r in runs))
 

@@ -23,9 +23,9 @@ Compared: the decks' penetration (y0 - y) / D at T = (t - t_c) sqrt(g / D) = 0.1
 at the end (rigid_structure_refinement.freefall_quantities). Order and GCI: Celik et al. 2008 through
 sphfem_cli.study.metrics.three_grid (h the fluid size, Fs 1.25); the shipped level's estimated error is
 (phi_5mm - phi_ext) / phi_ext where an order exists (on the finer triple the 5 mm level is its coarsest). An
-observed order far below the schemes' (SPH about 1-2, the ALE's van Leer advection 1-2) says the three levels are not yet in the asymptotic range, and the Richardson
-value is then an extrapolation far beyond the finest level, not an estimate. A level that was interrupted
-(SIGTERM: the run keeps its histories and a checkpoint) enters the summary with the penetrations its histories
+observed order far below the schemes' (SPH about 1-2, the ALE's van Leer advection 1-2) says the three
+levels are not yet in the asymptotic range, and the Richardson value is then an extrapolation far beyond the
+finest level, not an estimate. A level that was interrupted (SIGTERM: the run keeps its histories and a checkpoint) enters the summary with the penetrations its histories
 reach, marked '*'; continue it with ``python -m sphfem_cli.cli run FOLDER/deck.effective.yaml -o FOLDER
 --restart FOLDER/checkpoint.npz --threads 1``.
 """
@@ -123,10 +123,12 @@ def summary() -> None:
         runs = [stored(name, mm) for mm in LEVELS_MM]
         if not any(runs):
             continue
-        print(f"\n{name}: " + " / ".join(f"{mm:g}{'*' if r and r.get('steps') == 0 else ''}" for mm, r in zip(LEVELS_MM, runs))
-              + " mm" + "".join(f" (* unfinished, to T {r['reached T']:.3f})" for r in runs if r and r.get("steps") == 0)
+        cut = [bool(r) and r.get("steps") == 0 for r in runs]  # unfinished levels
+        print(f"\n{name}: " + " / ".join(f"{mm:g}{'*' if c else ''}" for mm, c in zip(LEVELS_MM, cut)) + " mm"
+              + "".join(f" (* unfinished, to T {r['reached T']:.3f})" for r, c in zip(runs, cut) if c)
               + "".join(f" ({mm:g} mm {r['source']})" for mm, r in zip(LEVELS_MM, runs) if r and "source" in r))
-        for key in [k for k in (next(r for r in runs if r)) if k not in ("cpu_s", "steps", "load", "reached T", "source")]:
+        skip = ("cpu_s", "steps", "load", "reached T", "source")
+        for key in [k for k in next(r for r in runs if r) if k not in skip]:
             vals = [r.get(key, float("nan")) if r else float("nan") for r in runs]
             print(f"  {key}: " + " / ".join(f"{v:.4f}" for v in vals))
             for i in range(len(LEVELS_MM) - 2):  # every triple of consecutive levels that was run
