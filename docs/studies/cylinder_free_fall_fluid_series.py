@@ -25,9 +25,9 @@ sphfem_cli.study.metrics.three_grid (h the fluid size, Fs 1.25); the shipped lev
 (phi_5mm - phi_ext) / phi_ext where an order exists (on the finer triple the 5 mm level is its coarsest). An
 observed order far below the schemes' (SPH about 1-2, the ALE's van Leer advection 1-2) says the three
 levels are not yet in the asymptotic range, and the Richardson value is then an extrapolation far beyond the
-finest level, not an estimate. A level that was interrupted (SIGTERM: the run keeps its histories and a checkpoint) enters the summary with the penetrations its histories
-reach, marked '*'; continue it with ``python -m sphfem_cli.cli run FOLDER/deck.effective.yaml -o FOLDER
---restart FOLDER/checkpoint.npz --threads 1``.
+finest level, not an estimate. A level that was interrupted (SIGTERM: the run keeps its histories and a
+checkpoint) enters the summary with the penetrations its histories reach, marked '*'; continue it with
+``python -m sphfem_cli.cli run FOLDER/deck.effective.yaml -o FOLDER --restart FOLDER/checkpoint.npz --threads 1``.
 """
 from __future__ import annotations
 
