@@ -39,6 +39,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from rigid_structure_refinement import freefall_quantities  # noqa: E402
 from sphfem_cli import api  # noqa: E402
+from sphfem_cli.study.metrics import describe, three_grid  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 WORK = Path("study_free_fall_dissipation")
@@ -56,7 +57,11 @@ VARIANTS = {
     "sw001_t125": {"artificial_viscosity": {"alpha": 0.01, "beta": 0.0, "switch": SWITCH},
                    "/contacts.0.thickness": 0.00125},
     "t125": {"/contacts.0.thickness": 0.00125},  # the shipped dissipation, the contact at 1.25 mm
+    # the switch halved (floor and ceiling): switch.py's rate is linear in (alpha_i, alpha_min, alpha_max), so
+    # alpha_i, and with beta 0 every pair's Pi_ij, is exactly half the shipped deck's at the same flow
+    "sw_half": {"artificial_viscosity": {"alpha": 0.005, "beta": 0.0, "switch": {"alpha_max": 0.5, "decay": 0.1}}},
 }
+SERIES_MM = (10.0, 5.0, 2.5, 1.25)  # the water levels of cylinder_free_fall_fluid_series.py
 
 
 def overrides(variant: str, c0: float, mm: float | None) -> dict:
@@ -131,6 +136,28 @@ def summary() -> None:
             continue
         print(f"| {f.stem} | " + " | ".join(f"{r[k]:.4f}" for k in keys)
               + f" | {r['energy ratio']:.4f} | {r['steps']} | {r['cpu_s']:.0f} ({r['load']:.1f}) |")
+    # water series of a variant at c0 60 over every three consecutive SERIES_MM that ran (Celik, Fs 1.25; h the spacing)
+    for variant in VARIANTS:
+        for tail in ("", "_rho1000"):
+            files = [WORK / f"{variant}_c60_{mm:g}mm{tail}.json" for mm in SERIES_MM]
+            runs = [json.loads(f.read_text()) if f.exists() else None for f in files]
+            runs = [r if r and r["status"] == "completed" else None for r in runs]
+            if sum(r is not None for r in runs) < 2:
+                continue
+            print(f"\n{variant}{tail}, c0 60, " + " / ".join(f"{mm:g}" for mm in SERIES_MM) + " mm:")
+            for k in keys:
+                print(f"  {k}: " + " / ".join(f"{r[k]:.4f}" if r else "-" for r in runs))
+                for i in range(len(SERIES_MM) - 2):
+                    if not all(runs[i:i + 3]):
+                        continue
+                    c = three_grid(SERIES_MM[i:i + 3], [r[k] for r in runs[i:i + 3]])
+                    line = f"    {' / '.join(f'{mm:g}' for mm in SERIES_MM[i:i + 3])} mm: {describe(c)}"
+                    if c.monotone and not c.diverging and c.extrapolated == c.extrapolated:
+                        five = runs[SERIES_MM.index(5.0)][k]
+                        line += (f", Richardson {c.extrapolated:.4f}, "
+                                 f"5 mm vs it {100 * (five / c.extrapolated - 1):+.2f} %")
+                    print(line)
+            print("  CPU s (load): " + " / ".join(f"{r['cpu_s']:.0f} ({r['load']:.1f})" if r else "-" for r in runs))
 
 
 def main() -> None:
