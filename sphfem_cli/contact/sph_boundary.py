@@ -5,7 +5,8 @@ a -> b, outward normal n to the right of a -> b, contact/surface.py) lie ``layer
 particles at depths d_l = (l + 1/2) dx, l = 0 .. layers - 1 (dx the fluid's spacing); along the outline a row
 is sampled per face (``sampling: face``: n_s = round(L_0 / dx) particles at parameters s_k = (k + 1/2) / n_s, each
 standing for ds = L_0 / n_s) or by arc length (``sampling: arc_length``: every ds ~ dx along each run of faces
-between corners, ``arc_length_sampling``), each particle on one face at parameter s, of mass rho_0 ds dx. Each step, at state n, every particle is placed from the face's nodes,
+between corners, ``arc_length_sampling``), each particle on one face at parameter s, of mass rho_0 ds dx.
+Each step, at state n, every particle is placed from the face's nodes,
 
     x_w = (1 - s) x_a + s x_b - d n,      v_w = (1 - s) v_a + s v_b,      a_w = (1 - s) a_a + s a_b
 
