@@ -85,6 +85,10 @@ def geometry_path(name: str, part) -> str:
 COORDINATE_BOUND = 1.0e100  # |x| of any node: the cube of a size below it stays finite in double precision
 
 
+_CHECK_CHUNK = 1 << 16
+"""Elements per chunk of ``elements``' corner Jacobians (2 MB of quad4 corners)."""
+
+
 def elements(name: str, part, mesh: meshgen.MeshData) -> None:
     """A mesh the elements can work with: finite coordinates within COORDINATE_BOUND, every corner Jacobian positive.
 
@@ -116,10 +120,6 @@ def elements(name: str, part, mesh: meshgen.MeshData) -> None:
         raise build.ModelError(where, f"element {e} of part '{name}' is inverted, collapsed or re-entrant at "
                                       f"t = 0 ({shape} at its corner node {c}, {count} such "
                                       "element(s); check the sizes, the units and the mesh)")
-
-
-_CHECK_CHUNK = 1 << 16
-"""Elements per chunk of ``elements``' corner Jacobians (2 MB of quad4 corners)."""
 
 
 def file_sets(deck, file_sets: dict) -> None:
