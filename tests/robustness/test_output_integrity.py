@@ -71,7 +71,7 @@ def test_sigkill_then_restart_loses_at_most_one_output_interval_and_ends_bit_ide
 
     from .test_restart import _fields, _histories
 
-    deck = decks.write(tmp_path, "solid", end_time=2.0e-3)
+    deck = decks.write(tmp_path, "solid", end_time=1.0e-3)  # 50 output times; the kill comes after 5
     interval = 2.0e-5
     whole = subprocess.run([sys.executable, "-m", "sphfem_cli.cli", "run", str(deck), "-o", str(tmp_path / "whole"),
                             "-q"], capture_output=True, text=True, timeout=600)

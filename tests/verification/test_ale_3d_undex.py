@@ -64,6 +64,10 @@ def twin_over_solid(solid: Path, twin: tuple, h: float, names, points) -> np.nda
     return peak_rz / peak_3d
 
 
+# heavy (9 s, the whole deck): test_ale_3d.py checks the hex8 ALE in the default suite, and the regression runs
+# this deck's first 13 steps
+pytestmark = pytest.mark.heavy
+
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):

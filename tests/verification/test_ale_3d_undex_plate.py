@@ -24,6 +24,8 @@ def _histories(folder: Path) -> dict:
     return {csv.stem: np.genfromtxt(csv, delimiter=",", names=True) for csv in (folder / "histories").glob("*.csv")}
 
 
+# heavy (4 s): the deck's regression runs its first steps, test_ale_3d.py the hex8 ALE, in the default suite
+@pytest.mark.heavy
 def test_3d_deck_pushes_the_plate_early(tmp_path):
     """The 3D deck at 10 mm to 0.1 ms (about 80 steps): the charge as filled, the shock reaching the plate and the
     coupling pushing it, the quarter's symmetry, and energy. Measured: see the asserts' comments."""

@@ -56,6 +56,8 @@ def _bands(case, h):
     return r < 2.0 * h, np.arctan2(r, z) > 0.25 * math.pi
 
 
+# heavy (7 s): test_noh_rz_post_shock_density_rises_with_resolution runs the r-z Noh problem in the default suite
+@pytest.mark.heavy
 def test_no_spurious_heating_on_the_axis():
     """Issue 15: no spurious heating on the axis. Noh's sphere on 160^2 (about 5 s CPU): behind the shock the
     exact specific internal energy is u0^2/2 = 0.5 everywhere; ahead of it 0 (cold gas, p = 0: compression does

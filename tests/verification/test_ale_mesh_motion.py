@@ -23,6 +23,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
 from ale_cases import box_walls, gas_row, run_to, shock_tube  # noqa: E402
@@ -116,6 +117,8 @@ def test_lagrangian_mode_does_not_advect():
     assert np.all(np.abs(contact - exact) < 0.01 * exact)
 
 
+# heavy (7 s): the tests above move and remap the mesh in the default suite
+@pytest.mark.heavy
 def test_straight_lines_track_a_sloshing_free_surface():
     """Smoothing "straight_lines" (the paper's nodes moving uniformly along straight lines).
 

@@ -65,6 +65,8 @@ def test_hugoniot_pressure_of_tait_water():
     assert RHO * math.pi * RADIUS ** 2 * LENGTH * SPEED == pytest.approx(MOMENTUM, rel=1e-4)
 
 
+# heavy (8 s), as its ALE and Lagrangian twins: the deck's regression runs its first 0.3 ms in the default suite
+@pytest.mark.heavy
 def test_sph_bird_gives_its_momentum_and_the_hugoniot_pressure(tmp_path):
     impulse, peak, result = impact("bird_strike_axisymmetric_sph.yaml", tmp_path / "sph")
     print(f"SPH 5 mm: impulse / (m v) {impulse:.4f}, centre peak / P_H {peak:.4f}")

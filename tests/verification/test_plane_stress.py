@@ -357,6 +357,8 @@ loads:
     return float(np.trapezoid(y, t) / (t[-1] - t[0]))
 
 
+# heavy (7 s): the first mode above compares the same two beams in the default suite
+@pytest.mark.heavy
 def test_cantilever_static_deflection_plane_stress_against_plane_strain(sim_from_deck):
     """Static tip deflection P L^3 / (3 E' I) (Euler-Bernoulli), E' = E/(1 - nu^2) in plane strain and E in plane
     stress: each within 7 % (Timoshenko's shear term P L / (kappa G A) adds 0.8-1.0 % at L/h = 10, the one-point

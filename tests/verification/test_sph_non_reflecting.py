@@ -190,6 +190,8 @@ def _box(dx: float, lo, hi, condition: str, source=None, width: float = 0.03) ->
                      np.zeros(len(x), dtype=np.int64), water(C), opt)
 
 
+# heavy (11 s): the plane pulses below and above check the same open sides in the default suite
+@pytest.mark.heavy
 def test_cylindrical_pulse():
     """A cylindrical pulse from a point leaves a box open on all sides, at oblique incidence on most of them.
 

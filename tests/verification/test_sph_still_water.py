@@ -78,6 +78,8 @@ def test_still_water_short(single_thread):
     assert_at_rest(ps, vmax)
 
 
+# heavy (7 s): test_still_water_short runs the same column in the default suite
+@pytest.mark.heavy
 def test_still_water_two_seconds_hydrostatic_ghosts(single_thread):
     """The acceptance case, H/dx = 40 (1 600 particles), 2 s (about 8 600 steps, ~10 s)."""
     p, vmax, ps = run_tank(40, 2.0, 0.0, **HYDRO)
