@@ -1,0 +1,118 @@
+"""Issue 18 acceptance A1, gap 5 of docs/studies/fsi_convergence_audit.md: the constant-speed cylinder entry's
+fluid refined on the shipped decks, over the whole compared window s/D 0.05-0.4, the structure fixed.
+
+    python docs/studies/cylinder_entry_fluid_series.py run ale 0.01      # one level into WORK/ale_0.01/level.json
+    python docs/studies/cylinder_entry_fluid_series.py run sph 0.0025
+    python docs/studies/cylinder_entry_fluid_series.py report            # orders / GCI on the levels present
+
+Decks: decks/cylinder_entry_constant_speed_{ale,sph}.yaml as shipped (1.2 x 0.6 m water, c0 60, 64-segment
+disc, histories every 0.02 ms) with only the water's size changed (ALE parts.tank.geometry.box.element_size,
+SPH parts.water.spacing) and control.end_time cut to 0.017 s (s/D 0.41; the window ends at t = 16.6 ms and an
+explicit run's history before its end does not depend on it). Run one level per process, one thread.
+
+ALE coupling rule kept: the deck's n = h / (segment / nquad) = 1.85 (64 segments of 5.40 mm, nquad 2, h 5 mm)
+and pfac 4 = 2 n rounded, so the penalty layer L_c = n h / pfac = 0.46 h (docs/theory/coupling.md, "Stiffness").
+With the polygon fixed, n stays 1.85 when nquad scales with 1 / h: nquad 1 / 2 / 4 / 8 at h 10 / 5 / 2.5 / 1.25
+mm, pfac 4 at every level, so both the coupling points per water element and L_c / h are the deck's. SPH: the
+contact thickness (dx / 2), the soft-constraint stiffness (0.1 m / dt0^2) and h = 1.2 dx follow dx by the deck's
+own rules; nothing else changes.
+
+Compared (the validation tests' analysis, tests/validation/test_fsi_scenes_{sph,ale}.py, as in
+rigid_structure_refinement.py): Cs = contact_force_y / (1/2 rho D V^2), s/D = V (t - 0.005 / V) / D, the mean of
+the raw 0.02 ms samples over s/D 0.05-0.1 / 0.1-0.2 / 0.2-0.4 and the window 0.05-0.4 (bounds included), and the
+peak of the centred 1 ms running mean. Order / GCI: sphfem_cli.study.metrics.three_grid on the finest three
+levels present (h = the element size / spacing, Fs 1.25).
+
+Status (8 December 2026): see the section "The fluid refined on the shipped decks" of
+docs/studies/cylinder_entry.md for the figures this script printed.
+"""
+from __future__ import annotations
+
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from sphfem_cli import api
+from sphfem_cli.study.metrics import describe, three_grid
+
+ROOT = Path(__file__).resolve().parents[2]
+WORK = Path(os.environ.get("CYL_FLUID_WORK", "study_cylinder_fluid"))
+D, V, RHO, GAP = 0.11, 2.955, 1000.0, 0.005
+SHIPPED_H, SHIPPED_NQUAD, PFAC = 0.005, 2, 4.0  # the ALE deck's water element, points per segment, pfac
+BINS = {"0.05-0.1": (0.05, 0.1), "0.1-0.2": (0.1, 0.2), "0.2-0.4": (0.2, 0.4), "0.05-0.4": (0.05, 0.4)}
+END_TIME = 0.017
+
+
+def overrides(method: str, h: float) -> dict:
+    """The deck's overrides at water size h [m]: ALE nquad ~ 1 / h (n = 1.85 kept), pfac 4; SPH the spacing."""
+    out: dict = {"control.end_time": END_TIME}
+    if method == "ale":
+        nquad = int(round(SHIPPED_NQUAD * SHIPPED_H / h))
+        if nquad < 1 or abs(nquad * h - SHIPPED_NQUAD * SHIPPED_H) > 1e-12:
+            raise ValueError(f"h {h}: nquad {SHIPPED_NQUAD * SHIPPED_H / h} is not a whole number >= 1")
+        out.update({"parts.tank.geometry.box.element_size": h, "couplings.0.nquad": nquad, "couplings.0.pfac": PFAC})
+    else:
+        out["parts.water.spacing"] = h
+    return out
+
+
+def quantities(hist: dict) -> dict:
+    """The compared quantities of a ``cylinder`` history (see the module docstring)."""
+    s_over_d = V * (hist["time"] - GAP / V) / D
+    cs = hist["contact_force_y"] / (0.5 * RHO * D * V * V)
+    n = int(round(1.0e-3 / float(hist["time"][2] - hist["time"][1])))
+    smooth = np.convolve(cs, np.ones(n) / n, mode="same")
+    peak = int(np.argmax(smooth))
+    out = {f"Cs {k}": float(cs[(s_over_d >= lo) & (s_over_d <= hi)].mean()) for k, (lo, hi) in BINS.items()}
+    out.update({"1 ms peak": float(smooth[peak]), "peak s/D": float(s_over_d[peak]), "raw peak": float(cs.max())})
+    return out
+
+
+def run_level(method: str, h: float) -> dict:
+    folder = WORK / f"{method}_{h:g}"
+    ov = overrides(method, h)
+    cpu = time.process_time()
+    result = api.run(ROOT / f"decks/cylinder_entry_constant_speed_{method}.yaml", folder / "run", ov, threads=1,
+                     overwrite=True)
+    cpu = time.process_time() - cpu
+    assert result.completed, result.message
+    out = quantities(result.histories()["cylinder"]) | {"h": h, "cpu_s": cpu, "steps": result.steps,
+                                                         "load": os.getloadavg()[0], "overrides": ov}
+    (folder / "level.json").write_text(json.dumps(out, indent=1))
+    return out
+
+
+def report() -> None:
+    for method in ("ale", "sph"):
+        runs = sorted((json.loads(p.read_text()) for p in WORK.glob(f"{method}_*/level.json")), key=lambda r: -r["h"])
+        for run in runs:
+            print(f"{method} h {run['h'] * 1e3:g} mm: " + ", ".join(
+                f"{k} {v:.4g}" for k, v in run.items() if isinstance(v, float) and k not in ("h",)), flush=True)
+        if len(runs) < 3:
+            continue
+        fine = runs[-3:]
+        for key in ("Cs 0.05-0.1", "Cs 0.1-0.2", "Cs 0.2-0.4", "Cs 0.05-0.4", "1 ms peak", "raw peak"):
+            c = three_grid([r["h"] for r in fine], [r[key] for r in fine])
+            shipped = next((r[key] for r in runs if abs(r["h"] - SHIPPED_H) < 1e-9), float("nan"))
+            levels = ", ".join(f"{r['h'] * 1e3:g}" for r in fine)
+            line = f"  {method} {key} on {levels} mm: {describe(c)}"
+            if np.isfinite(c.extrapolated):
+                line += (f"; Richardson {c.extrapolated:.4g}, shipped 5 mm "
+                         f"{100 * (shipped - c.extrapolated) / c.extrapolated:+.1f} %")
+            print(line, flush=True)
+
+
+def main() -> None:
+    WORK.mkdir(parents=True, exist_ok=True)
+    if sys.argv[1] == "run":
+        print(json.dumps(run_level(sys.argv[2], float(sys.argv[3]))), flush=True)
+    else:
+        report()
+
+
+if __name__ == "__main__":
+    main()
