@@ -37,37 +37,46 @@ from pathlib import Path
 import numpy as np
 
 from sphfem_cli import api
-from sphfem_cli.study.metrics import describe, three_grid
+from sphfem_cli.study.metrics import describe, history_columns, three_grid
 
 ROOT = Path(__file__).resolve().parents[2]
 WORK = Path(os.environ.get("CYL_FLUID_WORK", "study_cylinder_fluid"))
 D, V, RHO, GAP = 0.11, 2.955, 1000.0, 0.005
 SHIPPED_H, SHIPPED_NQUAD, PFAC = 0.005, 2, 4.0  # the ALE deck's water element, points per segment, pfac
+NQUAD_MAX = 5  # the schema's bound
 BINS = {"0.05-0.1": (0.05, 0.1), "0.1-0.2": (0.1, 0.2), "0.2-0.4": (0.2, 0.4), "0.05-0.4": (0.05, 0.4)}
 END_TIME = 0.017
+SAMPLE = 2.0e-5  # the decks' history_interval [s]
+COST = ("cpu_s", "steps", "load")
 
 
 def overrides(method: str, h: float) -> dict:
     """The deck's overrides at water size h [m]: ALE nquad ~ 1 / h (n = 1.85 kept), pfac 4; SPH the spacing."""
     out: dict = {"control.end_time": END_TIME}
     if method == "ale":
-        nquad = int(round(SHIPPED_NQUAD * SHIPPED_H / h))
-        if nquad < 1 or abs(nquad * h - SHIPPED_NQUAD * SHIPPED_H) > 1e-12:
-            raise ValueError(f"h {h}: nquad {SHIPPED_NQUAD * SHIPPED_H / h} is not a whole number >= 1")
-        out.update({"parts.tank.geometry.box.element_size": h, "couplings.0.nquad": nquad, "couplings.0.pfac": PFAC})
+        nquad = min(NQUAD_MAX, int(round(SHIPPED_NQUAD * SHIPPED_H / h)))
+        pfac = PFAC * nquad * h / (SHIPPED_NQUAD * SHIPPED_H)  # n / pfac, i.e. L_c / h, kept
+        out.update({"parts.tank.geometry.box.element_size": h, "couplings.0.nquad": nquad, "couplings.0.pfac": pfac})
     else:
         out["parts.water.spacing"] = h
     return out
 
 
-def quantities(hist: dict) -> dict:
-    """The compared quantities of a ``cylinder`` history (see the module docstring)."""
-    s_over_d = V * (hist["time"] - GAP / V) / D
-    cs = hist["contact_force_y"] / (0.5 * RHO * D * V * V)
-    n = int(round(1.0e-3 / float(hist["time"][2] - hist["time"][1])))
+def quantities(hist: dict, uniform: bool = False) -> dict:
+    """The compared quantities of a ``cylinder`` history (see the module docstring). ``uniform``: the force
+    first interpolated linearly onto a 0.02 ms grid, so that a bin mean is a time mean and the running mean
+    spans 1 ms at every level (the history holds one row per step wherever the step exceeds 0.02 ms)."""
+    t, force = hist["time"], hist["contact_force_y"]
+    if uniform:
+        grid = np.arange(0.0, t[-1] + 1e-12, SAMPLE)
+        t, force = grid, np.interp(grid, t, force)
+    s_over_d = V * (t - GAP / V) / D
+    cs = force / (0.5 * RHO * D * V * V)
+    n = int(round(1.0e-3 / float(t[2] - t[1])))
     smooth = np.convolve(cs, np.ones(n) / n, mode="same")
     peak = int(np.argmax(smooth))
-    out = {f"Cs {k}": float(cs[(s_over_d >= lo) & (s_over_d <= hi)].mean()) for k, (lo, hi) in BINS.items()}
+    out = {f"Cs {k}": float(cs[(s_over_d >= lo) & (s_over_d <= hi)].mean())
+           for k, (lo, hi) in BINS.items() if s_over_d[-1] >= hi}  # an unfinished run: its whole bins only
     out.update({"1 ms peak": float(smooth[peak]), "peak s/D": float(s_over_d[peak]), "raw peak": float(cs.max())})
     return out
 
@@ -86,24 +95,36 @@ def run_level(method: str, h: float) -> dict:
     return out
 
 
-def report() -> None:
+def analysed(folder: Path, uniform: bool) -> dict:
+    """A level's quantities from its history (also one stopped before its end) with its cost from level.json."""
+    hist = history_columns(folder / "run" / "histories" / "cylinder.csv")
+    out = quantities(hist, uniform) | {"h": float(folder.name.split("_")[1])}
+    if (folder / "level.json").exists():
+        out |= {k: v for k, v in json.loads((folder / "level.json").read_text()).items() if k in COST}
+    else:
+        out["unfinished at s/D"] = float(V * (hist["time"][-1] - GAP / V) / D)
+    return out
+
+
+def report(uniform: bool) -> None:
+    print("force on a uniform 0.02 ms grid" if uniform else "raw history rows (the validation tests' analysis)")
     for method in ("ale", "sph"):
-        runs = sorted((json.loads(p.read_text()) for p in WORK.glob(f"{method}_*/level.json")), key=lambda r: -r["h"])
+        runs = sorted((analysed(f, uniform) for f in WORK.glob(f"{method}_*")), key=lambda r: -r["h"])
         for run in runs:
             print(f"{method} h {run['h'] * 1e3:g} mm: " + ", ".join(
-                f"{k} {v:.4g}" for k, v in run.items() if isinstance(v, float) and k not in ("h",)), flush=True)
-        if len(runs) < 3:
-            continue
-        fine = runs[-3:]
-        for key in ("Cs 0.05-0.1", "Cs 0.1-0.2", "Cs 0.2-0.4", "Cs 0.05-0.4", "1 ms peak", "raw peak"):
-            c = three_grid([r["h"] for r in fine], [r[key] for r in fine])
-            shipped = next((r[key] for r in runs if abs(r["h"] - SHIPPED_H) < 1e-9), float("nan"))
-            levels = ", ".join(f"{r['h'] * 1e3:g}" for r in fine)
-            line = f"  {method} {key} on {levels} mm: {describe(c)}"
-            if np.isfinite(c.extrapolated):
-                line += (f"; Richardson {c.extrapolated:.4g}, shipped 5 mm "
-                         f"{100 * (shipped - c.extrapolated) / c.extrapolated:+.1f} %")
-            print(line, flush=True)
+                f"{k} {v:.4g}" for k, v in run.items() if k != "h"), flush=True)
+        for key in ("Cs 0.05-0.1", "Cs 0.1-0.2", "Cs 0.2-0.4", "Cs 0.05-0.4", "1 ms peak"):  # the compared ones
+            have = [r for r in runs if key in r]
+            shipped = next((r[key] for r in have if abs(r["h"] - SHIPPED_H) < 1e-9), float("nan"))
+            for start in range(len(have) - 2):  # every consecutive triple, coarsest first
+                triple = have[start:start + 3]
+                c = three_grid([r["h"] for r in triple], [r[key] for r in triple])
+                levels = " / ".join(f"{r['h'] * 1e3:g}" for r in triple)
+                line = f"  {method} {key} on {levels} mm: {describe(c)}"
+                if c.monotone and np.isfinite(c.extrapolated):  # no Richardson value of an oscillating triple
+                    line += (f"; GCI(medium) {100 * c.gci_medium:.2f} %, Richardson {c.extrapolated:.4g}, shipped 5 mm "
+                             f"{100 * (shipped - c.extrapolated) / c.extrapolated:+.1f} %")
+                print(line, flush=True)
 
 
 def main() -> None:
@@ -111,7 +132,7 @@ def main() -> None:
     if sys.argv[1] == "run":
         print(json.dumps(run_level(sys.argv[2], float(sys.argv[3]))), flush=True)
     else:
-        report()
+        report(uniform=sys.argv[2:] == ["uniform"])
 
 
 if __name__ == "__main__":
