@@ -10,10 +10,10 @@ disc, histories every 0.02 ms) with only the water's size changed (ALE parts.tan
 SPH parts.water.spacing) and control.end_time cut to 0.017 s (s/D 0.41; the window ends at t = 16.6 ms and an
 explicit run's history before its end does not depend on it). Run one level per process, one thread.
 
-ALE coupling rule kept: the deck's n = h / (segment / nquad) = 1.85 (64 segments of 5.40 mm, nquad 2, h 5 mm)
-and pfac 4 = 2 n rounded, so the penalty layer L_c = n h / pfac = 0.46 h (docs/theory/coupling.md, "Stiffness").
-With the polygon fixed, n stays 1.85 when nquad scales with 1 / h: nquad 1 / 2 / 4 / 8 at h 10 / 5 / 2.5 / 1.25
-mm, pfac 4 at every level, so both the coupling points per water element and L_c / h are the deck's. SPH: the
+ALE coupling rule kept: the penalty layer L_c / h = n / pfac = 1.85 / 4 = 0.46, the deck's (64 segments of 5.40 mm,
+nquad 2, h 5 mm: n = h / (segment / nquad) = 1.85; docs/theory/coupling.md, "Stiffness"). n is held too with
+nquad 1 / 2 / 4 at h 10 / 5 / 2.5 mm (pfac 4), but the schema caps nquad at 5: at 1.25 mm nquad 5, n = 1.16 and
+pfac 2.5 (L_c / h still 0.46). SPH: the
 contact thickness (dx / 2), the soft-constraint stiffness (0.1 m / dt0^2) and h = 1.2 dx follow dx by the deck's
 own rules; nothing else changes.
 
@@ -23,8 +23,11 @@ the raw 0.02 ms samples over s/D 0.05-0.1 / 0.1-0.2 / 0.2-0.4 and the window 0.0
 peak of the centred 1 ms running mean. Order / GCI: sphfem_cli.study.metrics.three_grid on the finest three
 levels present (h = the element size / spacing, Fs 1.25).
 
-Status (8 December 2026): see the section "The fluid refined on the shipped decks" of
-docs/studies/cylinder_entry.md for the figures this script printed.
+Status (8 December 2026; one thread, load 1.2-4.5; `report uniform`): ALE h 10 / 5 / 2.5 / 1.25 mm window mean
+1.658 / 1.554 / 1.593 / 1.562, 1 ms peak 5.90 / 4.18 / 4.51 / 4.21 (CPU 120 with compilation / 20 / 154 / 1352 s);
+no compared quantity has an order on 5 / 2.5 / 1.25 mm. SPH dx 10 / 5 / 2.5 mm window 1.654 / 1.627 / 1.567, 1 ms
+peak 6.95 / 5.58 / 4.91 (order 1.02, GCI 16.6 %), bins not monotone or diverging (CPU 30 / 18 / 122 s); SPH
+1.25 mm not run. Tables: docs/studies/cylinder_entry.md "The water refined on the shipped decks".
 """
 from __future__ import annotations
 
