@@ -54,10 +54,10 @@ class LagrangeInSolid(DeckModel):
     materials: list[str] | None = Field(
         None, description="Fluid materials that couple. Default all non-void materials of the ALE part."
     )
-    nquad: int = Field(2, ge=1, le=5, description=(
+    nquad: int = Field(2, ge=1, le=16, description=(
         "Coupling points per segment direction [-] (nquad per 2D segment, nquad x nquad per 3D face). Keep at "
         "least one per fluid element along the face (n = h / l >= 1, l = segment length / nquad): below, the fluid "
-        "passes between the points (`sphfem check` warns); refine nquad or the structure with the fluid. Default 2."))
+        "passes between the points (`sphfem check` warns); refine nquad or the structure with the fluid (nquad doubled with each halving of h keeps n). Default 2, at most 16."))
     min_fraction: float = Field(
         0.5, gt=0.0, le=1.0, description="Fluid volume fraction from which an ALE element couples [-]. Default 0.5."
     )
