@@ -12,15 +12,15 @@ explicit run's history before its end does not depend on it). Run one level per 
 
 ALE coupling rule kept: the penalty layer L_c / h = n / pfac = 1.85 / 4 = 0.46, the deck's (64 segments of 5.40 mm,
 nquad 2, h 5 mm: n = h / (segment / nquad) = 1.85; docs/theory/coupling.md, "Stiffness"). n is held too with
-nquad 1 / 2 / 4 at h 10 / 5 / 2.5 mm (pfac 4), but the schema caps nquad at 5: at 1.25 mm nquad 5, n = 1.16 and
-pfac 2.5 (L_c / h still 0.46). SPH: the
+nquad 1 / 2 / 4 at h 10 / 5 / 2.5 mm (pfac 4), but the schema then capped nquad at 5 (16 since 12b37b3; NQUAD_MAX
+keeps the recorded run's 5): at 1.25 mm nquad 5, n = 1.16 and pfac 2.5 (L_c / h still 0.46). SPH: the
 contact thickness (dx / 2), the soft-constraint stiffness (0.1 m / dt0^2) and h = 1.2 dx follow dx by the deck's
 own rules; nothing else changes.
 
-Compared (the validation tests' analysis, tests/validation/test_fsi_scenes_{sph,ale}.py, as in
-rigid_structure_refinement.py): Cs = contact_force_y / (1/2 rho D V^2), s/D = V (t - 0.005 / V) / D, the mean of
-the raw 0.02 ms samples over s/D 0.05-0.1 / 0.1-0.2 / 0.2-0.4 and the window 0.05-0.4 (bounds included), and the
-peak of the centred 1 ms running mean. Order / GCI: sphfem_cli.study.metrics.three_grid on the finest three
+Compared (the validation tests' analysis, tests/validation/test_fsi_scenes_{sph,ale}.py, by
+rigid_structure_refinement.cylinder_quantities): Cs = contact_force_y / (1/2 rho D V^2), s/D = V (t - 0.005 / V) / D,
+the mean of the raw 0.02 ms samples over s/D 0.05-0.1 / 0.1-0.2 / 0.2-0.4 and the window 0.05-0.4 (bounds
+included), and the peak of the centred 1 ms running mean. Order / GCI: sphfem_cli.study.metrics.three_grid on the finest three
 levels present (h = the element size / spacing, Fs 1.25).
 
 Status (8 December 2026; one thread, load 1.2-4.5; `report uniform`): ALE h 10 / 5 / 2.5 / 1.25 mm window mean
@@ -39,17 +39,16 @@ from pathlib import Path
 
 import numpy as np
 
-from sphfem_cli import api
-from sphfem_cli.study.metrics import describe, history_columns, three_grid
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from rigid_structure_refinement import D, GAP, V, cylinder_quantities  # noqa: E402
+from sphfem_cli import api  # noqa: E402
+from sphfem_cli.study.metrics import describe, history_columns, three_grid  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 WORK = Path(os.environ.get("CYL_FLUID_WORK", "study_cylinder_fluid"))
-D, V, RHO, GAP = 0.11, 2.955, 1000.0, 0.005
 SHIPPED_H, SHIPPED_NQUAD, PFAC = 0.005, 2, 4.0  # the ALE deck's water element, points per segment, pfac
-NQUAD_MAX = 5  # the schema's bound
-BINS = {"0.05-0.1": (0.05, 0.1), "0.1-0.2": (0.1, 0.2), "0.2-0.4": (0.2, 0.4), "0.05-0.4": (0.05, 0.4)}
+NQUAD_MAX = 5  # the schema's bound when the series ran (16 since 12b37b3): the recorded 1.25 mm level used 5
 END_TIME = 0.017
-SAMPLE = 2.0e-5  # the decks' history_interval [s]
 COST = ("cpu_s", "steps", "load")
 
 
@@ -65,25 +64,6 @@ def overrides(method: str, h: float) -> dict:
     return out
 
 
-def quantities(hist: dict, uniform: bool = False) -> dict:
-    """The compared quantities of a ``cylinder`` history (see the module docstring). ``uniform``: the force
-    first interpolated linearly onto a 0.02 ms grid, so that a bin mean is a time mean and the running mean
-    spans 1 ms at every level (the history holds one row per step wherever the step exceeds 0.02 ms)."""
-    t, force = hist["time"], hist["contact_force_y"]
-    if uniform:
-        grid = np.arange(0.0, t[-1] + 1e-12, SAMPLE)
-        t, force = grid, np.interp(grid, t, force)
-    s_over_d = V * (t - GAP / V) / D
-    cs = force / (0.5 * RHO * D * V * V)
-    n = int(round(1.0e-3 / float(t[2] - t[1])))
-    smooth = np.convolve(cs, np.ones(n) / n, mode="same")
-    peak = int(np.argmax(smooth))
-    out = {f"Cs {k}": float(cs[(s_over_d >= lo) & (s_over_d <= hi)].mean())
-           for k, (lo, hi) in BINS.items() if s_over_d[-1] >= hi}  # an unfinished run: its whole bins only
-    out.update({"1 ms peak": float(smooth[peak]), "peak s/D": float(s_over_d[peak]), "raw peak": float(cs.max())})
-    return out
-
-
 def run_level(method: str, h: float) -> dict:
     folder = WORK / f"{method}_{h:g}"
     ov = overrides(method, h)
@@ -92,7 +72,7 @@ def run_level(method: str, h: float) -> dict:
                      overwrite=True)
     cpu = time.process_time() - cpu
     assert result.completed, result.message
-    out = quantities(result.histories()["cylinder"]) | {"h": h, "cpu_s": cpu, "steps": result.steps,
+    out = cylinder_quantities(result.histories()["cylinder"]) | {"h": h, "cpu_s": cpu, "steps": result.steps,
                                                          "load": os.getloadavg()[0], "overrides": ov}
     (folder / "level.json").write_text(json.dumps(out, indent=1))
     return out
@@ -101,7 +81,7 @@ def run_level(method: str, h: float) -> dict:
 def analysed(folder: Path, uniform: bool) -> dict:
     """A level's quantities from its history (also one stopped before its end) with its cost from level.json."""
     hist = history_columns(folder / "run" / "histories" / "cylinder.csv")
-    out = quantities(hist, uniform) | {"h": float(folder.name.split("_")[1])}
+    out = cylinder_quantities(hist, uniform) | {"h": float(folder.name.split("_")[1])}
     if (folder / "level.json").exists():
         out |= {k: v for k, v in json.loads((folder / "level.json").read_text()).items() if k in COST}
     else:

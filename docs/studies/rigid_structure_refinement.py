@@ -54,6 +54,7 @@ WORK = Path("study_rigid_refinement")
 D, V, RHO, GAP = 0.11, 2.955, 1000.0, 0.005
 CYL_H, CYL_SEGMENTS, CYL_PFAC = 0.005, 64, 4.0  # the ALE deck's water element, polygon and pfac
 BINS = {"0.05-0.1": (0.05, 0.1), "0.1-0.2": (0.1, 0.2), "0.2-0.4": (0.2, 0.4), "0.05-0.4": (0.05, 0.4)}
+SAMPLE = 2.0e-5  # the cylinder decks' history_interval [s]
 
 
 FIXED_POINTS = False
@@ -72,6 +73,26 @@ def cylinder_overrides(method: str, around: int) -> dict:
     return out
 
 
+def cylinder_quantities(hist: dict, uniform: bool = False) -> dict:
+    """The compared quantities of a constant-speed entry's ``cylinder`` history (module docstring): the bin means
+    of Cs (only the bins a run has finished), the peak of the centred 1 ms running mean and its s/D, the raw peak.
+    ``uniform``: the force first interpolated linearly onto a SAMPLE grid, so that a bin mean is a time mean and
+    the running mean spans 1 ms at every level (the history holds one row per step where the step exceeds SAMPLE)."""
+    t, force = hist["time"], hist["contact_force_y"]
+    if uniform:
+        grid = np.arange(0.0, t[-1] + 1e-12, SAMPLE)
+        t, force = grid, np.interp(grid, t, force)
+    s_over_d = V * (t - GAP / V) / D
+    cs = force / (0.5 * RHO * D * V * V)
+    n = int(round(1.0e-3 / float(t[2] - t[1])))
+    smooth = np.convolve(cs, np.ones(n) / n, mode="same")
+    peak = int(np.argmax(smooth))
+    out = {f"Cs {k}": float(cs[(s_over_d >= lo) & (s_over_d <= hi)].mean())
+           for k, (lo, hi) in BINS.items() if s_over_d[-1] >= hi}
+    out.update({"1 ms peak": float(smooth[peak]), "peak s/D": float(s_over_d[peak]), "raw peak": float(cs.max())})
+    return out
+
+
 def cylinder_level(method: str, around: int) -> dict:
     ov = cylinder_overrides(method, around)
     cpu = time.process_time()
@@ -79,15 +100,7 @@ def cylinder_level(method: str, around: int) -> dict:
                      WORK / f"cyl_{method}_{around}", ov, threads=1, overwrite=True)
     cpu = time.process_time() - cpu
     assert result.completed, result.message
-    h = result.histories()["cylinder"]
-    s_over_d = V * (h["time"] - GAP / V) / D
-    cs = h["contact_force_y"] / (0.5 * RHO * D * V * V)
-    n = int(round(1.0e-3 / float(h["time"][2] - h["time"][1])))
-    smooth = np.convolve(cs, np.ones(n) / n, mode="same")
-    peak = int(np.argmax(smooth))
-    out = {f"Cs {k}": float(cs[(s_over_d >= lo) & (s_over_d <= hi)].mean()) for k, (lo, hi) in BINS.items()}
-    out.update({"1 ms peak": float(smooth[peak]), "peak s/D": float(s_over_d[peak]), "raw peak": float(cs.max()),
-                "cpu_s": cpu, "steps": result.steps})
+    out = cylinder_quantities(result.histories()["cylinder"]) | {"cpu_s": cpu, "steps": result.steps}
     if method == "ale":
         out.update({"nquad": ov["couplings.0.nquad"], "pfac": ov["couplings.0.pfac"]})
     return out

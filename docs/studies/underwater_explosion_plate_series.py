@@ -33,6 +33,9 @@ run folders /work/runs_undexmax): all three levels reached 1.2 ms, no guard stop
     membrane von Mises: +22.6 then +21.9 MPa (+5.7 / +5.3 %), order 0.05: not asymptotic, no estimate;
     u(0.5 ms): not monotone (-2.60 then +0.29 mm); 240 x 4 to 480 x 8 +0.9 %.
 The deck as shipped reached its 1.3 ms end too (8 729 steps, 401 s wall): maximum 69.02 mm, 111.1 m/s, 425.4 MPa.
+These maxima are a capped scene's (found after the series, 8 December 2026): the ALE mesh ends at y = 0.065 and the
+plate centre passes 65 mm at 0.87 ms; with the mesh to y = 0.10 the shipped plate peaks at 75.49 mm at 1.21 ms
+(the deck header's KNOWN DEFECT). The velocities and u(0.5 ms) come before the cap.
 The 7 December 120 x 2 run (code of bd0c97d) stopped on the time-step guard at 1.098 ms after 5 610 steps
 (ALE element 32302, x 0.205..0.2075, y -0.015..-0.0125: the water 12.5-15 mm under the plate's rest
 position); rerun with today's code the same level takes 3 855 steps to 1.2 ms, its maximum -2.2 % (67.18
