@@ -124,8 +124,8 @@ def report(work: Path) -> None:
         print(f"{key}: {' / '.join(f'{r[key]:.4g}' for r in rows)}: {text}")
     for r in rows:
         print(f"{r['plate']}: {r['status']} at {r['end_ms']:.3f} ms, {r['steps']} steps, {r['cpu']} s CPU, "
-              f"{r['wall']} s wall; maximum at {r['t_u_max_ms']:.3f} ms, velocity at {r['t_v_peak_ms']:.3f}, von Mises at "
-              f"{r['t_vm_ms']:.3f}")
+              f"{r['wall']} s wall; maximum at {r['t_u_max_ms']:.3f} ms, velocity at {r['t_v_peak_ms']:.3f}, "
+              f"von Mises at {r['t_vm_ms']:.3f}")
 
 
 def main() -> None:
